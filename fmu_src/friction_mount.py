@@ -21,6 +21,7 @@ FMU bundles).
 
 from __future__ import annotations
 
+import functools
 import math
 from types import SimpleNamespace
 from xml.etree.ElementTree import Element, SubElement
@@ -88,6 +89,46 @@ UNITS["E_fr"] = "J"
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
 
 
+def _hold_native_references(slave) -> None:
+    """Compensate pythonfmu 0.7.0's double release after a Python exception.
+
+    Its native wrapper (PySlaveInstance.cpp) turns an exception into fmi2Fatal and
+    Py_DECREFs the slave class, the instance and its log queue at once; fmi2FreeInstance
+    releases them a second time, which corrupts the host interpreter (measured: SIGSEGV
+    at the next garbage collection). One extra reference each makes both releases
+    safe; if the importer never frees the instance they leak, which FMI allows after
+    fmi2Fatal.
+    """
+    try:
+        import ctypes
+
+        incref = ctypes.pythonapi.Py_IncRef
+    except (ImportError, AttributeError, OSError):  # pragma: no cover - no ctypes
+        _LEAKED.append((type(slave), slave, slave.log_queue))  # a real reference each
+        return
+    for obj in (type(slave), slave, slave.log_queue):
+        incref(ctypes.py_object(obj))
+
+
+_LEAKED: list = []
+
+
+def _guarded(method):
+    """Wrap an FMI entry point: an escaping exception first calls
+    :func:`_hold_native_references` when pythonfmu's native wrapper is the caller."""
+
+    @functools.wraps(method)
+    def entry(self, *args):
+        try:
+            return method(self, *args)
+        except BaseException:
+            if self._native:
+                _hold_native_references(self)
+            raise
+
+    return entry
+
+
 class FrictionMount(Fmi2Slave):
     """Friction-damped engine mount, three local axes (FMI 2.0 Co-Simulation).
 
@@ -106,6 +147,8 @@ class FrictionMount(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        # pythonfmu's native wrapper passes a `logger` handle; Python callers do not
+        self._native = "logger" in kwargs
         self.default_experiment = DefaultExperiment(
             start_time=0.0, stop_time=1.0, step_size=1e-4)
         defaults = AxisParameters()
@@ -268,9 +311,11 @@ class FrictionMount(Fmi2Slave):
         return res
 
     # ------------------------------------------------------------------ FMI calls
+    @_guarded
     def exit_initialization_mode(self):
         self._prepare()
 
+    @_guarded
     def do_step(self, current_time: float, step_size: float) -> bool:
         res = self._res
         try:
@@ -288,6 +333,7 @@ class FrictionMount(Fmi2Slave):
         return True
 
     # getFMUstate/setFMUstate: everything settable plus the committed energy.
+    @_guarded
     def _get_fmu_state(self) -> dict:
         state = {var.name: var.getter() for var in self.vars.values()
                  if var.setter is not None}
@@ -295,6 +341,7 @@ class FrictionMount(Fmi2Slave):
         state["_n_set"] = list(self._n_set)
         return state
 
+    @_guarded
     def _set_fmu_state(self, state: dict) -> None:
         by_name = {var.name: var for var in self.vars.values()}
         for name, value in state.items():
@@ -304,6 +351,13 @@ class FrictionMount(Fmi2Slave):
         self._n_set = [bool(x) for x in state["_n_set"]]
         self._coef = None
         self._res = [None, None, None]
+
+    get_real = _guarded(Fmi2Slave.get_real)
+    get_integer = _guarded(Fmi2Slave.get_integer)
+    get_boolean = _guarded(Fmi2Slave.get_boolean)
+    set_real = _guarded(Fmi2Slave.set_real)
+    set_integer = _guarded(Fmi2Slave.set_integer)
+    set_boolean = _guarded(Fmi2Slave.set_boolean)
 
     # ------------------------------------------------------------------ description
     def to_xml(self, model_options=None) -> Element:
