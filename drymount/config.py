@@ -1,4 +1,4 @@
-"""Configuration files: TOML -> a checked :class:`Config` holding a :class:`hbm.system.System`.
+"""Configuration files: TOML -> a checked :class:`Config` holding a model System.
 
 A configuration describes one of the thesis's three systems (``model = "sdof"``,
 ``"quarter_car"`` or ``"rigid_engine"``), its mount law(s), its harmonic excitation, and
@@ -333,12 +333,13 @@ class _Checker:
             return None
         v = data[key]
         if not isinstance(v, dict):
-            self.add(f"`{p}` must be a table ([{p}] ...), got {_type_name(v)} {_show(v)}")
+            self.add(f"`{p}` must be a table ([{p}] ...), got {_type_name(v)} "
+                     f"{_show(v)}")
             return None
         return v
 
     def keys(self, data: dict, path: str, allowed, hints: dict | None = None) -> None:
-        """Report every key of ``data`` that is not in ``allowed``, with a suggestion."""
+        """Report each key of ``data`` that is not in ``allowed``, with a suggestion."""
         allowed = tuple(allowed)
         for k in data:
             if k in allowed:
@@ -459,7 +460,7 @@ class _Checker:
         return out if ok else None
 
 
-# -- mount law ---------------------------------------------------------------------------
+# -- mount law ------------------------------------------------------------
 
 
 def _unchecked_axis(**kw) -> AxisParameters:
@@ -472,7 +473,7 @@ def _unchecked_axis(**kw) -> AxisParameters:
 
 
 def _law_problems(axis: AxisParameters, path: str) -> list[str]:
-    """``AxisParameters.problems`` with the friction fields under ``<path>.friction``."""
+    """``AxisParameters.problems``, friction fields under ``<path>.friction``."""
     prefix = path + "."
     out = []
     for msg in axis.problems(prefix):
@@ -657,8 +658,9 @@ def _rigid_mount(ck: _Checker, m, i: int):
             law_keys = [k for k in r if k != "friction"]
             for k in law_keys:
                 if k in _AXIS_LAW_KEYS:
-                    ck.add(f"`{p}.{k}` conflicts with `{path}.lambda`: with lambda the "
-                           f"radial law is lambda times the axial one (thesis eq. 4.4); "
+                    ck.add(f"`{p}.{k}` conflicts with `{path}.lambda`: with lambda "
+                           f"the radial law is lambda times the axial one (thesis "
+                           f"eq. 4.4); "
                            f"remove `{p}.{k}`, or remove `lambda` and give the whole "
                            f"[{p}] table")
                 else:
@@ -685,7 +687,7 @@ def _rigid_mount(ck: _Checker, m, i: int):
     return name, position, orientation, MountParameters(**axes)
 
 
-# -- model tables --------------------------------------------------------------------------
+# -- model tables ------------------------------------------------------------
 
 
 def _excitation(ck: _Checker, data: dict, model: str, n_vec: dict):
@@ -764,9 +766,11 @@ def _check_support(ck: _Checker, system: System) -> None:
     Mi = np.diag(1.0 / np.sqrt(np.diag(system.M)))
     ev = np.linalg.eigvalsh(Mi @ K @ Mi)
     if ev[0] <= SINGULAR_RTOL * max(abs(ev[-1]), 1e-300):
-        dof = system.dof_names[int(np.argmax(abs(np.linalg.eigh(Mi @ K @ Mi)[1][:, 0])))]
+        mode = np.linalg.eigh(Mi @ K @ Mi)[1][:, 0]
+        dof = system.dof_names[int(np.argmax(abs(mode)))]
         ck.add(f"the mounts do not hold the system: the linearised stiffness (k1 of "
-               f"each axis, plus kf where friction sticks) is singular, a motion mostly "
+               f"each axis, plus kf where friction sticks) is singular, a motion "
+               f"mostly "
                f"along `{dof}` meets no spring; check the stiffnesses and, for "
                f"rigid_engine, that the mount positions are not collinear")
 
@@ -787,7 +791,8 @@ def _build(ck: _Checker, data: dict, model: str):
             return None
         return lambda: models.sdof(mass, mount, excitation=exc[0], amplitude=exc[1])
     if model == "quarter_car":
-        t = ck.table(data, "quarter_car", "", what="(m_e, m_s, m_us, k_s, c_s, k_t, c_t) ")
+        t = ck.table(data, "quarter_car", "",
+                     what="(m_e, m_s, m_us, k_s, c_s, k_t, c_t) ")
         vals = {}
         if t is not None:
             ck.keys(t, "quarter_car", ALLOWED_KEYS["quarter_car"], hints={
@@ -855,8 +860,8 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
     """
     ck = _Checker()
     if not isinstance(data, dict):
-        raise ConfigError([f"the document must be a TOML table, got {_type_name(data)}"],
-                          source)
+        raise ConfigError(
+            [f"the document must be a TOML table, got {_type_name(data)}"], source)
     model = ck.choice(data, "model", "", MODELS)
     hints = {}
     if model is not None:
@@ -973,8 +978,9 @@ def preset_text(name: str) -> str:
     if name not in names:
         close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
         hint = f" (did you mean `{close[0]}`?)" if close else ""
-        raise ConfigError([f"unknown preset `{name}`{hint}; presets: {', '.join(names)}"],
-                          f"preset:{name}")
+        raise ConfigError(
+            [f"unknown preset `{name}`{hint}; presets: {', '.join(names)}"],
+            f"preset:{name}")
     return resources.files("drymount.presets").joinpath(f"{name}.toml").read_text(
         encoding="utf-8")
 

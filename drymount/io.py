@@ -83,7 +83,7 @@ def atomic_write_text(path, text: str, encoding: str = "utf-8") -> Path:
 
 
 def format_value(v) -> str:
-    """A CSV cell: booleans as 0/1, floats with 10 significant digits, NaN as ``nan``."""
+    """A CSV cell: booleans as 0/1, floats to 10 significant digits, NaN as ``nan``."""
     if isinstance(v, bool) or type(v).__name__ == "bool_":
         return str(int(v))
     if isinstance(v, float) or type(v).__name__.startswith("float"):
