@@ -477,3 +477,84 @@ def test_ensure_fmu_builds_only_when_stale(tmp_path):
     ensure_fmu(path)
     assert path.stat().st_mtime > 1_000_000_000
     assert validate_fmu(str(path)) == []
+
+
+# ----------------------------------------------------------- a C importer, no fmpy
+def _libpython() -> Path | None:
+    import sysconfig
+
+    if not sysconfig.get_config_var("Py_ENABLE_SHARED"):
+        return None
+    lib = Path(sysconfig.get_config_var("LIBDIR") or "") / (
+        sysconfig.get_config_var("LDLIBRARY") or "")
+    return lib if lib.is_file() else None
+
+
+@pytest.fixture(scope="session")
+def c_host(tmp_path_factory) -> Path:
+    import shutil
+
+    if sys.platform != "linux":
+        pytest.skip("the C host test is written for linux64 (dlopen, LD_PRELOAD)")
+    gcc = shutil.which("gcc")
+    if gcc is None:
+        pytest.skip("gcc not found: cannot compile tests/c_host/host.c")
+    if _libpython() is None:
+        pytest.skip("this Python is statically linked (no libpython shared library "
+                    "to LD_PRELOAD): a C importer cannot host the FMU with it")
+    exe = tmp_path_factory.mktemp("c_host") / "host"
+    src = Path(__file__).parent / "c_host" / "host.c"
+    subprocess.run([gcc, "-std=c11", "-D_GNU_SOURCE", "-O1", "-Wall", "-Werror", "-o",
+                    str(exe), str(src), "-ldl", "-lm"], check=True, timeout=120)
+    return exe
+
+
+def _run_c_host(exe, fmu, args):
+    """The documented recipe: LD_PRELOAD=libpython, PYTHONHOME=the interpreter's
+    prefix; nothing else from this environment (no PYTHONPATH: the FMU needs none)."""
+    env = {"PATH": "/usr/bin:/bin", "LD_PRELOAD": str(_libpython()),
+           "PYTHONHOME": sys.base_prefix}
+    return subprocess.run([str(exe), str(fmu[1])] + [str(a) for a in args], env=env,
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_c_importer_matches_in_process_law(c_host, fmu):
+    vr = fmu[2]
+    x, freq, n, h = 0.005, 10.0, 2000, 1e-4
+    params = {"axial_friction": True, "axial_n0": 100.0, "axial_kf": 80000.0,
+              "axial_law": 1, "axial_kc": 5.708e8}
+    setters = [f"B{vr['axial_friction']}=1", f"R{vr['axial_n0']}=100",
+               f"R{vr['axial_kf']}=80000", f"I{vr['axial_law']}=1",
+               f"R{vr['axial_kc']}=5.708e8"]
+    out = _run_c_host(c_host, fmu, [n, h, x, freq, vr["u_axial"], vr["v_axial"],
+                                    vr["F_axial"], vr["Ffr_axial"], vr["E_fr"]]
+                      + setters)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
+    lines = out.stdout.splitlines()
+    assert "REPLAY identical" in lines and "TWIN identical" in lines
+    assert lines[-1] == "DONE"
+    rows = np.array([[float(x) for x in line.split()[2:]] for line in lines
+                     if line.startswith("STEP ")])
+    assert rows.shape == (n, 5)
+    p = axis_params(params, "axial")
+    w, e, ref = 0.0, 0.0, []
+    for u, v in rows[:, :2]:
+        f, ffr, w, _, _, diss = axis_force_p(float(u), float(v), w, p)
+        e += diss
+        ref.append([f, ffr, e])
+    np.testing.assert_allclose(rows[:, 2:], np.array(ref), rtol=RTOL_FMU_VS_LAW,
+                               atol=0)
+    assert rows[-1, 4] > 0.0  # it slipped
+
+
+def test_c_importer_sees_initialization_error(c_host, fmu):
+    vr = fmu[2]
+    out = _run_c_host(c_host, fmu, [10, 1e-4, 0.001, 10.0, vr["u_axial"],
+                                    vr["v_axial"], vr["F_axial"], vr["Ffr_axial"],
+                                    vr["E_fr"], f"B{vr['axial_friction']}=1",
+                                    f"R{vr['axial_kf']}=0"])
+    # a clean failure: status reported, instance freed, no crash
+    assert out.returncode == 3, out.stdout + out.stderr
+    assert "FAILED fmi2ExitInitializationMode status=4" in out.stdout
+    assert ("`axial_kf` must be finite and > 0 when friction is on, got 0.0"
+            in out.stdout)
