@@ -1,0 +1,111 @@
+"""Alternating frequency-time (AFT) evaluation of the mount nonlinearities.
+
+Harmonic coefficients ``U`` (static, cos 1, sin 1, ..., cos H, sin H) of each axis
+deflection are sampled at ``N`` equidistant phases ``theta_n = 2 pi n / N`` of one
+period (``u = E U``), the nonlinear remainder of the mount law is evaluated there
+(:mod:`hbm.elements`), and projected back (``F = P f``, the discrete Fourier transform
+truncated to H harmonics; ``P E = I`` for ``N > 2H``). The Jacobian follows by the chain
+rule through the law's tangent at each sample (``dF/dU = P diag(df/du) E``); for the
+Jenkins element a stuck sample depends on the last slip sample too (see
+:func:`hbm.elements.jenkins_periodic`), which is done with fancy indexing.
+
+The nonlinear remainders are rate independent (the viscous part ``c v`` is linear and
+handled in the frequency domain), so the AFT needs no velocities and its result does
+not depend on ``omega``.
+
+References: thesis Sec. 3.1 (Fourier approximation, eq. 3.8-3.10); Cameron and Griffin
+(1989) for AFT; NLvib (Krack and Gross 2019) for the sampled Jacobian.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
+
+__all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
+
+
+def default_n_samples(harmonics: int) -> int:
+    """``max(64, 8 H)`` rounded up to a power of two."""
+    n = max(64, 8 * harmonics)
+    return 1 << (n - 1).bit_length()
+
+
+class FourierBasis:
+    """Real Fourier basis of H harmonics sampled at N phases.
+
+    Attributes
+    ----------
+    H, N : int
+    E : ndarray, shape (N, 2H+1)
+        ``E[n] = [1, cos th_n, sin th_n, ..., cos H th_n, sin H th_n]``.
+    P : ndarray, shape (2H+1, N)
+        Projection onto the coefficients (``P E = I``).
+    D : ndarray, shape (2H+1, 2H+1)
+        Derivative with respect to ``theta`` in coefficient space
+        (``d/dtheta (E U) = E D U``).
+    """
+
+    def __init__(self, harmonics: int, n_samples: int):
+        H, N = int(harmonics), int(n_samples)
+        if N <= 2 * H:
+            raise ValueError(f"`n_samples` must be > 2 * harmonics = {2 * H}, got {N}")
+        self.H, self.N = H, N
+        theta = 2.0 * np.pi * np.arange(N) / N
+        m = 2 * H + 1
+        E = np.empty((N, m))
+        E[:, 0] = 1.0
+        D = np.zeros((m, m))
+        for k in range(1, H + 1):
+            E[:, 2 * k - 1] = np.cos(k * theta)
+            E[:, 2 * k] = np.sin(k * theta)
+            D[2 * k, 2 * k - 1] = -k  # d/dth(c cos) = -k c sin
+            D[2 * k - 1, 2 * k] = k   # d/dth(s sin) = k s cos
+        P = E.T * (2.0 / N)
+        P[0] *= 0.5
+        self.E, self.P, self.D = E, P, D
+        self.theta = theta
+
+
+def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
+               jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """Fourier coefficients of the nonlinear remainders by AFT, with the Jacobian.
+
+    Parameters
+    ----------
+    U : ndarray, shape (2H+1, n_ax)
+        Deflection coefficients of each axis, m.
+    ax : NonlinearAxes
+    basis : FourierBasis
+    jacobian : bool
+
+    Returns
+    -------
+    F : ndarray, shape (2H+1, n_ax)
+        Force coefficients, N.
+    dF : ndarray, shape (n_ax, 2H+1, 2H+1) or None
+        ``dF[a, h, g] = dF[h, a] / dU[g, a]``.
+    """
+    E, P = basis.E, basis.P
+    u = E @ U  # (N, n_ax)
+    f, kt = elastic_remainder(u, ax)
+    fr = ax.friction
+    corr = []
+    for a in fr:
+        ff, stuck, last = jenkins_periodic(u[:, a], ax.kf[a], ax.fs[a])
+        f[:, a] += ff
+        if jacobian:
+            kt[:, a] += np.where(stuck, ax.kf[a], 0.0)
+            # stuck after a slip: w = u[last] -+ eps depends on X too
+            sel = np.flatnonzero(stuck & (last >= 0))
+            corr.append((a, sel, last[sel]))
+    F = P @ f
+    if not jacobian:
+        return F, None
+    # dF[a] = P diag(kt[:, a]) E  (- kf P[:, sel] E[last[sel]] for Jenkins)
+    dF = np.einsum("hn,na,ng->ahg", P, kt, E)
+    for a, sel, last in corr:
+        if sel.size:
+            dF[a] -= ax.kf[a] * (P[:, sel] @ E[last])
+    return F, dF

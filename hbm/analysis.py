@@ -1,0 +1,315 @@
+"""Frequency-response curves by harmonic balance: the user-facing drivers.
+
+- :func:`frequency_response`: arc-length continuation from ``fmin`` to ``fmax``
+  (thesis Sec. 3.2, eq. 3.57-3.66), through folds, with turning points and stability.
+- :func:`solve_frequencies`: Newton at given frequencies, each started from the tangent
+  prediction of the previous solution (eq. 3.53-3.56); for validation.
+
+Both return a :class:`hbm.result.FrequencyResponse`.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from hbm.continuation import Branch, continue_branch, newton
+from hbm.linear import linear_frf
+from hbm.options import HBMOptions
+from hbm.residual import HarmonicBalance
+from hbm.result import FrequencyResponse
+from hbm.stability import is_stable
+from hbm.system import System
+
+__all__ = ["frequency_response", "solve_frequencies", "build_problem"]
+
+
+def _check_range(fmin_hz, fmax_hz):
+    problems = []
+    for name, v in (("fmin_hz", fmin_hz), ("fmax_hz", fmax_hz)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) \
+                or not math.isfinite(v) or v <= 0:
+            problems.append(f"`{name}` must be a finite frequency > 0 Hz, got {v!r}")
+    if not problems and fmax_hz <= fmin_hz:
+        problems.append(f"`fmax_hz` must be > `fmin_hz` = {fmin_hz}, got {fmax_hz}")
+    if problems:
+        raise ValueError("; ".join(problems))
+
+
+def _options(options, harmonics, n_samples) -> HBMOptions:
+    if options is None:
+        options = HBMOptions()
+    elif not isinstance(options, HBMOptions):
+        raise TypeError(f"`options` must be hbm.HBMOptions, got "
+                        f"{type(options).__name__}")
+    H = options.harmonics if harmonics is None else harmonics
+    N = options.n_samples if n_samples is None else n_samples
+    return H, N, options
+
+
+class _Problem:
+    """Scaled residual ``fun(y) -> (R, J)`` of a HarmonicBalance (NLvib's Dscale)."""
+
+    def __init__(self, hb: HarmonicBalance, fmin_hz: float, fmax_hz: float):
+        self.hb = hb
+        sysm = hb.system
+        grid = np.linspace(fmin_hz, fmax_hz, 41)
+        amp = np.abs(linear_frf(sysm, grid, stuck=False)).max(axis=0)
+        amp = np.maximum(amp, np.abs(linear_frf(sysm, grid, stuck=True)).max(axis=0))
+        top = float(amp.max()) if np.all(np.isfinite(amp)) and amp.max() > 0 else 1.0
+        amp = np.where(np.isfinite(amp) & (amp > 1e-9 * top), amp, top)
+        self.dof_scale = amp
+        self.xs = np.tile(amp, hb.m)
+        self.ws = 2.0 * np.pi * (fmax_hz - fmin_hz)
+        rs = max(np.linalg.norm(hb.excitation(2 * np.pi * fmin_hz)),
+                 np.linalg.norm(hb.excitation(2 * np.pi * fmax_hz)))
+        self.rs = rs if rs > 0 else 1.0
+        self.n_eval = 0
+
+    def x_of(self, y):
+        return self.xs * y[:-1], self.ws * y[-1]
+
+    def y_of(self, X, omega):
+        return np.append(X / self.xs, omega / self.ws)
+
+    def __call__(self, y):
+        self.n_eval += 1
+        X, w = self.x_of(y)
+        R, J, Jw = self.hb.residual(X, w)
+        Jy = np.empty((R.size, R.size + 1))
+        Jy[:, :-1] = J * self.xs
+        Jy[:, -1] = Jw * self.ws
+        return R / self.rs, Jy / self.rs
+
+    def linear_guess(self, freq_hz: float, stuck: bool) -> np.ndarray:
+        Q = linear_frf(self.hb.system, [freq_hz], stuck=stuck)[0]
+        X = np.zeros((self.hb.m, self.hb.n))
+        X[1] = Q.imag
+        X[2] = Q.real
+        return self.y_of(X.ravel(), 2 * np.pi * freq_hz)
+
+
+def build_problem(system: System, fmin_hz: float, fmax_hz: float, harmonics: int = 7,
+                  n_samples: int | None = None, closed_form: bool | None = None):
+    """The scaled problem used by the drivers (for tests and custom continuation)."""
+    hb = HarmonicBalance(system, harmonics, n_samples, closed_form)
+    return _Problem(hb, fmin_hz, fmax_hz)
+
+
+def _start(prob: _Problem, freq_hz: float, settings):
+    n = prob.hb.size
+    msg = ""
+    for stuck in (False, True):
+        y0 = prob.linear_guess(freq_hz, stuck)
+        y, ok, its, msg = newton(prob, y0, settings, fixed=n)
+        if ok:
+            return y, its, ""
+    return None, 0, msg
+
+
+def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
+                 turning) -> FrequencyResponse:
+    hb = prob.hb
+    sysm = hb.system
+    n, m, H = hb.n, hb.m, hb.H
+    npts = len(ys)
+    freq = np.empty(npts)
+    coef = np.empty((npts, n, m))
+    amp = np.empty((npts, n))
+    peak = np.empty((npts, n))
+    trans = np.empty(npts)
+    stable = np.ones(npts, dtype=bool)
+    fmr = np.full(npts, np.nan)
+    tr = sysm.transmissibility
+    exc = sysm.excitation
+    for i, y in enumerate(ys):
+        X, w = prob.x_of(y)
+        freq[i] = w / (2 * np.pi)
+        Xr = X.reshape(m, n)
+        coef[i] = Xr.T
+        amp[i] = np.hypot(Xr[1], Xr[2])
+        peak[i] = np.abs(hb.time_samples(X, opts.n_peak)).max(axis=0)
+        if tr.kind == "force":
+            fc, fs = hb.axis_force_fundamental(X, w, tr.forces)
+            den = exc.scalar_amplitude(w)
+            trans[i] = math.hypot(fc, fs) / den if den > 0 else np.nan
+        else:
+            den = amp[i, tr.reference] if tr.reference is not None else \
+                exc.scalar_amplitude(w)
+            trans[i] = amp[i, tr.dof] / den if den > 0 else np.nan
+        if opts.stability:
+            try:
+                _, J, _ = hb.residual(X, w)
+                stable[i], fmr[i] = is_stable(hb, J, w)
+            except (np.linalg.LinAlgError, ValueError):
+                stable[i], fmr[i] = True, np.nan
+    return FrequencyResponse(
+        freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
+        transmissibility=trans, stable=stable,
+        turning_points=np.asarray(turning, dtype=int), success=br.success,
+        status=br.status, message=br.message, n_newton=br.n_newton,
+        n_steps=br.n_steps, dof_names=tuple(sysm.dof_names), harmonics=H,
+        n_samples=0 if hb.closed_form else hb.n_samples, closed_form=hb.closed_form,
+        floquet_max_real=fmr, newton_per_point=np.asarray(br.n_iter, dtype=int),
+        system_name=sysm.name)
+
+
+def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
+                       harmonics: int | None = None, n_samples: int | None = None,
+                       closed_form: bool | None = None,
+                       options: HBMOptions | None = None,
+                       progress: bool = False) -> FrequencyResponse:
+    """Steady-state frequency-response curve by harmonic balance and arc length.
+
+    Parameters
+    ----------
+    system : System
+        The model (:mod:`vehicle.models` builds the thesis's three).
+    fmin_hz, fmax_hz : float
+        Frequency range, Hz, ``0 < fmin_hz < fmax_hz``.
+    harmonics : int, optional
+        Number of harmonics H (default ``options.harmonics`` = 7).
+    n_samples : int, optional
+        AFT samples per period (default ``max(64, 8H)`` rounded to a power of 2).
+    closed_form : bool, optional
+        H = 1 closed forms (default: when H == 1 and every law has one).
+    options : HBMOptions, optional
+    progress : bool
+        Show a tqdm progress bar on stderr over frequency.
+
+    Returns
+    -------
+    FrequencyResponse
+        ``success`` False (with the branch so far and ``message``) if the
+        continuation stalled.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Invalid input (before any work).
+
+    References
+    ----------
+    Thesis eq. 3.51 (residual), 3.53-3.54 (Newton), 3.55-3.56 (tangent predictor),
+    3.57-3.65 (arc length), 3.66 (step adaptation).
+
+    Examples
+    --------
+    >>> from fmu_src.mount_law import AxisParameters, MountParameters
+    >>> from vehicle.models import sdof
+    >>> ax = AxisParameters(law="linear", friction=True, n0=20.0)
+    >>> s = sdof(70.0, MountParameters(axial=ax), excitation="force", amplitude=40.0)
+    >>> r = frequency_response(s, 2.0, 15.0, harmonics=1)
+    >>> bool(r.success), r.freq_hz[0], r.freq_hz[-1]
+    (True, 2.0, 15.0)
+    """
+    _check_range(fmin_hz, fmax_hz)
+    H, N, opts = _options(options, harmonics, n_samples)
+    prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
+    settings = opts.continuation_settings()
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=round(fmax_hz - fmin_hz, 6), unit="Hz", file=sys.stderr,
+                   desc=f"HBM H={H}", bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} Hz "
+                   "[{elapsed}<{remaining}]")
+    try:
+        y0, its0, msg = _start(prob, fmin_hz, settings)
+        if y0 is None:
+            br = Branch(status=6, message=f"no solution at fmin = {fmin_hz} Hz ({msg})",
+                        n_newton=its0)
+            return _postprocess(prob, [], opts, br, [])
+        done = [fmin_hz]
+
+        def callback(lam):
+            if bar is not None:
+                f = min(lam * prob.ws / (2 * np.pi), fmax_hz)
+                if f > done[0]:
+                    bar.update(f - done[0])
+                    done[0] = f
+
+        lam_end = 2 * np.pi * fmax_hz / prob.ws
+        br = continue_branch(prob, y0, lam_end, settings,
+                             lam_start=2 * np.pi * fmin_hz / prob.ws, callback=callback)
+        br.n_newton += its0
+        if br.n_iter:
+            br.n_iter[0] = its0
+        turning = br.turning_points
+        return _postprocess(prob, br.y, opts, br, turning)
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
+                      n_samples: int | None = None, closed_form: bool | None = None,
+                      options: HBMOptions | None = None,
+                      progress: bool = False) -> FrequencyResponse:
+    """Harmonic-balance solutions at given frequencies (natural parametrisation).
+
+    Each frequency is solved by Newton (eq. 3.53) from the tangent prediction
+    (eq. 3.55-3.56) of the previous solution; the first from the linear FRF. Does not
+    follow folds: on a fold the prediction may land on another branch. Stops at the
+    first failure and returns the points so far with ``success=False``.
+
+    Parameters
+    ----------
+    freqs_hz : array_like, shape (n_freq,)
+        Frequencies, Hz (> 0).
+
+    Other parameters as :func:`frequency_response`.
+    """
+    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
+    if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise ValueError(f"`freqs_hz` must be a non-empty 1-D array of finite "
+                         f"frequencies > 0 Hz, got {freqs_hz!r}")
+    H, N, opts = _options(options, harmonics, n_samples)
+    fmin, fmax = float(f.min()), float(f.max())
+    if fmax == fmin:
+        fmax = fmin * 1.5
+    prob = build_problem(system, fmin, fmax, H, N, closed_form)
+    settings = opts.continuation_settings()
+    n = prob.hb.size
+    br = Branch()
+    ys = []
+    iterator = f
+    if progress:
+        from tqdm import tqdm
+        iterator = tqdm(f, unit="freq", file=sys.stderr, desc=f"HBM H={H}")
+    y_prev = None
+    dy = None
+    for fi in iterator:
+        lam = 2 * np.pi * fi / prob.ws
+        guesses = []
+        if y_prev is not None:
+            if dy is not None:
+                guesses.append(y_prev + dy * (lam - y_prev[-1]))
+            g = y_prev.copy()
+            g[-1] = lam
+            guesses.append(g)
+        guesses += [prob.linear_guess(fi, False), prob.linear_guess(fi, True)]
+        ok = False
+        for g in guesses:
+            y, ok, its, msg = newton(prob, g, settings, fixed=n)
+            br.n_newton += its
+            br.n_steps += 1
+            if ok:
+                break
+        if not ok:
+            br.status, br.message = 1, f"no convergence at {fi:.6g} Hz ({msg})"
+            break
+        ys.append(y)
+        br.n_iter.append(its)
+        # tangent dX/dlam = -J_x^{-1} J_lam (eq. 3.56)
+        _, J = prob(y)
+        try:
+            dx = np.linalg.solve(J[:, :n], -J[:, n])
+            dy = np.append(dx, 1.0)
+        except np.linalg.LinAlgError:
+            dy = None
+        y_prev = y
+    else:
+        br.success, br.status, br.message = True, 0, "solved at every frequency"
+    return _postprocess(prob, ys, opts, br, [])

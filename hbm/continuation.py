@@ -1,0 +1,245 @@
+"""Newton solver and pseudo-arclength continuation (thesis Sec. 3.2, eq. 3.53-3.66).
+
+The continuation sees only ``fun(y) -> (R, J)`` with ``y = [x, lam]`` (n + 1 scaled
+unknowns, the last one the continuation parameter) and ``J = dR/dy`` of shape
+(n, n + 1), as in NLvib's ``solve_and_continue``:
+
+- tangent predictor: ``t`` spans the null space of ``J`` (eq. 3.55-3.56 generalised to
+  arc length), oriented along the previous tangent;
+- pseudo-arclength corrector: Newton on ``[R(y); t . (y - y_pred)] = 0`` (the linearised
+  form of the thesis's sphere, eq. 3.58-3.65, which is robust through folds);
+- step adaptation on the Newton iteration count, ``s_k = s_{k-1} sqrt(n_norm / n_iter)``
+  (eq. 3.66), with the step halved when the corrector fails;
+- turning points: sign changes of ``d lam / ds``.
+
+A stalled continuation returns the branch traced so far with ``success = False`` and
+the reason; it never raises once the work has started.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["ContinuationSettings", "Branch", "newton", "continue_branch"]
+
+
+@dataclass(frozen=True)
+class ContinuationSettings:
+    """Settings in scaled units (see :class:`hbm.options.HBMOptions`)."""
+
+    ds_initial: float = 0.02
+    ds_min: float = 1e-6
+    ds_max: float = 0.15
+    n_norm: int = 4
+    max_newton: int = 12
+    tol_residual: float = 1e-10
+    tol_step: float = 1e-6
+    max_steps: int = 20000
+    max_growth: float = 2.0
+
+
+@dataclass
+class Branch:
+    """Points of a traced branch (scaled unknowns).
+
+    Attributes
+    ----------
+    y : list of ndarray, each (n + 1,)
+    tangent : list of ndarray, each (n + 1,)
+    n_iter : list of int
+        Newton iterations of each point.
+    turning_points : list of int
+        Indices ``i`` such that ``d lam / ds`` changes sign between points i-1 and i.
+    success, status, message, n_newton, n_steps
+        ``status``: 0 reached the end, 1 step size below ``ds_min``, 2 too many steps,
+        3 left the parameter range backwards, 4 the evaluation failed (non-finite),
+        5 interrupted.
+    """
+
+    y: list = field(default_factory=list)
+    tangent: list = field(default_factory=list)
+    n_iter: list = field(default_factory=list)
+    turning_points: list = field(default_factory=list)
+    success: bool = False
+    status: int = 0
+    message: str = ""
+    n_newton: int = 0
+    n_steps: int = 0
+
+
+def _norm(a):
+    return float(np.sqrt(np.dot(a, a)))
+
+
+def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
+           fixed: int | None = None, tangent: np.ndarray | None = None,
+           y_pred: np.ndarray | None = None):
+    """Newton iterations for ``R(y) = 0`` closed by one extra equation.
+
+    With ``fixed`` = index, that unknown is held (natural parametrisation, eq. 3.53);
+    with ``tangent`` and ``y_pred`` the pseudo-arclength equation
+    ``tangent . (y - y_pred) = 0`` closes the system.
+
+    Returns ``(y, converged, n_iter, message)``.
+    """
+    y = np.array(y0, dtype=float)
+    last = np.inf
+    n = y.size - 1
+    for it in range(settings.max_newton + 1):
+        try:
+            R, J = fun(y)
+        except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
+            return y, False, it, f"evaluation failed: {exc}"
+        r = _norm(R)
+        if not np.isfinite(r):
+            return y, False, it, "non-finite residual"
+        if r <= settings.tol_residual and last <= settings.tol_step:
+            return y, True, it, ""
+        if it == settings.max_newton:
+            break
+        if fixed is not None:
+            keep = np.ones(n + 1, bool)
+            keep[fixed] = False
+            try:
+                dx = np.linalg.solve(J[:, keep], -R)
+            except np.linalg.LinAlgError:
+                return y, False, it, "singular Jacobian"
+            step = np.zeros(n + 1)
+            step[keep] = dx
+        else:
+            A = np.vstack([J, tangent])
+            b = np.append(-R, -np.dot(tangent, y - y_pred))
+            try:
+                step = np.linalg.solve(A, b)
+            except np.linalg.LinAlgError:
+                return y, False, it, "singular extended Jacobian"
+        y = y + step
+        last = _norm(step)
+    return y, False, settings.max_newton, (
+        f"no convergence in {settings.max_newton} iterations (residual {r:.3g})")
+
+
+def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
+    """Unit null vector of ``J`` (n, n+1) oriented like ``previous``."""
+    A = np.vstack([J, previous])
+    b = np.zeros(A.shape[0])
+    b[-1] = 1.0
+    try:
+        t = np.linalg.solve(A, b)
+    except np.linalg.LinAlgError:
+        return None
+    nt = _norm(t)
+    if not np.isfinite(nt) or nt == 0.0:
+        return None
+    return t / nt
+
+
+def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
+                    settings: ContinuationSettings, lam_start: float | None = None,
+                    callback: Callable | None = None) -> Branch:
+    """Trace the solution branch of ``fun`` from a solution ``y0`` until ``lam_end``.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(y) -> (R (n,), J (n, n+1))``, ``y = [x, lam]`` in scaled units.
+    y0 : ndarray, shape (n + 1,)
+        A converged solution (``R(y0) ~ 0``); the branch starts towards larger lam.
+    lam_end : float
+        The last point is corrected onto ``lam = lam_end``.
+    settings : ContinuationSettings
+    lam_start : float, optional
+        Stop (status 3) if the branch returns below it.
+    callback : callable, optional
+        ``callback(lam)`` after every accepted point (progress bar).
+
+    Returns
+    -------
+    Branch
+    """
+    br = Branch()
+    n = y0.size - 1
+    y = np.array(y0, dtype=float)
+    try:
+        R, J = fun(y)
+    except Exception as exc:  # noqa: BLE001 - work started: report, never raise
+        br.status, br.message = 4, f"evaluation failed at the start point: {exc}"
+        return br
+    e = np.zeros(n + 1)
+    e[-1] = 1.0
+    t = tangent_at(J, e)
+    if t is None:
+        br.status, br.message = 4, "singular Jacobian at the start point"
+        return br
+    br.y.append(y.copy())
+    br.tangent.append(t)
+    br.n_iter.append(0)
+    ds = settings.ds_initial
+    lam_span = abs(lam_end - y[-1])
+    lam_low = (lam_start if lam_start is not None else y[-1]) - 0.05 * lam_span
+    while True:
+        if br.n_steps >= settings.max_steps:
+            br.status, br.message = 2, f"stopped after max_steps = {settings.max_steps}"
+            return br
+        br.n_steps += 1
+        y_pred = y + ds * t
+        y_new, ok, its, msg = newton(fun, y_pred, settings, tangent=t, y_pred=y_pred)
+        br.n_newton += its
+        if not ok:
+            ds *= 0.5
+            if ds < settings.ds_min:
+                br.status = 1
+                br.message = (f"step size below ds_min = {settings.ds_min:g} at "
+                              f"lam = {y[-1]:.6g} ({msg})")
+                return br
+            continue
+        try:
+            R, J = fun(y_new)
+            t_new = tangent_at(J, t)
+        except Exception as exc:  # noqa: BLE001
+            t_new = None
+            msg = str(exc)
+        if t_new is None:
+            ds *= 0.5
+            if ds < settings.ds_min:
+                br.status, br.message = 4, f"tangent failed at lam = {y_new[-1]:.6g}"
+                return br
+            continue
+        if y_new[-1] >= lam_end:
+            # land exactly on lam_end: natural-parameter Newton from the secant
+            frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
+            y_end = y + frac * (y_new - y)
+            y_end[-1] = lam_end
+            y_c, ok_end, its, _ = newton(fun, y_end, settings, fixed=n)
+            br.n_newton += its
+            if ok_end:
+                y_new = y_c
+                try:
+                    t_end = tangent_at(fun(y_new)[1], t)
+                except Exception:  # noqa: BLE001
+                    t_end = None
+                if t_end is not None:
+                    t_new = t_end
+        if t_new[-1] * t[-1] < 0.0:
+            br.turning_points.append(len(br.y))
+        br.y.append(y_new.copy())
+        br.tangent.append(t_new)
+        br.n_iter.append(its)
+        if callback is not None:
+            callback(y_new[-1])
+        if y_new[-1] >= lam_end:
+            br.success = True
+            br.status, br.message = 0, "reached the end of the range"
+            return br
+        if y_new[-1] < lam_low:
+            br.status = 3
+            br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
+            return br
+        # eq. 3.66, bounded growth
+        fac = np.sqrt(settings.n_norm / max(its, 1))
+        ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
+        ds = max(ds, settings.ds_min)
+        y, t = y_new, t_new

@@ -1,0 +1,207 @@
+"""Array wrappers over the mount law (``fmu_src.mount_law``) for harmonic balance.
+
+The HBM splits every mount axis j into its linear part, handled exactly in the frequency
+domain, and a nonlinear remainder evaluated in the time domain (AFT) or in closed form:
+
+    F_j(u, v, w) = k1 u + c v  +  F_gap/cub(u)  +  F_fr(u, w)
+
+    F_gap/cub = F_el(u) - k1 u = kc u^3                          (cubic)
+                               = (k2 - k1)(u - delta)    u > delta       (piecewise,
+                               = (k2 - k1)(u + delta_neg) u < -delta_neg  eq. 3.30)
+
+and ``F_fr`` the Jenkins element (thesis eq. 2.10-2.13), whose periodic response is
+obtained by marching the scalar return map :func:`fmu_src.mount_law.jenkins_update`
+sample by sample from ``w = 0`` over two periods and keeping the second (PHYSICS.md
+section 1: the convention for stuck bands). The elastic remainder is vectorised with
+NumPy; ``tests/test_hbm_elements.py`` proves it equal to
+:func:`fmu_src.mount_law.elastic_force` and :func:`fmu_src.mount_law.axis_force`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fmu_src.mount_law import AXES, LAW_CODES, jenkins_update
+from hbm.system import System
+
+__all__ = ["NonlinearAxes", "nonlinear_axes", "elastic_remainder",
+           "jenkins_periodic"]
+
+CUBIC = LAW_CODES["cubic"]
+PIECEWISE = LAW_CODES["piecewise"]
+PIECEWISE_ASYM = LAW_CODES["piecewise_asym"]
+
+
+@dataclass(frozen=True, eq=False)
+class NonlinearAxes:
+    """The mount axes of a system that carry a nonlinear remainder, stacked.
+
+    Attributes
+    ----------
+    labels : tuple of str, length n_ax
+        ``<mount>_<axis>``.
+    index : tuple of (int, int), length n_ax
+        ``(element index, axis index)`` of each row.
+    B : ndarray, shape (n_ax, n_dof)
+        Rows of the elements' ``B`` maps: ``u = B q - G y``.
+    G : ndarray, shape (n_ax, n_base)
+    law : ndarray of int, shape (n_ax,)
+        Law codes (``fmu_src.mount_law.LAWS``).
+    k1, kc, k2, delta, delta_neg : ndarray, shape (n_ax,)
+        Elastic parameters (N/m, N/m^3, N/m, m, m).
+    kf, fs : ndarray, shape (n_ax,)
+        Contact stiffness (N/m) and slip force (N); ``kf = 0`` means no friction.
+    """
+
+    labels: tuple[str, ...]
+    index: tuple[tuple[int, int], ...]
+    B: np.ndarray
+    G: np.ndarray
+    law: np.ndarray
+    k1: np.ndarray
+    kc: np.ndarray
+    k2: np.ndarray
+    delta: np.ndarray
+    delta_neg: np.ndarray
+    kf: np.ndarray
+    fs: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return len(self.labels)
+
+    @property
+    def friction(self) -> np.ndarray:
+        """Indices of the axes with a Jenkins element, shape (n_fr,)."""
+        return np.flatnonzero(self.kf > 0.0)
+
+    @property
+    def is_hysteretic(self) -> bool:
+        return bool(np.any(self.kf > 0.0))
+
+    @property
+    def has_closed_form(self) -> bool:
+        """Whether every law has an H = 1 closed form (not ``piecewise_asym``)."""
+        return not bool(np.any(self.law == PIECEWISE_ASYM))
+
+
+def nonlinear_axes(system: System) -> NonlinearAxes:
+    """Collect the active axes of ``system`` whose law is not purely linear.
+
+    An axis is nonlinear if it carries a friction element, a cubic law with
+    ``kc != 0`` or a piecewise law with ``k2 != k1``.
+    """
+    rows = []
+    for ie, e in enumerate(system.elements):
+        for j in e.active_axes:
+            p = e.params.axes[j]
+            nonlinear = (p.friction
+                         or (p.law == "cubic" and p.kc != 0.0)
+                         or (p.law.startswith("piecewise") and p.k2 != p.k1))
+            if nonlinear:
+                rows.append((ie, j, e, p))
+    n = system.n_dof
+    nb = system.n_base
+    return NonlinearAxes(
+        labels=tuple(f"{e.name}_{AXES[j]}" for _, j, e, _ in rows),
+        index=tuple((ie, j) for ie, j, _, _ in rows),
+        B=np.array([e.B[j] for _, j, e, _ in rows]).reshape(len(rows), n),
+        G=np.array([e.G[j] for _, j, e, _ in rows]).reshape(len(rows), nb),
+        law=np.array([p.law_code for *_, p in rows], dtype=int),
+        k1=np.array([p.k1 for *_, p in rows], dtype=float),
+        kc=np.array([p.kc for *_, p in rows], dtype=float),
+        k2=np.array([p.k2 for *_, p in rows], dtype=float),
+        delta=np.array([p.delta for *_, p in rows], dtype=float),
+        delta_neg=np.array([p.delta_neg if p.law == "piecewise_asym" else p.delta
+                            for *_, p in rows], dtype=float),
+        kf=np.array([p.kf if p.friction else 0.0 for *_, p in rows], dtype=float),
+        fs=np.array([p.fs for *_, p in rows], dtype=float),
+    )
+
+
+def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """Nonlinear part of the elastic law ``F_el(u) - k1 u`` and its tangent.
+
+    Parameters
+    ----------
+    u : ndarray, shape (N, n_ax)
+        Deflection samples, m.
+    ax : NonlinearAxes
+
+    Returns
+    -------
+    f, df_du : ndarray, shape (N, n_ax)
+        Force in N and tangent in N/m.
+    """
+    f = np.zeros_like(u)
+    kt = np.zeros_like(u)
+    cub = ax.law == CUBIC
+    if np.any(cub):
+        uc = u[:, cub]
+        f[:, cub] = ax.kc[cub] * uc * uc * uc
+        kt[:, cub] = 3.0 * ax.kc[cub] * uc * uc
+    pw = (ax.law == PIECEWISE) | (ax.law == PIECEWISE_ASYM)
+    if np.any(pw):
+        up = u[:, pw]
+        dk = (ax.k2 - ax.k1)[pw]
+        hi = up > ax.delta[pw]
+        lo = up < -ax.delta_neg[pw]
+        f[:, pw] = dk * (np.where(hi, up - ax.delta[pw], 0.0)
+                         + np.where(lo, up + ax.delta_neg[pw], 0.0))
+        kt[:, pw] = dk * (hi | lo)
+    return f, kt
+
+
+def jenkins_periodic(u: np.ndarray, kf: float, fs: float
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Periodic response of one Jenkins element to sampled periodic motion.
+
+    Marches :func:`fmu_src.mount_law.jenkins_update` over the samples ``u`` twice,
+    starting from ``w = 0``, and returns the second pass (the period repeats after
+    the first pass whenever the element slips at both global extrema, i.e. when
+    max u - min u > 2 Fs / kf; otherwise the element is stuck with the offset the
+    first pass left, the convention of PHYSICS.md section 1).
+
+    Parameters
+    ----------
+    u : ndarray, shape (N,)
+        Deflection at the samples of one period, m.
+    kf, fs : float
+        Contact stiffness (N/m, > 0) and slip force (N, >= 0).
+
+    Returns
+    -------
+    force : ndarray, shape (N,)
+        Friction force in N.
+    stuck : ndarray of bool, shape (N,)
+        Whether the element sticks at each sample.
+    last_slip : ndarray of int, shape (N,)
+        Index (within the period) of the last slip sample before or at each sample,
+        -1 if the element never slipped since ``w = 0``. At a stuck sample n,
+        ``w = u[last_slip[n]] -+ Fs / kf``, hence
+        ``dF_n/dX = kf (du_n/dX - du_{last_slip[n]}/dX)`` (or ``kf du_n/dX`` if
+        ``last_slip[n] == -1``, where ``w = 0``).
+    """
+    us = u.tolist()
+    n = len(us)
+    w = 0.0
+    last = -1
+    for i, x_ in enumerate(us):  # first pass: only w and the last slip index matter
+        _, w, _, slipping = jenkins_update(x_, w, kf, fs)
+        if slipping:
+            last = i
+    force = [0.0] * n
+    stuck = [True] * n
+    last_slip = [0] * n
+    for i, x_ in enumerate(us):
+        f, w, _, slipping = jenkins_update(x_, w, kf, fs)
+        force[i] = f
+        if slipping:
+            last = i
+            stuck[i] = False
+        last_slip[i] = last
+    return (np.array(force), np.array(stuck, dtype=bool),
+            np.array(last_slip, dtype=int))

@@ -1,0 +1,91 @@
+"""Options of the harmonic-balance solver."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+from hbm.continuation import ContinuationSettings
+
+__all__ = ["HBMOptions"]
+
+
+@dataclass(frozen=True)
+class HBMOptions:
+    """Options of :func:`hbm.frequency_response` and :func:`hbm.solve_frequencies`.
+
+    Step sizes are in scaled units: the unknowns are divided by the largest linear
+    (free-slider) response of each DOF over the range, the angular frequency by
+    ``2 pi (fmax - fmin)`` (NLvib's ``Dscale``), so a full sweep spans about 1.
+
+    Attributes
+    ----------
+    harmonics : int
+        Number of harmonics H (default 7).
+    n_samples : int or None
+        AFT samples per period; None: ``max(64, 8H)`` rounded up to a power of 2.
+    ds_initial, ds_min, ds_max : float
+        Initial, smallest and largest arc-length step (scaled units).
+    n_norm : int
+        Desired Newton iterations per step (thesis eq. 3.66).
+    max_newton : int
+        Newton iterations before a step is rejected and halved.
+    tol_residual : float
+        Convergence: residual norm / excitation norm.
+    tol_step : float
+        Convergence: size of the last Newton step (scaled units).
+    max_steps : int
+        Continuation steps before giving up (``success=False``).
+    max_growth : float
+        Largest step growth factor per step.
+    stability : bool
+        Compute Hill stability of every point.
+    n_peak : int
+        Phases per period used for the peak ``max |q(t)|``.
+    """
+
+    harmonics: int = 7
+    n_samples: int | None = None
+    ds_initial: float = 0.02
+    ds_min: float = 1e-6
+    ds_max: float = 0.1
+    n_norm: int = 4
+    max_newton: int = 12
+    tol_residual: float = 1e-10
+    tol_step: float = 1e-6
+    max_steps: int = 20000
+    max_growth: float = 2.0
+    stability: bool = True
+    n_peak: int = 256
+
+    def __post_init__(self):
+        problems = []
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in ("stability",):
+                if not isinstance(v, bool):
+                    problems.append(f"`{f.name}` must be true or false, got {v!r}")
+                continue
+            if f.name == "n_samples" and v is None:
+                continue
+            if f.name in ("harmonics", "n_samples", "n_norm", "max_newton", "max_steps",
+                          "n_peak"):
+                if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                    problems.append(f"`{f.name}` must be an integer >= 1, got {v!r}")
+            elif not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                problems.append(f"`{f.name}` must be finite and > 0, got {v!r}")
+        if not problems and self.ds_min > self.ds_max:
+            problems.append(f"`ds_min` must be <= `ds_max` = {self.ds_max}, "
+                            f"got {self.ds_min}")
+        if not problems and self.max_growth < 1:
+            problems.append(f"`max_growth` must be >= 1, got {self.max_growth}")
+        if problems:
+            raise ValueError("invalid HBMOptions: " + "; ".join(problems))
+
+    def continuation_settings(self) -> ContinuationSettings:
+        return ContinuationSettings(
+            ds_initial=min(max(self.ds_initial, self.ds_min), self.ds_max),
+            ds_min=self.ds_min, ds_max=self.ds_max, n_norm=self.n_norm,
+            max_newton=self.max_newton, tol_residual=self.tol_residual,
+            tol_step=self.tol_step, max_steps=self.max_steps,
+            max_growth=self.max_growth)

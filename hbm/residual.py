@@ -1,0 +1,205 @@
+"""Harmonic-balance residual ``R(X, omega)`` and its Jacobian (thesis eq. 3.51, 3.54).
+
+Unknowns: the Fourier coefficients of the DOFs ``q`` with the static term and H
+harmonics, harmonic-major: ``X.reshape(2H+1, n)`` has rows ``[Q0, Qc1, Qs1, ...,
+QcH, QsH]`` with ``q(t) = Q0 + sum_k Qck cos(k omega t) + Qsk sin(k omega t)`` (the sine
+convention of the excitation in :mod:`hbm.system`).
+
+    R(X, omega) = (K0 + omega C0 (D kron) + omega^2 M (D^2 kron)) X
+                  + [B^T F_nl(B q - G y)]_harmonics - f_exc(omega)
+
+``K0``, ``C0`` hold the structure plus the mounts' linear parts (``k1``, ``c``) from
+:meth:`hbm.system.System.linearized`; the base motion ``y = Y sin(omega t)`` enters
+through ``Kb0 Y`` (sine row) and ``omega Cb0 Y`` (cosine row) and through
+``u = B q - G y`` in the nonlinear remainders, which are evaluated by closed forms
+(H = 1, :mod:`hbm.closed_form`) or AFT (:mod:`hbm.aft`); the mount forces enter as
+``B^T F``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hbm.aft import FourierBasis, aft_forces, default_n_samples
+from hbm.closed_form import closed_form_forces
+from hbm.elements import nonlinear_axes
+from hbm.system import System
+
+__all__ = ["HarmonicBalance"]
+
+
+class HarmonicBalance:
+    """Residual of the harmonic-balance equations of a :class:`hbm.system.System`.
+
+    Parameters
+    ----------
+    system : System
+    harmonics : int
+        Number of harmonics H >= 1.
+    n_samples : int or None
+        AFT time samples per period (None: :func:`hbm.aft.default_n_samples`).
+    closed_form : bool or None
+        Use the H = 1 closed forms. None: when H == 1 and every law has one.
+
+    Raises
+    ------
+    ValueError
+        ``closed_form=True`` with H != 1 or a law without closed form; bad H or N.
+    """
+
+    def __init__(self, system: System, harmonics: int = 7, n_samples: int | None = None,
+                 closed_form: bool | None = None):
+        if not isinstance(system, System):
+            raise TypeError(f"`system` must be a hbm.system.System, got "
+                            f"{type(system).__name__}")
+        if isinstance(harmonics, bool) or not isinstance(harmonics, (int, np.integer)) \
+                or harmonics < 1:
+            raise ValueError(f"`harmonics` must be an integer >= 1, got {harmonics!r}")
+        H = int(harmonics)
+        ax = nonlinear_axes(system)
+        if closed_form is None:
+            closed_form = H == 1 and ax.has_closed_form
+        elif closed_form:
+            if H != 1:
+                raise ValueError(f"`closed_form` needs harmonics == 1, got {H}")
+            if not ax.has_closed_form:
+                raise ValueError("`closed_form`: the `piecewise_asym` law has no "
+                                 "closed form; use closed_form=False (AFT)")
+        if n_samples is None:
+            n_samples = default_n_samples(H)
+        if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) \
+                or n_samples <= 2 * H:
+            raise ValueError(f"`n_samples` must be an integer > 2 * harmonics = "
+                             f"{2 * H}, got {n_samples!r}")
+        self.system = system
+        self.H = H
+        self.m = 2 * H + 1
+        self.n = system.n_dof
+        self.size = self.m * self.n
+        self.closed_form = bool(closed_form)
+        self.n_samples = int(n_samples)
+        self.axes = ax
+        self.basis = FourierBasis(H, self.n_samples)
+        K0, C0 = system.linearized(stuck=False)
+        Kb0, Cb0 = system.linearized_base(stuck=False)
+        self.K0, self.C0, self.M = K0, C0, system.M
+        D = self.basis.D
+        I_m = np.eye(self.m)
+        self.A0 = np.kron(I_m, K0)
+        self.A1 = np.kron(D, C0)
+        self.A2 = np.kron(D @ D, system.M)
+        # excitation: f_exc(omega) = e0 + omega e1 + omega^2 e2 (coefficient vectors)
+        e0 = np.zeros((self.m, self.n))
+        e1 = np.zeros((self.m, self.n))
+        e2 = np.zeros((self.m, self.n))
+        exc = system.excitation
+        self.Yax = np.zeros((self.m, ax.n))  # base part of the axis deflections
+        if exc.kind == "force":
+            e0[2] = exc.amplitude
+        elif exc.kind == "unbalance":
+            e2[2] = exc.amplitude
+        else:
+            Y = np.asarray(exc.amplitude)
+            e0[2] = Kb0 @ Y
+            e1[1] = Cb0 @ Y
+            self.Yax[2] = -(ax.G @ Y)
+        self.e0, self.e1, self.e2 = e0.ravel(), e1.ravel(), e2.ravel()
+        self.Bt = ax.B  # (n_ax, n)
+
+    # ----------------------------------------------------------------------------------
+    def excitation(self, omega: float) -> np.ndarray:
+        """Excitation coefficient vector ``f_exc(omega)``, shape (m n,)."""
+        return self.e0 + omega * self.e1 + omega * omega * self.e2
+
+    def linear_matrix(self, omega: float) -> np.ndarray:
+        """``dR/dX`` of the linear part, shape (m n, m n)."""
+        return self.A0 + omega * self.A1 + (omega * omega) * self.A2
+
+    def axis_coefficients(self, X: np.ndarray) -> np.ndarray:
+        """Deflection coefficients of the nonlinear axes, shape (2H+1, n_ax)."""
+        return X.reshape(self.m, self.n) @ self.Bt.T + self.Yax
+
+    def nonlinear_forces(self, X: np.ndarray, jacobian: bool = True):
+        """Force coefficients ``(2H+1, n_ax)`` of the nonlinear remainders, dF/dU."""
+        U = self.axis_coefficients(X)
+        if self.closed_form:
+            F, dF = closed_form_forces(U, self.axes)
+            return F, (dF if jacobian else None)
+        return aft_forces(U, self.axes, self.basis, jacobian)
+
+    def residual(self, X: np.ndarray, omega: float, jacobian: bool = True):
+        """Residual and derivatives at ``(X, omega)``.
+
+        Parameters
+        ----------
+        X : ndarray, shape (m n,)
+            Coefficients (m, rad for rotations).
+        omega : float
+            Excitation angular frequency, rad/s.
+
+        Returns
+        -------
+        R : ndarray, shape (m n,)
+            Residual, N (N m for rotational DOFs).
+        dR_dX : ndarray, shape (m n, m n) or None
+        dR_domega : ndarray, shape (m n,) or None
+        """
+        A = self.linear_matrix(omega)
+        R = A @ X - self.excitation(omega)
+        if self.axes.n:
+            F, dF = self.nonlinear_forces(X, jacobian)
+            R += (F @ self.Bt).ravel()
+        if not jacobian:
+            return R, None, None
+        J = A
+        if self.axes.n:
+            Bt = self.Bt
+            if self.n == 1:
+                J = J + np.einsum("ahg,a->hg", dF, Bt[:, 0] ** 2)
+            else:
+                J = J + np.einsum("ahg,ai,aj->higj", dF, Bt, Bt).reshape(
+                    self.size, self.size)
+        dR_dw = ((self.A1 + (2.0 * omega) * self.A2) @ X
+                 - (self.e1 + 2.0 * omega * self.e2))
+        return R, J, dR_dw
+
+    # ----------------------------------------------------------------------------------
+    def time_samples(self, X: np.ndarray, n_samples: int = 256) -> np.ndarray:
+        """``q`` at ``n_samples`` equidistant phases of one period, shape (N, n)."""
+        theta = 2.0 * np.pi * np.arange(n_samples) / n_samples
+        k = np.arange(1, self.H + 1)
+        Xr = X.reshape(self.m, self.n)
+        c = np.cos(np.outer(theta, k))
+        s = np.sin(np.outer(theta, k))
+        return Xr[0] + c @ Xr[1::2] + s @ Xr[2::2]
+
+    def axis_force_fundamental(self, X: np.ndarray, omega: float,
+                               pairs) -> np.ndarray:
+        """Fundamental ``(cos1, sin1)`` of the total force of the (element, axis) pairs.
+
+        Total force = ``k1 u + c du/dt + nonlinear remainder``, summed over ``pairs``.
+        """
+        sysm = self.system
+        Xr = X.reshape(self.m, self.n)
+        exc = sysm.excitation
+        Y = np.asarray(exc.amplitude) if exc.kind == "base" else None
+        Fnl = None
+        total = np.zeros(2)
+        for ie, j in pairs:
+            e = sysm.elements[ie]
+            p = e.params.axes[j]
+            uc = Xr[1] @ e.B[j]
+            us = Xr[2] @ e.B[j]
+            if Y is not None:
+                us -= e.G[j] @ Y
+            # k1 u + c u', u' = omega (us cos - uc sin)
+            fc = p.k1 * uc + p.c * omega * us
+            fs = p.k1 * us - p.c * omega * uc
+            if (ie, j) in self.axes.index:
+                if Fnl is None:
+                    Fnl = self.nonlinear_forces(X, jacobian=False)[0]
+                a = self.axes.index.index((ie, j))
+                fc += Fnl[1, a]
+                fs += Fnl[2, a]
+            total += (fc, fs)
+        return total

@@ -1,0 +1,183 @@
+"""Result of a harmonic-balance frequency response: :class:`FrequencyResponse`."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["FrequencyResponse"]
+
+
+@dataclass
+class FrequencyResponse:
+    """Steady-state frequency response computed by harmonic balance.
+
+    Attributes
+    ----------
+    freq_hz : ndarray, shape (n_points,)
+        Excitation frequency of each point, Hz (not monotonic through folds).
+    coefficients : ndarray, shape (n_points, n_dof, 2H+1)
+        Fourier coefficients of each DOF, ``[static, cos1, sin1, ..., cosH, sinH]``
+        with ``q(t) = Q0 + sum_k Qck cos(k omega t) + Qsk sin(k omega t)``; m (rad for
+        rotations).
+    amplitude : ndarray, shape (n_points, n_dof)
+        Fundamental amplitude ``hypot(Qc1, Qs1)``, m or rad.
+    peak : ndarray, shape (n_points, n_dof)
+        ``max |q(t)|`` over the period (sampled at ``n_peak`` phases), m or rad.
+    transmissibility : ndarray, shape (n_points,)
+        As defined by the system's :class:`hbm.system.Transmissibility` (fundamental
+        amplitudes, thesis eq. 4.1 or 4.3), dimensionless.
+    stable : ndarray of bool, shape (n_points,)
+        Hill stability (True if not computed).
+    turning_points : ndarray of int
+        Indices of the points just past a fold (``d omega / ds`` changed sign): the
+        jump frequencies are ``freq_hz[turning_points]``.
+    success : bool
+        Whether the curve reached ``fmax``.
+    status : int
+        0 done; 1 step below ``ds_min``; 2 too many steps; 3 turned back below
+        ``fmin``; 4 evaluation failed; 5 interrupted; 6 no start solution.
+    message : str
+    n_newton : int
+        Newton iterations in total.
+    n_steps : int
+        Continuation steps tried (accepted and rejected).
+    dof_names : tuple of str
+    harmonics : int
+    n_samples : int
+        AFT samples per period (0 with closed forms).
+    closed_form : bool
+    floquet_max_real : ndarray, shape (n_points,)
+        Largest real part of the Floquet exponents, 1/s (NaN if not computed).
+    newton_per_point : ndarray of int, shape (n_points,)
+    system_name : str
+    """
+
+    freq_hz: np.ndarray
+    coefficients: np.ndarray
+    amplitude: np.ndarray
+    peak: np.ndarray
+    transmissibility: np.ndarray
+    stable: np.ndarray
+    turning_points: np.ndarray
+    success: bool
+    status: int
+    message: str
+    n_newton: int
+    n_steps: int
+    dof_names: tuple[str, ...]
+    harmonics: int
+    n_samples: int = 0
+    closed_form: bool = False
+    floquet_max_real: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    newton_per_point: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
+    system_name: str = ""
+
+    @property
+    def n_points(self) -> int:
+        return int(self.freq_hz.size)
+
+    @property
+    def turning_freq_hz(self) -> np.ndarray:
+        """Frequencies of the turning points (jump frequencies), Hz."""
+        return self.freq_hz[self.turning_points]
+
+    def columns(self) -> list[str]:
+        """CSV column names."""
+        cols = ["freq_hz"]
+        for d in self.dof_names:
+            cols += [f"{d}_amp", f"{d}_peak"]
+        return cols + ["transmissibility", "stable"]
+
+    def table(self) -> np.ndarray:
+        """The CSV table as an array, shape (n_points, 2 n_dof + 3)."""
+        parts = [self.freq_hz[:, None]]
+        for i in range(len(self.dof_names)):
+            parts += [self.amplitude[:, i:i + 1], self.peak[:, i:i + 1]]
+        parts += [self.transmissibility[:, None], self.stable[:, None].astype(float)]
+        return np.hstack(parts)
+
+    def to_csv(self, path: str | os.PathLike) -> None:
+        """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable``.
+
+        The first line is a ``# `` comment with units and provenance; ``stable`` is 1
+        or 0; amplitudes in m (rad for rotations).
+        """
+        meth = "closed forms" if self.closed_form else f"AFT N={self.n_samples}"
+        comment = (f"# drymount HBM {self.system_name}: H={self.harmonics} ({meth}); "
+                   f"success={self.success} ({self.message}); amplitudes m or rad, "
+                   f"fundamental (_amp) and max over the period (_peak); stable 1/0; "
+                   f"turning points at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(comment + "\n")
+            fh.write(",".join(self.columns()) + "\n")
+            for row in self.table():
+                vals = [f"{v:.10g}" for v in row[:-1]] + [str(int(row[-1]))]
+                fh.write(",".join(vals) + "\n")
+
+    def plot(self, path: str | os.PathLike | None = None, ax=None,
+             quantity: str = "transmissibility", dof: str | None = None,
+             logy: bool = True, label: str | None = None, **kwargs):
+        """Plot the curve; unstable parts dashed, turning points marked.
+
+        Parameters
+        ----------
+        path : path, optional
+            Save the figure there (PNG, ...).
+        ax : matplotlib Axes, optional
+        quantity : ``"transmissibility"``, ``"amplitude"`` or ``"peak"``
+        dof : str, optional
+            DOF name for amplitude/peak (default: the first).
+        logy : bool
+        label : str, optional
+        **kwargs
+            Passed to ``Axes.plot``.
+
+        Returns
+        -------
+        matplotlib Axes
+        """
+        if quantity not in ("transmissibility", "amplitude", "peak"):
+            raise ValueError(f"`quantity` must be transmissibility, amplitude or peak, "
+                             f"got {quantity!r}")
+        if ax is None:
+            import matplotlib
+            if path is not None:
+                matplotlib.use("Agg", force=False)
+            import matplotlib.pyplot as plt
+            fig, ax = plt.subplots(figsize=(7, 4.5))
+        else:
+            fig = ax.figure
+        if quantity == "transmissibility":
+            y = self.transmissibility
+            ylabel = "transmissibility"
+        else:
+            name = dof if dof is not None else self.dof_names[0]
+            if name not in self.dof_names:
+                raise ValueError(f"`dof` must be one of {self.dof_names}, got {name!r}")
+            y = getattr(self, quantity)[:, self.dof_names.index(name)]
+            ylabel = f"{name} {quantity}"
+        label = label or f"HBM H={self.harmonics}"
+        st = self.stable.astype(bool)
+        ys = np.where(st, y, np.nan)
+        line, = ax.plot(self.freq_hz, ys, "-", label=label, **kwargs)
+        if not np.all(st):
+            # unstable parts dashed (include neighbours so the dashes join the curve)
+            un = ~st
+            un_ext = un | np.r_[un[1:], False] | np.r_[False, un[:-1]]
+            ax.plot(self.freq_hz, np.where(un_ext, y, np.nan), "--",
+                    color=line.get_color(), label=f"{label} (unstable)")
+        if len(self.turning_points):
+            ax.plot(self.freq_hz[self.turning_points], y[self.turning_points], "o",
+                    mfc="none", color=line.get_color(), label="turning points")
+        if logy and np.all(y[np.isfinite(y)] > 0):
+            ax.set_yscale("log")
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+        if path is not None:
+            fig.savefig(path, dpi=120, bbox_inches="tight")
+        return ax
