@@ -285,7 +285,7 @@ def _type_name(v) -> str:
 def _show(v) -> str:
     """Short display of a value for a message."""
     if isinstance(v, dict):
-        return "a table {" + ", ".join(str(k) for k in list(v)[:6]) + (
+        return "{" + ", ".join(str(k) for k in list(v)[:6]) + (
             ", ...}" if len(v) > 6 else "}")
     text = repr(v)
     return text if len(text) <= 60 else text[:57] + "..."
