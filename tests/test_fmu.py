@@ -233,7 +233,7 @@ def test_fmu_carries_byte_identical_sources_and_docs(fmu_path):
         index = z.read("documentation/index.html").decode()
     assert "Python >= 3.10" in deps and "libpython" in deps
     assert "standard library" in deps
-    for name in ("u_axial", "F_axial", "E_fr", "axial_kf", "doStep", "LD_PRELOAD"):
+    for name in ("u_axial", "F_axial", "E_fr", "axial_kf", "fmi2DoStep", "LD_PRELOAD"):
         assert name in index
 
 
