@@ -1,0 +1,229 @@
+"""The ``drymount`` command line (drymount.cli): help, exit codes, presets, runs."""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from drymount import cli
+from drymount.config import list_presets, load_config, load_preset, preset_text
+
+COMMANDS = ("build-fmu", "hbm", "cosim", "sweep", "validate", "study", "presets",
+            "demo")
+#: HBM amplitude of a linear system against the exact FRF: the HBM is exact for a
+#: linear system up to its Newton tolerance (measured 1e-9), 1e-6 leaves margin.
+RTOL_LINEAR_FRF = 1e-6
+
+BAD_CONFIG = """
+model = "sdof"
+[sdof]
+mass = -70.0
+[mount]
+law = "piecewise"
+k_1 = 91870.0
+k2 = 513800.0
+delta = 0.01225
+c = 150.0
+[mount.friction]
+kf = 60000.0
+[excitation]
+kind = "unbalance"
+amplitude = nan
+[sweep]
+fmin_hz = 10.0
+fmax_hz = 10.0
+"""
+
+
+def run(argv, capsys):
+    code = cli.main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def _read_csv(path):
+    with open(path, encoding="utf-8") as fh:
+        lines = fh.read().splitlines()
+    assert lines[0].startswith("# "), "first line must be a '# ' units comment"
+    rows = list(csv.reader(lines[1:]))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+# ======================================================================================
+# Help
+# ======================================================================================
+
+
+def test_top_level_help_lists_every_command(capsys):
+    code, out, _ = run(["--help"], capsys)
+    assert code == 0
+    for c in COMMANDS:
+        assert f"    {c} " in out, f"`drymount --help` does not list {c}"
+    assert "examples:" in out
+
+
+@pytest.mark.parametrize("argv", [[c] for c in COMMANDS] + [
+    ["presets", "list"], ["presets", "show"], ["presets", "export"]])
+def test_every_command_help_shows_an_example(argv, capsys):
+    code, out, _ = run([*argv, "--help"], capsys)
+    assert code == 0
+    assert "examples:" in out
+    example = [ln.strip() for ln in out.split("examples:")[1].splitlines()
+               if ln.strip()][0]
+    assert example.startswith(f"drymount {argv[0]}"), example
+
+
+def test_help_through_the_console_entry_point():
+    res = subprocess.run([sys.executable, "-m", "drymount.cli", "sweep", "--help"],
+                         capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0 and "--workers" in res.stdout
+
+
+def test_documented_options_of_lead_commands():
+    p = cli.build_parser()
+    a = p.parse_args(["validate", "--quick", "--out", "v"])
+    assert (a.quick, str(a.out)) == (True, "v")
+    a = p.parse_args(["study", "optimize-n0", "--out", "d"])
+    assert (a.name, str(a.out)) == ("optimize-n0", "d")
+    a = p.parse_args(["demo", "--out", "x"])
+    assert str(a.out) == "x"
+
+
+# ======================================================================================
+# Exit status 2: usage and configuration errors, clean messages
+# ======================================================================================
+
+
+def test_bad_config_exit_2_lists_every_problem(tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text(BAD_CONFIG)
+    code, out, err = run(["hbm", str(path)], capsys)
+    assert code == 2
+    assert "Traceback" not in err
+    assert f"invalid configuration {path}: 6 problems:" in err
+    for needle in ("`sdof.mass`", "`mount.k_1`", "did you mean `k1`", "`mount.k1`",
+                   "`mount.friction.n0`", "`excitation.amplitude`", "`sweep.fmax_hz`"):
+        assert needle in err, needle
+    assert not (tmp_path / "t_hbm.csv").exists()
+
+
+def test_bad_config_through_a_subprocess_has_no_traceback(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(BAD_CONFIG)
+    res = subprocess.run([sys.executable, "-m", "drymount.cli", "sweep", str(path)],
+                         capture_output=True, text=True, timeout=60)
+    assert res.returncode == 2
+    assert "Traceback" not in res.stderr and "`sdof.mass`" in res.stderr
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["hbm", "sdof_halvd"], "did you mean preset `sdof_halved`"),
+    (["hbm", "sdof_halved", "--fmin", "10", "--fmax", "5"], "fmin < fmax"),
+    (["hbm", "sdof_halved", "--fmin", "-1"], "must be a finite number > 0"),
+    (["hbm", "sdof_halved", "--harmonics", "0"], "must be an integer >= 1"),
+    (["hbm", "sdof_halved", "--harmonics", "3", "--n-samples", "5"], ">= 2H + 1"),
+    (["sweep", "sdof_halved", "--direction", "sideways"], "invalid choice"),
+    (["study", "nonsense"], "invalid choice"),
+    (["presets", "show", "nope"], "unknown preset `nope`"),
+    (["frobnicate"], "invalid choice"),
+    ([], "required"),
+])
+def test_usage_errors_exit_2(argv, needle, capsys):
+    code, _, err = run(argv, capsys)
+    assert code == 2
+    assert needle in err and "Traceback" not in err
+
+
+def test_missing_lead_module_exit_2(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "drymount.demo", None)
+    code, _, err = run(["demo", "--out", "x"], capsys)
+    assert code == 2 and "no drymount.demo module" in err
+
+
+# ======================================================================================
+# presets
+# ======================================================================================
+
+
+def test_presets_list(capsys):
+    code, out, _ = run(["presets", "list"], capsys)
+    assert code == 0
+    names = [ln.split()[0] for ln in out.splitlines()]
+    assert names == list_presets()
+
+
+def test_presets_show(capsys):
+    code, out, _ = run(["presets", "show", "six_dof_halved"], capsys)
+    assert code == 0 and out == preset_text("six_dof_halved")
+
+
+@pytest.mark.parametrize("name", ["sdof_halved", "quarter_car_halved",
+                                  "six_dof_halved", "six_dof_4mount"])
+def test_presets_export_round_trip(name, tmp_path, capsys):
+    path = tmp_path / "sub" / f"{name}.toml"
+    code, _, _ = run(["presets", "export", name, str(path)], capsys)
+    assert code == 0
+    a, b = load_preset(name).system, load_config(path).system
+    for attr in ("M", "C", "K", "Kb", "Cb"):
+        np.testing.assert_array_equal(getattr(a, attr), getattr(b, attr))
+    for la, lb in zip(a.linearized(stuck=True), b.linearized(stuck=True), strict=True):
+        np.testing.assert_array_equal(la, lb)
+    for ea, eb in zip(a.elements, b.elements, strict=True):
+        assert ea.params == eb.params and ea.name == eb.name
+        np.testing.assert_array_equal(ea.B, eb.B)
+        np.testing.assert_array_equal(ea.G, eb.G)
+    np.testing.assert_array_equal(a.excitation.amplitude, b.excitation.amplitude)
+    # no overwrite without --force
+    code, _, err = run(["presets", "export", name, str(path)], capsys)
+    assert code == 2 and "--force" in err
+    assert run(["presets", "export", name, str(path), "--force"], capsys)[0] == 0
+
+
+# ======================================================================================
+# hbm: end to end
+# ======================================================================================
+
+
+def test_hbm_linear_preset_matches_exact_frf(tmp_path, capsys):
+    import hbm
+
+    out, plot = tmp_path / "curve.csv", tmp_path / "curve.png"
+    code, stdout, _ = run(["hbm", "sdof_linear", "--harmonics", "3", "--fmin", "2",
+                           "--fmax", "12", "--out", str(out), "--plot", str(plot),
+                           "-q"], capsys)
+    assert code == 0
+    assert "peak transmissibility" in stdout
+    header, data = _read_csv(out)
+    assert header[:3] == ["freq_hz", "x_amp", "x_peak"]
+    assert header[-2:] == ["transmissibility", "stable"]
+    system = load_preset("sdof_linear").system
+    exact = np.abs(hbm.linear_frf(system, data[:, 0])[:, 0])
+    np.testing.assert_allclose(data[:, 1], exact, rtol=RTOL_LINEAR_FRF)
+    assert plot.stat().st_size > 1000
+    # no temporary files left behind by the atomic writes
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["curve.csv", "curve.png"]
+
+
+def test_hbm_numerical_failure_exit_1_keeps_the_points(tmp_path, capsys,
+                                                       monkeypatch):
+    import hbm
+
+    real = hbm.frequency_response
+
+    def stalled(*args, **kw):
+        fr = real(*args, **kw)
+        return dataclasses.replace(fr, success=False, message="forced stall (test)")
+
+    monkeypatch.setattr(hbm, "frequency_response", stalled)
+    out = tmp_path / "c.csv"
+    code, _, err = run(["hbm", "sdof_halved", "--harmonics", "1", "--fmin", "2",
+                        "--fmax", "8", "--out", str(out), "-q"], capsys)
+    assert code == 1
+    assert "forced stall (test)" in err and str(out) in err
+    _, data = _read_csv(out)
+    assert len(data) > 3
