@@ -167,6 +167,13 @@ class FrictionMount(Fmi2Slave):
         self._res = [None, None, None]
         self._coef = None  # per-axis tuples of checked parameters, see _prepare()
         self._register_all()
+        by_name = {var.name: vr for vr, var in self.vars.items()}
+        self._fast_inputs = {by_name[f"{q}_{axis}"]: (store, j)
+                             for j, axis in enumerate(AXES)
+                             for q, store in (("u", self._u), ("v", self._v))}
+        self._fast_outputs = {by_name[f"{name}_{axis}"]: (j, idx)
+                              for j, axis in enumerate(AXES)
+                              for name, idx in (("F", _F), ("Ffr", _FFR), ("kt", _KT))}
 
     # ------------------------------------------------------------------ variables
     def _register_all(self) -> None:
@@ -279,6 +286,10 @@ class FrictionMount(Fmi2Slave):
         if problems:
             raise self._fail(
                 "FrictionMount: invalid parameters: " + "; ".join(problems))
+        # an input n never set follows its parameter <axis>_n0
+        for j, axis in enumerate(AXES):
+            if not self._n_set[j]:
+                self._n[j] = getattr(self, f"{axis}_n0")
         self._coef = coef
 
     # ------------------------------------------------------------------ the law
@@ -293,7 +304,7 @@ class FrictionMount(Fmi2Slave):
     def _evaluate(self, j: int) -> tuple:
         if self._coef is None:
             self._prepare()
-        u, v, n = self._u[j], self._v[j], self._normal_force(j)
+        u, v, n = self._u[j], self._v[j], self._n[j]  # n synced by _prepare()
         if not (math.isfinite(u) and math.isfinite(v) and math.isfinite(n)):
             axis = AXES[j]
             raise self._fail(
@@ -352,10 +363,36 @@ class FrictionMount(Fmi2Slave):
         self._coef = None
         self._res = [None, None, None]
 
-    get_real = _guarded(Fmi2Slave.get_real)
+    @_guarded
+    def get_real(self, vrs):
+        # Per-step fast path for the Real outputs (one dict lookup and a cached
+        # evaluation per value); everything else goes through pythonfmu's getter.
+        fast, res, out = self._fast_outputs, self._res, []
+        for vr in vrs:
+            key = fast.get(vr)
+            if key is None:
+                out.extend(Fmi2Slave.get_real(self, [vr]))
+            else:
+                j, idx = key
+                r = res[j]
+                out.append((r if r is not None else self._evaluate(j))[idx])
+        return out
+
     get_integer = _guarded(Fmi2Slave.get_integer)
     get_boolean = _guarded(Fmi2Slave.get_boolean)
-    set_real = _guarded(Fmi2Slave.set_real)
+    @_guarded
+    def set_real(self, vrs, values):
+        # Per-step fast path for u and v; parameters and n take pythonfmu's setters.
+        fast, res = self._fast_inputs, self._res
+        for vr, value in zip(vrs, values):
+            key = fast.get(vr)
+            if key is None:
+                Fmi2Slave.set_real(self, [vr], [value])
+            else:
+                store, j = key
+                store[j] = value
+                res[j] = None
+
     set_integer = _guarded(Fmi2Slave.set_integer)
     set_boolean = _guarded(Fmi2Slave.set_boolean)
 
