@@ -180,7 +180,9 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
             for mod in [m for m in sys.modules
                         if m in (package, entry) or m.startswith(package + ".")]:
                 del sys.modules[mod]
-        os.replace(shutil.copy2(partial, dest.with_suffix(".fmu.part")), dest)
+        # unique per process: concurrent builders (parallel sweep workers) never share
+        part = dest.parent / f".{dest.name}.{os.getpid()}.part"
+        os.replace(shutil.copy2(partial, part), dest)
     return dest
 
 
