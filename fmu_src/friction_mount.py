@@ -85,6 +85,11 @@ for _axis in AXES:
                   f"E_fr_{_axis}": "J", f"w_{_axis}": "m"})
 UNITS["E_fr"] = "J"
 
+# Declared ranges of the parameters (strict bounds such as delta > 0 and the rule for
+# kf are in the descriptions and checked at initialization).
+_BOUNDS = {"law": {"min": "0", "max": str(len(LAWS) - 1)}}
+_BOUNDS.update({name: {"min": "0"} for name, typ, *_ in _PARAMETERS if typ == "Real"})
+
 # Indices into the axis_force result tuple.
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
 
@@ -380,6 +385,7 @@ class FrictionMount(Fmi2Slave):
 
     get_integer = _guarded(Fmi2Slave.get_integer)
     get_boolean = _guarded(Fmi2Slave.get_boolean)
+
     @_guarded
     def set_real(self, vrs, values):
         # Per-step fast path for u and v; parameters and n take pythonfmu's setters.
@@ -418,6 +424,9 @@ class FrictionMount(Fmi2Slave):
             unit = UNITS.get(sv.get("name"))
             if unit is not None:
                 sv.find("Real").set("unit", unit)
+            bounds = _BOUNDS.get(sv.get("name").partition("_")[2])
+            if bounds is not None and sv.get("causality") == "parameter":
+                sv[0].attrib.update(bounds)
         root.remove(root.find("ModelStructure"))
         structure = SubElement(root, "ModelStructure")
         outputs = SubElement(structure, "Outputs")

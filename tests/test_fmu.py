@@ -204,6 +204,9 @@ def test_model_description_interface(fmu):
     newton = next(u for u in md.unitDefinitions if u.name == "N")
     assert (newton.baseUnit.kg, newton.baseUnit.m, newton.baseUnit.s) == (1, 1, -2)
     assert float(by_name["n_axial"].start) == AxisParameters().n0
+    # declared ranges: the law code and non-negative parameters; n may go negative
+    assert (by_name["radial2_law"].min, by_name["radial2_law"].max) == ("0", "3")
+    assert by_name["axial_k1"].min == "0" and by_name["n_axial"].min is None
     cs = md.coSimulation
     assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
     assert not cs.needsExecutionTool and not cs.canBeInstantiatedOnlyOncePerProcess
