@@ -1,0 +1,54 @@
+"""Vehicle harness: engines and vehicles as rigid bodies co-simulating mount FMUs.
+
+- :mod:`vehicle.models`: builders of the thesis's systems (sdof, quarter_car,
+  rigid_engine).
+- :mod:`vehicle.inputs`: harmonic, crank-mechanism, road and base inputs.
+- :mod:`vehicle.master`: fixed-step master (leapfrog with a velocity predictor, one
+  mount-force evaluation per step), :func:`simulate`.
+- :mod:`vehicle.backends`: ``native`` (the mount law in-process) and ``fmu`` (one
+  ``FrictionMount.fmu`` instance per mount through fmpy).
+- :mod:`vehicle.steady`: periodic steady state, :func:`steady_state`.
+- :mod:`vehicle.sweep`: stepped-sine sweeps, :func:`sweep`.
+"""
+
+from .backends import FMUError
+from .inputs import (
+    BaseSine,
+    BumpRoad,
+    CrankInput,
+    HarmonicInput,
+    Input,
+    RandomRoad,
+    SineRoad,
+    SumInput,
+    SweptSineRoad,
+)
+from .master import DivergenceError, Master, simulate
+from .models import quarter_car, rigid_engine, sdof
+from .results import TimeHistory
+from .steady import SteadyState, steady_state
+from .sweep import SweepResult, sweep
+
+__all__ = [
+    "BaseSine",
+    "BumpRoad",
+    "CrankInput",
+    "DivergenceError",
+    "FMUError",
+    "HarmonicInput",
+    "Input",
+    "Master",
+    "RandomRoad",
+    "SineRoad",
+    "SteadyState",
+    "SumInput",
+    "SweepResult",
+    "SweptSineRoad",
+    "TimeHistory",
+    "quarter_car",
+    "rigid_engine",
+    "sdof",
+    "simulate",
+    "steady_state",
+    "sweep",
+]

@@ -1,0 +1,544 @@
+"""Mount-force backends of the co-simulation master: in-process law or an FMU per mount.
+
+Both backends run the same fixed-step loop of :mod:`vehicle.master` over a row buffer
+``rec`` (one row per step, layout in :class:`Layout`): at step k they read the local
+deflections ``u``, rates ``v`` of every active mount axis from row k, write the mount
+outputs (force ``F``, friction force ``Ffr`` per active axis, cumulative friction energy
+``E`` per mount) into row k, and advance the linear part with one matrix-vector product
+``rec[k+1, :n_next] = W @ rec[k, o_x:]`` (see :mod:`vehicle.master`).
+
+``native``
+    calls :func:`fmu_src.mount_law.axis_force` (the FMU's own law) in-process, one call
+    per active axis and step, and commits the slider positions at once.
+``fmu``
+    drives one instance of ``FrictionMount.fmu`` per mount through fmpy's
+    ``FMU2Slave`` with the raw ``fmi2SetReal`` / ``fmi2GetReal`` / ``fmi2DoStep`` calls
+    and preallocated value-reference arrays; the real buffers are pointers into the
+    row buffer, so no value is copied in Python. Per mount and step exactly one
+    ``fmi2SetReal`` (``u_<axis>``, ``v_<axis>`` of the active axes), one ``fmi2GetReal``
+    (``F_<axis>``, ``Ffr_<axis>`` of the active axes and ``E_fr``) and one
+    ``fmi2DoStep(t_k, h)`` (commits the sliders) are made. Logging is on; the FMU's
+    messages are kept (last 50 per instance) and quoted in errors. Any failure is
+    re-raised as :class:`FMUError` naming the mount and the simulation time, and
+    :meth:`FMUBackend.close` always terminates and frees every instance.
+
+Both follow the FMU protocol of ``docs``/interfaces: the force at t_k is the trial
+return map ``law(u_k, v_k, w_{k-1})``; the step commits ``w_k = w_new(u_k)``; the energy
+output includes the dissipation of the current trial (``E_fr`` = committed + trial).
+"""
+
+from __future__ import annotations
+
+import collections
+import ctypes
+import logging
+import shutil
+from dataclasses import dataclass
+
+import numpy as np
+
+from fmu_src.mount_law import AXES, axis_force
+
+__all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
+           "make_backend"]
+
+_log = logging.getLogger(__name__)
+
+#: FMU variables the harness needs, per axis and global.
+FMU_AXIS_VARIABLES = ("u", "v", "F", "Ffr", "w", "E_fr")
+FMU_PARAMETERS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
+                  "mu", "n0")
+
+
+class FMUError(RuntimeError):
+    """An FMU call failed. Attributes: ``mount`` (name), ``time`` (s), ``function``
+    (FMI function name or None), ``status`` (FMI status or None), ``log`` (the
+    instance's last log messages)."""
+
+    def __init__(self, mount: str, time: float, message: str, *, function=None,
+                 status=None, log=()):
+        self.mount = mount
+        self.time = time
+        self.function = function
+        self.status = status
+        self.log = list(log)
+        text = f"FMU of mount {mount!r} failed at t = {time:.9g} s: {message}"
+        if self.log:
+            text += "\nFMU log (last messages):\n  " + "\n  ".join(self.log)
+        super().__init__(text)
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Column layout of one row of the master's buffer (all offsets in doubles).
+
+    Row k = ``[UV | x | OUT | R]``:
+
+    - ``UV`` (2m): per mount e, ``u`` of its ``m_e`` active axes then their ``v``;
+    - ``x`` (3n): ``q_k``, ``vh_k = q'(t_k - h/2)``, ``a_{k-1}`` (integrator state);
+    - ``OUT`` (2m + n_mounts): per mount, ``F`` (m_e), ``Ffr`` (m_e), ``E`` (1);
+    - ``R`` (n + 2m): ``M^-1 (f_k + K_b y_k + C_b y'_k)`` and the base part of UV at
+      step k+1 (``[G y; G y']`` per mount).
+
+    m is the number of active mount axes, n the number of DOFs.
+    """
+
+    n: int
+    m: int
+    n_mounts: int
+    names: tuple[str, ...]
+    active: tuple[tuple[int, ...], ...]
+
+    @classmethod
+    def of(cls, system) -> Layout:
+        active = tuple(e.active_axes for e in system.elements)
+        return cls(system.n_dof, sum(len(a) for a in active), len(active),
+                   tuple(e.name for e in system.elements), active)
+
+    @property
+    def o_x(self) -> int:
+        return 2 * self.m
+
+    @property
+    def o_out(self) -> int:
+        return 2 * self.m + 3 * self.n
+
+    @property
+    def n_out(self) -> int:
+        return 2 * self.m + self.n_mounts
+
+    @property
+    def o_r(self) -> int:
+        return self.o_out + self.n_out
+
+    @property
+    def n_next(self) -> int:
+        """Columns written by the linear update: ``UV`` and ``x`` of the next row."""
+        return 2 * self.m + 3 * self.n
+
+    @property
+    def width(self) -> int:
+        return self.o_r + self.n + 2 * self.m
+
+    def m_of(self, e: int) -> int:
+        return len(self.active[e])
+
+    def uv_off(self, e: int) -> int:
+        return 2 * sum(len(a) for a in self.active[:e])
+
+    def out_off(self, e: int) -> int:
+        return self.o_out + sum(2 * len(a) + 1 for a in self.active[:e])
+
+    def axes(self) -> list[tuple[int, int, int]]:
+        """``(global index i, mount e, local axis j)`` of every active axis."""
+        out, i = [], 0
+        for e, act in enumerate(self.active):
+            for j in act:
+                out.append((i, e, j))
+                i += 1
+        return out
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Column indices per active axis (``u``, ``v``, ``F``, ``Ffr``) and per mount
+        (``E``)."""
+        cols = {k: [] for k in ("u", "v", "F", "Ffr")}
+        for e, act in enumerate(self.active):
+            me = len(act)
+            for a in range(me):
+                cols["u"].append(self.uv_off(e) + a)
+                cols["v"].append(self.uv_off(e) + me + a)
+                cols["F"].append(self.out_off(e) + a)
+                cols["Ffr"].append(self.out_off(e) + me + a)
+        out = {k: np.array(v, dtype=int) for k, v in cols.items()}
+        out["E"] = np.array([self.out_off(e) + 2 * self.m_of(e)
+                             for e in range(self.n_mounts)], dtype=int)
+        return out
+
+
+class _Backend:
+    """Shared bookkeeping. Subclasses implement ``bind``, ``run``, ``sliders``,
+    ``energy``, ``set_sliders``, ``close``."""
+
+    name = ""
+
+    def __init__(self, system, layout: Layout):
+        self.system = system
+        self.layout = layout
+        self.steps = 0  # mount-force evaluations (steps) done
+        self._rec = None
+
+    def _bind_common(self, rec: np.ndarray, W: np.ndarray) -> None:
+        L = self.layout
+        if rec.ndim != 2 or rec.shape[1] != L.width or not rec.flags.c_contiguous:
+            raise ValueError("row buffer must be C-contiguous with the layout width")
+        self._rec = rec
+        self._W = W
+        self._ins = [rec[k, L.o_x:] for k in range(rec.shape[0] - 1)]
+        self._nexts = [rec[k + 1, :L.n_next] for k in range(rec.shape[0] - 1)]
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class NativeBackend(_Backend):
+    """The mount law of :mod:`fmu_src.mount_law` called in-process (no FMI)."""
+
+    name = "native"
+
+    def __init__(self, system, layout: Layout):
+        super().__init__(system, layout)
+        cols = layout.columns()
+        o = layout.o_out
+        self._axes = []
+        for (i, e, j) in layout.axes():
+            p = system.elements[e].params.axes[j]
+            # UV starts at column 0, OUT positions are relative to o_out
+            self._axes.append((
+                int(cols["u"][i]), int(cols["v"][i]), int(cols["F"][i]) - o,
+                int(cols["Ffr"][i]) - o, e,
+                p.law_code, p.k1, p.kc, p.k2, p.delta, p.delta_neg, p.c,
+                p.kf if p.friction else 0.0, p.fs))
+        self._e_pos = [(e, layout.out_off(e) - layout.o_out + 2 * layout.m_of(e))
+                       for e in range(layout.n_mounts)]
+        self._w = [0.0] * layout.m           # slider positions of the active axes
+        self._E = [0.0] * layout.n_mounts    # committed friction energy per mount, J
+        self._E_axis = [0.0] * layout.m
+
+    def bind(self, rec, W, h):
+        self._bind_common(rec, W)
+        L = self.layout
+        self._uvs = [rec[k, :2 * L.m] for k in range(rec.shape[0] - 1)]
+        self._outs = [rec[k, L.o_out:L.o_out + L.n_out]
+                      for k in range(rec.shape[0] - 1)]
+
+    def run(self, k0: int, k1: int, times) -> None:
+        dot = np.dot
+        W, ins, nexts = self._W, self._ins, self._nexts
+        uvs, outs, axes, w = self._uvs, self._outs, self._axes, self._w
+        E, E_axis, e_pos = self._E, self._E_axis, self._e_pos
+        template = [0.0] * self.layout.n_out
+        for k in range(k0, k1):
+            uv = uvs[k].tolist()
+            out = template[:]
+            i = 0
+            for (iu, iv, iF, iFr, e, law, k1_, kc, k2, dl, dn, c, kf, fs) in axes:
+                f, ffr, wn, _kt, _slip, diss = axis_force(
+                    uv[iu], uv[iv], w[i], law, k1_, kc, k2, dl, dn, c, kf, fs)
+                w[i] = wn
+                out[iF] = f
+                out[iFr] = ffr
+                if diss:
+                    E[e] += diss
+                    E_axis[i] += diss
+                i += 1
+            for e, pos in e_pos:
+                out[pos] = E[e]
+            outs[k][:] = out
+            dot(W, ins[k], out=nexts[k])
+        self.steps += k1 - k0
+
+    def sliders(self) -> np.ndarray:
+        """Slider positions, shape (n_mounts, 3), m (0 on inactive axes)."""
+        out = np.zeros((self.layout.n_mounts, 3))
+        for (i, e, j) in self.layout.axes():
+            out[e, j] = self._w[i]
+        return out
+
+    def set_sliders(self, w) -> None:
+        w = np.asarray(w, dtype=float)
+        for (i, e, j) in self.layout.axes():
+            self._w[i] = float(w[e, j])
+
+    def energy(self) -> np.ndarray:
+        """Committed friction energy per mount, shape (n_mounts,), J."""
+        return np.array(self._E, dtype=float)
+
+    def close(self) -> None:
+        pass
+
+
+class FMUBackend(_Backend):
+    """One ``FrictionMount.fmu`` instance per mount through fmpy's ``FMU2Slave``.
+
+    Parameters
+    ----------
+    system : hbm.system.System
+    layout : Layout
+    fmu_path : path-like or None
+        The FMU; None: ``drymount.fmu_build.ensure_fmu()`` (builds
+        ``dist/FrictionMount.fmu`` when missing or stale).
+    logging_on : bool
+        FMU debug logging (default on; messages are kept and quoted in errors).
+    start_values : dict, optional
+        Extra ``{variable name: value}`` set on every instance before initialisation
+        (after the mount parameters, so it can override them).
+    """
+
+    name = "fmu"
+
+    def __init__(self, system, layout: Layout, fmu_path=None, *, logging_on=True,
+                 start_values=None):
+        super().__init__(system, layout)
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
+        from fmpy.logging import addLoggerProxy
+
+        from fmpy import calloc, free
+
+        if fmu_path is None:
+            from drymount.fmu_build import ensure_fmu
+            fmu_path = ensure_fmu()
+        self.fmu_path = str(fmu_path)
+        self._fmus = []        # FMU2Slave objects (library loaded)
+        self._state = []       # "loaded" | "instantiated" | "initialized" | "failed"
+        self._unzipdir = None
+        self._messages = {}
+        self.time = 0.0
+        md = read_model_description(self.fmu_path)
+        self._vars = {v.name: v for v in md.modelVariables}
+        needed = [f"{p}_{a}" for a in AXES for p in FMU_AXIS_VARIABLES]
+        needed += ["E_fr"] + [f"{a}_{p}" for a in AXES for p in FMU_PARAMETERS]
+        missing = [n for n in needed if n not in self._vars]
+        if missing:
+            raise ValueError(f"FMU {self.fmu_path!r} lacks the variables {missing} "
+                             "required by the harness (see the FMU interface)")
+        if md.coSimulation is None:
+            raise ValueError(f"FMU {self.fmu_path!r} does not support co-simulation")
+        self._start_values = dict(start_values or {})
+        bad = [n for n in self._start_values if n not in self._vars]
+        if bad:
+            raise ValueError(f"`fmu_start_values` names unknown FMU variables {bad}")
+
+        def logger(env, instance, status, category, message):
+            name = instance.decode("utf-8", "replace") if instance else "?"
+            text = message.decode("utf-8", "replace") if message else ""
+            label = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"][status] \
+                if 0 <= status <= 5 else str(status)
+            self._messages.setdefault(name, collections.deque(maxlen=50)).append(
+                f"[{label}] {text}")
+            if status >= 1:
+                _log.warning("FMU %s [%s] %s", name, label, text)
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(ctypes.byref(cb))
+        self._callbacks = cb
+        self._logger = logger
+        try:
+            self._unzipdir = extract(self.fmu_path)
+            for e, el in enumerate(system.elements):
+                self._setup_instance(e, el, md, logging_on)
+        except BaseException:
+            self.close()
+            raise
+        self._make_references()
+
+    # ---------------------------------------------------------------- setup
+    def _instance_name(self, e: int) -> str:
+        return self.system.elements[e].name
+
+    def _setup_instance(self, e, el, md, logging_on):
+        from fmpy.fmi2 import FMU2Slave
+
+        name = el.name
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzipdir,
+                        modelIdentifier=md.coSimulation.modelIdentifier,
+                        instanceName=name)
+        self._fmus.append(fmu)
+        self._state.append("loaded")
+        try:
+            fmu.instantiate(callbacks=self._callbacks, loggingOn=bool(logging_on))
+            self._state[e] = "instantiated"
+            reals, ints, bools = {}, {}, {}
+            for a, p in zip(AXES, el.params.axes, strict=True):
+                ints[f"{a}_law"] = p.law_code
+                bools[f"{a}_friction"] = bool(p.friction)
+                for f in FMU_PARAMETERS:
+                    if f not in ("law", "friction"):
+                        reals[f"{a}_{f}"] = float(getattr(p, f))
+            for n, v in self._start_values.items():
+                typ = self._vars[n].type
+                store = {"Real": reals, "Integer": ints, "Boolean": bools}
+                store.get(typ, reals)[n] = v
+            vr = self._vars
+            if reals:
+                fmu.setReal([vr[n].valueReference for n in reals],
+                            [float(v) for v in reals.values()])
+            if ints:
+                fmu.setInteger([vr[n].valueReference for n in ints],
+                               [int(v) for v in ints.values()])
+            if bools:
+                fmu.setBoolean([vr[n].valueReference for n in bools],
+                               [bool(v) for v in bools.values()])
+            fmu.setupExperiment(startTime=0.0)
+            fmu.enterInitializationMode()
+            fmu.exitInitializationMode()
+            self._state[e] = "initialized"
+        except Exception as exc:
+            self._state[e] = "failed" if self._state[e] != "loaded" else "loaded"
+            raise self._error(e, 0.0, exc) from exc
+
+    def _make_references(self):
+        L = self.layout
+        vr = {n: v.valueReference for n, v in self._vars.items()}
+        self._vin, self._vout, self._nin, self._nout = [], [], [], []
+        for e, act in enumerate(L.active):
+            ins = [vr[f"u_{AXES[j]}"] for j in act] + [vr[f"v_{AXES[j]}"] for j in act]
+            outs = ([vr[f"F_{AXES[j]}"] for j in act]
+                    + [vr[f"Ffr_{AXES[j]}"] for j in act] + [vr["E_fr"]])
+            self._vin.append((ctypes.c_uint * len(ins))(*ins))
+            self._vout.append((ctypes.c_uint * len(outs))(*outs))
+            self._nin.append(len(ins))
+            self._nout.append(len(outs))
+        self._vr_w = [[vr[f"w_{a}"] for a in AXES] for _ in L.active]
+        self._vr_E = vr["E_fr"]
+
+    def bind(self, rec, W, h):
+        self._bind_common(rec, W)
+        L = self.layout
+        self._h = float(h)
+        base = rec.ctypes.data
+        width = L.width
+        dbl = ctypes.POINTER(ctypes.c_double)
+        cast = ctypes.cast
+        per_mount = []
+        for e, fmu in enumerate(self._fmus):
+            per_mount.append((e, fmu.fmi2SetReal, fmu.fmi2GetReal, fmu.fmi2DoStep,
+                              fmu.component, self._vin[e], self._nin[e], self._vout[e],
+                              self._nout[e], L.uv_off(e), L.out_off(e)))
+        self._calls = []
+        for k in range(rec.shape[0] - 1):
+            row = base + 8 * k * width
+            self._calls.append([
+                (e, S, c, vi, ni, cast(row + 8 * uo, dbl), G, vo, no,
+                 cast(row + 8 * oo, dbl), D)
+                for (e, S, G, D, c, vi, ni, vo, no, uo, oo) in per_mount])
+
+    # ---------------------------------------------------------------- stepping
+    def run(self, k0: int, k1: int, times) -> None:
+        dot = np.dot
+        W, ins, nexts, calls, h = self._W, self._ins, self._nexts, self._calls, self._h
+        k = k0
+        e = 0
+        t = times[0] if len(times) else 0.0
+        try:
+            for k in range(k0, k1):
+                t = times[k - k0]
+                for e, S, c, vi, ni, pin, G, vo, no, pout, D in calls[k]:
+                    S(c, vi, ni, pin)
+                    G(c, vo, no, pout)
+                    D(c, t, h, 1)
+                dot(W, ins[k], out=nexts[k])
+        except Exception as exc:
+            self.steps += k - k0
+            raise self._error(e, t, exc) from exc
+        self.steps += k1 - k0
+        self.time = t
+
+    def _error(self, e: int, t: float, exc: Exception) -> FMUError:
+        name = self._instance_name(e)
+        function = getattr(exc, "function", None)
+        status = getattr(exc, "status", None)
+        if status is not None and status >= 4 and e < len(self._state):
+            self._state[e] = "failed"  # fatal: only fmi2FreeInstance is allowed
+        return FMUError(name, t, str(exc), function=function, status=status,
+                        log=self._messages.get(name, ()))
+
+    def log_messages(self, mount: str) -> list[str]:
+        """The last log messages of the instance of ``mount``."""
+        return list(self._messages.get(mount, ()))
+
+    # ---------------------------------------------------------------- state access
+    def sliders(self) -> np.ndarray:
+        out = np.zeros((self.layout.n_mounts, 3))
+        for e, fmu in enumerate(self._fmus):
+            try:
+                out[e] = fmu.getReal(self._vr_w[e])
+            except Exception as exc:
+                raise self._error(e, self.time, exc) from exc
+        return out
+
+    def set_sliders(self, w) -> None:
+        w = np.asarray(w, dtype=float)
+        for e, fmu in enumerate(self._fmus):
+            try:
+                fmu.setReal(self._vr_w[e], [float(x) for x in w[e]])
+                back = fmu.getReal(self._vr_w[e])
+            except Exception as exc:
+                raise self._error(e, self.time, exc) from exc
+            if not np.allclose(back, w[e], rtol=0, atol=0):
+                raise FMUError(self._instance_name(e), self.time,
+                               "the FMU did not accept slider positions w_<axis>; "
+                               "continue a sweep on live instances instead")
+
+    def energy(self) -> np.ndarray:
+        out = np.zeros(self.layout.n_mounts)
+        for e, fmu in enumerate(self._fmus):
+            try:
+                out[e] = fmu.getReal([self._vr_E])[0]
+            except Exception as exc:
+                raise self._error(e, self.time, exc) from exc
+        return out
+
+    # ---------------------------------------------------------------- cleanup
+    def close(self) -> None:
+        """Terminate (when initialised and not failed) and free every instance, unload
+        the libraries, remove the extracted FMU. Safe to call twice."""
+        fmus, states = self._fmus, self._state
+        self._fmus, self._state = [], []
+        self._calls = []
+        for fmu, state in zip(fmus, states, strict=True):
+            try:
+                if state == "initialized":
+                    try:
+                        fmu.terminate()
+                    except Exception as exc:  # keep freeing the others
+                        _log.warning("terminate of %s failed: %s", fmu.instanceName,
+                                     exc)
+            finally:
+                try:
+                    if state in ("instantiated", "initialized", "failed"):
+                        fmu.freeInstance()   # fmi2FreeInstance + unload the library
+                    else:
+                        fmu.freeLibrary()
+                except Exception as exc:
+                    _log.warning("freeing %s failed: %s", fmu.instanceName, exc)
+        if self._unzipdir is not None:
+            shutil.rmtree(self._unzipdir, ignore_errors=True)
+            self._unzipdir = None
+
+    @property
+    def n_instances(self) -> int:
+        """Instances currently alive (not yet freed)."""
+        return len(self._fmus)
+
+    def __del__(self):
+        try:
+            if self._fmus:
+                self.close()
+        except Exception:
+            pass
+
+
+BACKENDS = {"native": NativeBackend, "fmu": FMUBackend}
+
+
+def make_backend(name: str, system, layout: Layout, **options):
+    """Create the backend ``name`` (``"native"`` or ``"fmu"``)."""
+    if name not in BACKENDS:
+        raise ValueError(f"`backend` must be one of {sorted(BACKENDS)}, got {name!r}")
+    if name == "native":  # FMU options are ignored
+        return NativeBackend(system, layout)
+    return FMUBackend(system, layout, options.get("fmu_path"),
+                      logging_on=options.get("logging_on", True),
+                      start_values=options.get("start_values"))

@@ -1,0 +1,354 @@
+"""Periodic steady state of a co-simulation under the system's harmonic excitation.
+
+The master (:mod:`vehicle.master`) runs whole excitation periods of N steps (an
+integer number, default 256, more if the step limit demands) until the state at the
+end of a period differs from the state one period before by less than ``rtol``:
+
+    change = max(|q_P - q_{P-1}| / max_t |q|,  |q'_P - q'_{P-1}| / max_t |q'|)
+
+(infinity norms over the DOFs; q_P the state at the end of period P).
+
+Then, over the last period (samples t_k = k h, k = 0..N-1, phase 0 at k = 0):
+
+- the fundamental of each DOF by a DFT, as a phasor ``X`` with
+  ``q(t) ~ Im(X exp(i omega t))`` (the sine convention of :mod:`hbm.system`), the
+  amplitude ``|X|`` and the peak ``max_t |q|``;
+- the transmissibility as defined by ``system.transmissibility`` (thesis eq. 4.1 and
+  4.3): force kind, fundamental amplitude of the summed listed mount forces over
+  ``Excitation.scalar_amplitude(omega)``; displacement kind, amplitude of ``dof`` over
+  that of ``reference``, or over the base amplitude;
+- the friction energy per cycle: the energy the sliders dissipated in the last period
+  (the law's ``dissipated`` output, or the FMU's ``E_fr``), summed over the mounts;
+- the area of the friction force-displacement loops, sum over the active axes of the
+  closed trapezoidal integral of ``Ffr du`` over the last period. In a periodic state
+  the two are equal (the slider work ``Fs |dw|`` is the only dissipation of a Jenkins
+  element); discretely they differ by O(h^2) terms at the stick-slip transitions.
+
+The final state (q, q', q'' and the slider positions) is returned, so a sweep
+continues from it.
+
+Conventions: a Jenkins element that never slips keeps whatever slider offset the
+start-up left (PHYSICS.md section 1); amplitudes (fundamental, peak about zero) are
+compared, not offsets.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .inputs import HarmonicInput
+from .master import DEFAULT_STEPS_PER_PERIOD, Master
+
+__all__ = ["SteadyState", "steady_state", "run_steady", "linear_start",
+           "DEFAULT_RTOL", "DEFAULT_MAX_PERIODS", "DEFAULT_MIN_PERIODS"]
+
+#: Default tolerance on the relative period-to-period change of the state.
+DEFAULT_RTOL = 1e-6
+#: Default least and largest number of periods of one steady-state run.
+DEFAULT_MIN_PERIODS = 3
+DEFAULT_MAX_PERIODS = 3000
+
+
+@dataclass
+class SteadyState:
+    """Periodic steady state at one frequency.
+
+    Attributes
+    ----------
+    freq_hz : float
+        Excitation frequency, Hz.
+    omega : float
+        2 pi freq_hz, rad/s.
+    dt : float
+        Step, s (= 1 / (freq_hz * steps_per_period)).
+    steps_per_period : int
+    n_periods : int
+        Periods run.
+    converged : bool
+        Whether ``change <= rtol`` was reached within ``max_periods``.
+    change : float
+        Last relative period-to-period change of the state.
+    dof_names : tuple of str
+    axis_labels : tuple of str
+        ``<mount>_<axis>`` of every active mount axis.
+    phasor : ndarray, complex, shape (n_dof,)
+        Fundamental: ``q(t) ~ Im(phasor exp(i omega t))``, m or rad.
+    amplitude : ndarray, shape (n_dof,)
+        ``|phasor|``, m or rad.
+    peak : ndarray, shape (n_dof,)
+        ``max |q(t)|`` over the last period, m or rad.
+    mean : ndarray, shape (n_dof,)
+        Mean of q over the last period, m or rad.
+    transmissibility : float
+        As defined by ``system.transmissibility`` (dimensionless).
+    force_amplitude : ndarray, shape (n_axes,)
+        Fundamental amplitude of every active mount-axis force, N.
+    friction_energy : float
+        Energy dissipated by friction in the last period, all mounts, J.
+    loop_area : float
+        Sum over the axes of the closed integral of Ffr du over the last period, J.
+    t : ndarray, shape (N,)
+        Times of the last period's samples, s (phase 0 at t = 0).
+    q, qd : ndarray, shape (N, n_dof)
+        DOFs and rates over the last period.
+    forces, friction_forces, deflections : ndarray, shape (N, n_axes)
+        Mount forces (N), friction forces (N), deflections u (m) over the last period.
+    q_end, qd_end, qdd_end : ndarray, shape (n_dof,)
+        State at the end of the last period (start of the next).
+    sliders : ndarray, shape (n_mounts, 3)
+        Slider positions at the end, m.
+    time : float
+        Global simulation time at the end, s.
+    backend : str
+    n_steps : int
+        Steps (mount-force evaluations) of this run.
+    wall_time : float
+        Seconds spent stepping.
+    """
+
+    freq_hz: float
+    omega: float
+    dt: float
+    steps_per_period: int
+    n_periods: int
+    converged: bool
+    change: float
+    dof_names: tuple[str, ...]
+    axis_labels: tuple[str, ...]
+    phasor: np.ndarray
+    amplitude: np.ndarray
+    peak: np.ndarray
+    mean: np.ndarray
+    transmissibility: float
+    force_amplitude: np.ndarray
+    friction_energy: float
+    loop_area: float
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    forces: np.ndarray
+    friction_forces: np.ndarray
+    deflections: np.ndarray
+    q_end: np.ndarray
+    qd_end: np.ndarray
+    qdd_end: np.ndarray
+    sliders: np.ndarray
+    time: float
+    backend: str
+    n_steps: int
+    wall_time: float
+    message: str = ""
+    extra: dict = field(default_factory=dict)
+
+
+def fundamental(x: np.ndarray) -> np.ndarray:
+    """Phasor ``X`` of the fundamental of samples ``x`` (N, ...) over one period with
+    ``x(t) ~ Im(X exp(i 2 pi k / N))``."""
+    N = x.shape[0]
+    e = np.exp(-2j * np.pi * np.arange(N) / N)
+    Q = (2.0 / N) * np.tensordot(e, x, axes=(0, 0))  # x ~ Re(Q e^{i w t})
+    return 1j * Q
+
+
+def loop_area(u: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """Closed trapezoidal integral of F du over one period, per column, J."""
+    du = np.roll(u, -1, axis=0) - u
+    Fm = 0.5 * (np.roll(F, -1, axis=0) + F)
+    return np.sum(Fm * du, axis=0)
+
+
+def linear_start(system, freq_hz: float):
+    """State (q, q', q'') at phase 0 of the steady response of the linearised system
+    (mounts at k1 and c, friction sliders free): a good start for slow transients."""
+    omega = 2.0 * math.pi * freq_hz
+    K, C = system.linearized(stuck=False)
+    Kb, Cb = system.linearized_base(stuck=False)
+    exc = system.excitation
+    if exc.kind == "base":
+        rhs = (Kb + 1j * omega * Cb) @ np.asarray(exc.amplitude, dtype=float)
+    else:
+        rhs = np.asarray(exc.force_amplitude(omega), dtype=complex)
+    A = K - omega ** 2 * system.M + 1j * omega * C
+    try:
+        X = np.linalg.solve(A, rhs)
+    except np.linalg.LinAlgError:
+        n = system.n_dof
+        return np.zeros(n), np.zeros(n), np.zeros(n)
+    return X.imag.copy(), omega * X.real, -omega ** 2 * X.imag
+
+
+def _transmissibility(system, omega, amp_q, phasor_F_axes, axis_index) -> float:
+    tr = system.transmissibility
+    if tr.kind == "force":
+        total = 0j
+        for (e, j) in tr.forces:
+            i = axis_index.get((e, j))
+            if i is not None:
+                total = total + phasor_F_axes[i]
+        den = system.excitation.scalar_amplitude(omega)
+        return abs(total) / den if den > 0 else float("nan")
+    if tr.reference is not None:
+        den = amp_q[tr.reference]
+    else:
+        den = system.excitation.scalar_amplitude(omega)
+    return float(amp_q[tr.dof] / den) if den > 0 else float("nan")
+
+
+def run_steady(master: Master, freq_hz: float, *,
+               steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
+               min_periods: int = DEFAULT_MIN_PERIODS,
+               max_periods: int = DEFAULT_MAX_PERIODS, start="continue"
+               ) -> SteadyState:
+    """Run ``master`` at ``freq_hz`` until the period-to-period change < ``rtol``.
+
+    ``start``: ``"continue"`` (the master's current state and sliders), ``"rest"``,
+    ``"linear"`` (:func:`linear_start`; sliders kept) or a :class:`SteadyState`
+    (its end state and sliders). See the module docstring for the outputs.
+    """
+    system = master.system
+    if not (isinstance(freq_hz, (int, float, np.floating)) and math.isfinite(freq_hz)
+            and freq_hz > 0):
+        raise ValueError(f"`freq_hz` must be finite and > 0, got {freq_hz!r}")
+    freq_hz = float(freq_hz)
+    if not (isinstance(rtol, (int, float)) and rtol > 0):
+        raise ValueError(f"`rtol` must be > 0, got {rtol!r}")
+    if not (isinstance(min_periods, int) and isinstance(max_periods, int)
+            and 1 <= min_periods <= max_periods):
+        raise ValueError(f"`min_periods`, `max_periods` must be integers with "
+                         f"1 <= min_periods <= max_periods, got {min_periods!r}, "
+                         f"{max_periods!r}")
+    spp = DEFAULT_STEPS_PER_PERIOD if steps_per_period is None else steps_per_period
+    N = master.steps_per_period(freq_hz, spp)
+    h = 1.0 / (freq_hz * N)
+    omega = 2.0 * math.pi * freq_hz
+    n = system.n_dof
+    if isinstance(start, SteadyState):
+        master.set_state(start.q_end, start.qd_end, start.qdd_end, start.sliders)
+    elif start == "rest":
+        master.set_state(np.zeros(n), np.zeros(n), np.zeros(n))
+    elif start == "linear":
+        master.set_state(*linear_start(system, freq_hz))
+    elif start != "continue":
+        raise ValueError(f"`start` must be 'continue', 'rest', 'linear' or a "
+                         f"SteadyState, got {start!r}")
+    inp = HarmonicInput(system, freq_hz)
+    rec = master._prepare(h, N)
+    L = master.layout
+    cols = master._cols
+    k = np.arange(N)
+    master._fill_inputs(rec, inp, k * h, ((k + 1) % N) * h)
+    master._set_row0(rec, inp, 0.0)
+    t0 = master.time
+    E_start = master.backend.energy()
+    steps0 = master.backend.steps
+    wall0 = master.wall_time
+    ox = L.o_x
+    change = math.inf
+    converged = False
+    p = 0
+    for p in range(max_periods):
+        master._run_rows(N, t0, p * N)
+        end = rec[N]
+        master._check_finite(end, t0 + (p + 1) * N * h)
+        x0 = rec[0, ox:ox + 3 * n]
+        x1 = end[ox:ox + 3 * n]
+        qs = rec[:N, ox:ox + n]
+        vs = rec[:N, ox + n:ox + 2 * n] + 0.5 * h * rec[:N, ox + 2 * n:ox + 3 * n]
+        q_scale = float(np.abs(qs).max())
+        v_scale = float(np.abs(vs).max())
+        dq = float(np.abs(x1[:n] - x0[:n]).max())
+        v0 = x0[n:2 * n] + 0.5 * h * x0[2 * n:]
+        v1 = x1[n:2 * n] + 0.5 * h * x1[2 * n:]
+        dv = float(np.abs(v1 - v0).max())
+        change = max(dq / q_scale if q_scale > 0 else (0.0 if dq == 0 else math.inf),
+                     dv / v_scale if v_scale > 0 else (0.0 if dv == 0 else math.inf))
+        if p + 1 >= min_periods and change <= rtol:
+            converged = True
+            break
+        if p + 1 < max_periods:
+            E_start = rec[N - 1, cols["E"]].copy()
+            rec[0, :L.n_next] = rec[N, :L.n_next]
+    n_periods = p + 1
+    # ---- analysis of the last period (rows 0..N-1)
+    q = rec[:N, ox:ox + n].copy()
+    qd = rec[:N, ox + n:ox + 2 * n] + 0.5 * h * rec[:N, ox + 2 * n:ox + 3 * n]
+    F = rec[:N, cols["F"]].copy()
+    Ffr = rec[:N, cols["Ffr"]].copy()
+    u = rec[:N, cols["u"]].copy()
+    E_end = rec[N - 1, cols["E"]].copy()
+    X = fundamental(q)
+    XF = fundamental(F) if L.m else np.zeros(0, dtype=complex)
+    axis_index = {(e, j): i for (i, e, j) in L.axes()}
+    amp = np.abs(X)
+    tr = _transmissibility(system, omega, amp, XF, axis_index)
+    q_end, qd_end, qdd_end = master._state_of_row(rec[N])
+    master.q, master.qd, master.qdd = q_end, qd_end, qdd_end
+    master.time = t0 + n_periods * N * h
+    # next run must start from row N: keep the buffer consistent
+    rec[0, :L.n_next] = rec[N, :L.n_next]
+    sliders = master.backend.sliders()
+    msg = (f"converged after {n_periods} periods (change {change:.2e})" if converged
+           else f"not converged after {n_periods} periods: change {change:.2e} > "
+                f"rtol {rtol:.1e}")
+    return SteadyState(
+        freq_hz=freq_hz, omega=omega, dt=h, steps_per_period=N, n_periods=n_periods,
+        converged=converged, change=change, dof_names=tuple(system.dof_names),
+        axis_labels=tuple(system.axis_labels()), phasor=X, amplitude=amp,
+        peak=np.abs(q).max(axis=0), mean=q.mean(axis=0), transmissibility=tr,
+        force_amplitude=np.abs(XF), friction_energy=float(np.sum(E_end - E_start)),
+        loop_area=float(np.sum(loop_area(u, Ffr))) if L.m else 0.0,
+        t=np.arange(N) * h, q=q, qd=qd, forces=F, friction_forces=Ffr, deflections=u,
+        q_end=q_end, qd_end=qd_end, qdd_end=qdd_end, sliders=sliders,
+        time=master.time, backend=master.backend_name,
+        n_steps=master.backend.steps - steps0, wall_time=master.wall_time - wall0,
+        message=msg)
+
+
+def steady_state(system, freq_hz: float, *, backend: str = "native",
+                 steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
+                 min_periods: int = DEFAULT_MIN_PERIODS,
+                 max_periods: int = DEFAULT_MAX_PERIODS, start="linear",
+                 fmu_path=None, fmu_start_values=None) -> SteadyState:
+    """Periodic steady state of ``system`` under its harmonic excitation at
+    ``freq_hz`` (see the module docstring).
+
+    Parameters
+    ----------
+    system : hbm.system.System
+    freq_hz : float
+        Excitation frequency, Hz.
+    backend : {"native", "fmu"}
+    steps_per_period : int, optional
+        Least steps per period (default 256; more if the step limit demands).
+    rtol : float
+        Tolerance on the relative period-to-period change (default 1e-6).
+    min_periods, max_periods : int
+    start : {"linear", "rest"} or SteadyState
+        Initial state: the linearised system's steady response (default; sliders at
+        zero), rest, or the end of a previous steady state (state and sliders).
+    fmu_path : path-like, optional
+
+    Returns
+    -------
+    SteadyState
+
+    Examples
+    --------
+    >>> from fmu_src.mount_law import AxisParameters, MountParameters
+    >>> from vehicle.models import sdof
+    >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
+    ...          "unbalance", 0.01)
+    >>> ss = steady_state(s, 5.0, backend="native")
+    >>> bool(ss.converged)
+    True
+    """
+    if start == "continue":
+        start = "rest"
+    with Master(system, backend, fmu_path=fmu_path,
+                fmu_start_values=fmu_start_values) as m:
+        return run_steady(m, freq_hz, steps_per_period=steps_per_period, rtol=rtol,
+                          min_periods=min_periods, max_periods=max_periods,
+                          start=start)

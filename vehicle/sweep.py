@@ -1,0 +1,294 @@
+"""Stepped-sine sweeps: steady states at a list of frequencies, each started from the
+previous one, as on a test rig.
+
+A sweep keeps one :class:`vehicle.master.Master` alive: with the ``fmu`` backend the
+mount instances are instantiated once and keep their slider states from frequency to
+frequency (no re-instantiation per point). Each frequency starts from the previous
+steady state (DOFs, rates and sliders) with the excitation phase restarting at zero,
+which is continuous because every steady-state run ends after a whole number of
+periods. On a branch that folds (hardening cubic spring, thesis Fig. 3.5/3.7) the
+response therefore stays on the branch it is on until the branch ends, and jumps there:
+an up sweep and a down sweep jump at different frequencies.
+
+The first frequency starts from the linearised steady response (``linear_start``),
+which shortens the transient; a down sweep of a hardening system thus starts on the
+low branch, as a rig would.
+
+Parallel sweeps (``workers > 1``): the frequency list (in sweep order) is split into
+``workers`` contiguous chunks, run in separate processes (``ProcessPoolExecutor``
+with the ``spawn`` context; each process builds its own backend/FMU instances). A
+chunk other than the first has no previous steady state: it starts with a *warm-up*,
+the ``warmup`` frequencies that precede it in the sweep order (default 3) run from the
+linearised start and discarded, so it enters its first frequency from a neighbouring
+steady state. Inside a bistable band this is not the same history as a serial sweep
+(a chunk that starts past a jump cannot know the branch the serial sweep was on): use
+``workers=1`` to study jumps and hysteresis.
+
+Results: :class:`SweepResult` (``to_csv`` with the columns of ``hbm``'s CSV minus
+``stable``; ``plot`` with an optional HBM overlay).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import sys
+import time as _time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .master import Master
+from .results import atomic_path, dof_unit, write_csv
+from .steady import (
+    DEFAULT_MAX_PERIODS,
+    DEFAULT_MIN_PERIODS,
+    DEFAULT_RTOL,
+    run_steady,
+)
+
+__all__ = ["sweep", "SweepResult", "DEFAULT_WARMUP"]
+
+#: Warm-up frequencies run (and discarded) before a parallel chunk.
+DEFAULT_WARMUP = 3
+
+
+@dataclass
+class SweepResult:
+    """Stepped-sine sweep (co-simulation).
+
+    Attributes
+    ----------
+    freq_hz : ndarray, shape (n_points,)
+        Frequencies in the order they were run (ascending for ``up``), Hz.
+    amplitude : ndarray, shape (n_points, n_dof)
+        Fundamental amplitude of each DOF, m or rad.
+    peak : ndarray, shape (n_points, n_dof)
+        Max |q| over the last period, m or rad.
+    transmissibility : ndarray, shape (n_points,)
+        As defined by ``system.transmissibility`` (dimensionless).
+    converged : ndarray of bool, shape (n_points,)
+    n_periods : ndarray of int, shape (n_points,)
+        Periods run at each frequency.
+    friction_energy : ndarray, shape (n_points,)
+        Friction energy dissipated per cycle, J.
+    dof_names : tuple of str
+    direction : str
+        ``"up"`` or ``"down"``.
+    backend : str
+    system_name : str
+    transmissibility_kind : str
+        ``"force"`` or ``"displacement"``.
+    elapsed : float
+        Wall-clock seconds of the sweep.
+    workers : int
+    """
+
+    freq_hz: np.ndarray
+    amplitude: np.ndarray
+    peak: np.ndarray
+    transmissibility: np.ndarray
+    converged: np.ndarray
+    n_periods: np.ndarray
+    friction_energy: np.ndarray
+    dof_names: tuple[str, ...]
+    direction: str = "up"
+    backend: str = "native"
+    system_name: str = ""
+    transmissibility_kind: str = ""
+    elapsed: float = 0.0
+    workers: int = 1
+    notes: dict = field(default_factory=dict)
+
+    @property
+    def success(self) -> bool:
+        """Every frequency reached its steady state."""
+        return bool(np.all(self.converged))
+
+    def to_csv(self, path):
+        """Write ``freq_hz``, ``<dof>_amp``, ``<dof>_peak`` per DOF,
+        ``transmissibility``, ``converged`` (first line a ``# `` comment with units)."""
+        units = ", ".join(f"{d} [{dof_unit(d)}]" for d in self.dof_names)
+        comment = (f"drymount stepped-sine sweep ({self.direction}, {self.backend} "
+                   f"backend) of {self.system_name}; units: freq_hz [Hz], {units}, "
+                   f"transmissibility [-] ({self.transmissibility_kind}), "
+                   "converged [0/1]")
+        header = ["freq_hz"]
+        cols = [self.freq_hz]
+        for i, d in enumerate(self.dof_names):
+            header += [f"{d}_amp", f"{d}_peak"]
+            cols += [self.amplitude[:, i], self.peak[:, i]]
+        header += ["transmissibility", "converged"]
+        cols += [self.transmissibility, self.converged.astype(float)]
+        return write_csv(path, header, cols, comment)
+
+    def plot(self, path=None, hbm=None, ax=None):
+        """Transmissibility against frequency (log axis); overlays an HBM
+        ``FrequencyResponse`` when ``hbm`` is given (solid stable, dashed unstable).
+        Saved atomically to ``path`` if given. Returns the matplotlib Figure."""
+        from matplotlib.figure import Figure
+
+        if ax is None:
+            fig = Figure(figsize=(7.5, 4.5))
+            ax = fig.add_subplot()
+        else:
+            fig = ax.figure
+        if hbm is not None:
+            f = np.asarray(hbm.freq_hz, dtype=float)
+            tr = np.asarray(hbm.transmissibility, dtype=float)
+            stable = np.asarray(getattr(hbm, "stable", np.ones(f.shape, bool)),
+                                dtype=bool)
+            ax.plot(f, np.where(stable, tr, np.nan), "-", color="C0",
+                    label="harmonic balance")
+            if not stable.all():
+                ax.plot(f, np.where(~stable, tr, np.nan), "--", color="C0",
+                        label="harmonic balance, unstable")
+        ok = self.converged.astype(bool)
+        ax.plot(self.freq_hz[ok], self.transmissibility[ok], "o", mfc="none",
+                color="C3", label=f"co-simulation, sweep {self.direction}")
+        if not ok.all():
+            ax.plot(self.freq_hz[~ok], self.transmissibility[~ok], "x", color="C3",
+                    label="co-simulation, not converged")
+        ax.set_yscale("log")
+        ax.set_xlabel("frequency [Hz]")
+        kind = self.transmissibility_kind or "transmissibility"
+        ax.set_ylabel(f"{kind} transmissibility [-]")
+        ax.set_title(self.system_name)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend()
+        if path is not None:
+            with atomic_path(path) as tmp:
+                fig.savefig(tmp, dpi=120)
+        return fig
+
+
+def _point_row(ss):
+    return (ss.freq_hz, ss.amplitude, ss.peak, ss.transmissibility, ss.converged,
+            ss.n_periods, ss.friction_energy)
+
+
+def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=None,
+               bar=None):
+    """Run one contiguous chunk (in this process). Returns the point rows."""
+    rows = []
+    with Master(system, backend, fmu_path=fmu_path) as m:
+        first = True
+        for f in warmup_freqs:
+            run_steady(m, f, start="linear" if first else "continue", **options)
+            first = False
+        for f in freqs:
+            ss = run_steady(m, f, start="linear" if first else "continue", **options)
+            first = False
+            rows.append(_point_row(ss))
+            if queue is not None:
+                queue.put(1)
+            if bar is not None:
+                bar.update(1)
+    return rows
+
+
+def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
+          workers: int = 1, progress: bool = True, fmu_path=None,
+          steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
+          min_periods: int = DEFAULT_MIN_PERIODS,
+          max_periods: int = DEFAULT_MAX_PERIODS,
+          warmup: int = DEFAULT_WARMUP) -> SweepResult:
+    """Stepped-sine sweep of ``system`` under its harmonic excitation.
+
+    Parameters
+    ----------
+    system : hbm.system.System
+    freqs_hz : array_like, shape (n_points,)
+        Frequencies, Hz (> 0, distinct); run ascending for ``up``, descending for
+        ``down``.
+    direction : {"up", "down"}
+    backend : {"native", "fmu"}
+    workers : int
+        Processes; > 1 splits the list into contiguous chunks with a warm-up each
+        (see the module docstring).
+    progress : bool
+        tqdm progress bar on stderr.
+    fmu_path : path-like, optional
+        FMU of the ``fmu`` backend (default: ``drymount.fmu_build.ensure_fmu()``).
+    steps_per_period, rtol, min_periods, max_periods
+        Steady-state options (:func:`vehicle.steady.steady_state`).
+    warmup : int
+        Warm-up frequencies of each parallel chunk after the first.
+
+    Returns
+    -------
+    SweepResult
+    """
+    f = np.asarray(freqs_hz, dtype=float).reshape(-1)
+    if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise ValueError(f"`freqs_hz` must be a non-empty list of finite frequencies "
+                         f"> 0, got {np.asarray(freqs_hz).tolist()}")
+    if direction not in ("up", "down"):
+        raise ValueError(f"`direction` must be 'up' or 'down', got {direction!r}")
+    if backend not in ("native", "fmu"):
+        raise ValueError(f"`backend` must be 'native' or 'fmu', got {backend!r}")
+    if not (isinstance(workers, (int, np.integer)) and workers >= 1):
+        raise ValueError(f"`workers` must be an integer >= 1, got {workers!r}")
+    if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
+        raise ValueError(f"`warmup` must be an integer >= 0, got {warmup!r}")
+    f = np.sort(f) if direction == "up" else np.sort(f)[::-1]
+    options = dict(steps_per_period=steps_per_period, rtol=rtol,
+                   min_periods=min_periods, max_periods=max_periods)
+    if backend == "fmu" and fmu_path is None:
+        from drymount.fmu_build import ensure_fmu
+        fmu_path = ensure_fmu()
+    from tqdm import tqdm
+
+    t0 = _time.perf_counter()
+    workers = int(min(workers, f.size))
+    bar = tqdm(total=f.size, desc=f"sweep {direction} ({backend})", unit="freq",
+               file=sys.stderr, disable=not progress, leave=False)
+    try:
+        if workers == 1:
+            rows = _run_chunk(system, f.tolist(), [], backend, fmu_path, options,
+                              bar=bar)
+        else:
+            bounds = np.linspace(0, f.size, workers + 1).round().astype(int)
+            ctx = multiprocessing.get_context("spawn")
+            with ctx.Manager() as manager, ProcessPoolExecutor(
+                    max_workers=workers, mp_context=ctx) as pool:
+                queue = manager.Queue()
+                futures = []
+                for c in range(workers):
+                    a, b = bounds[c], bounds[c + 1]
+                    wu = f[max(0, a - warmup):a].tolist()
+                    futures.append(pool.submit(_run_chunk, system, f[a:b].tolist(), wu,
+                                               backend, fmu_path, options, queue))
+                done = 0
+                while done < f.size:
+                    if all(fu.done() for fu in futures):
+                        # drain what is left, then stop (errors surface below)
+                        while not queue.empty():
+                            queue.get()
+                            bar.update(1)
+                            done += 1
+                        break
+                    try:
+                        queue.get(timeout=0.2)
+                    except Exception:  # queue.Empty from the manager proxy
+                        continue
+                    bar.update(1)
+                    done += 1
+                rows = [r for fu in futures for r in fu.result()]
+    finally:
+        bar.close()
+    elapsed = _time.perf_counter() - t0
+    n = system.n_dof
+    return SweepResult(
+        freq_hz=np.array([r[0] for r in rows]),
+        amplitude=np.array([r[1] for r in rows]).reshape(len(rows), n),
+        peak=np.array([r[2] for r in rows]).reshape(len(rows), n),
+        transmissibility=np.array([r[3] for r in rows], dtype=float),
+        converged=np.array([r[4] for r in rows], dtype=bool),
+        n_periods=np.array([r[5] for r in rows], dtype=int),
+        friction_energy=np.array([r[6] for r in rows], dtype=float),
+        dof_names=tuple(system.dof_names), direction=direction, backend=backend,
+        system_name=system.name, transmissibility_kind=system.transmissibility.kind,
+        elapsed=elapsed, workers=workers,
+        notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
+               "steps_per_period": steps_per_period})
