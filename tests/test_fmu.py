@@ -600,3 +600,21 @@ def test_docs_fmpy_example_runs(fmu_path, tmp_path, monkeypatch):
         e += diss
     assert energy == pytest.approx(e, abs=5e-5)  # printed with 4 decimals
     assert energy > 0.0
+
+
+def test_reset_starts_over(fmu):
+    """fmi2Reset gives a fresh instance: the same run again gives the same numbers."""
+    mount = Mount(fmu, params=PARAMS).start()
+    try:
+        first = march_fmu(mount, 300)
+        mount.slave.reset()
+        mount.slave.setupExperiment(startTime=0.0)
+        mount.slave.enterInitializationMode()
+        for key, value in PARAMS.items():
+            mount.set(key, value)
+        mount.start()
+        assert mount.real([f"w_{a}" for a in AXES] + ["E_fr"]) == [0.0] * 4
+        second = march_fmu(mount, 300)
+    finally:
+        mount.free()
+    assert np.array_equal(first, second)
