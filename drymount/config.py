@@ -44,7 +44,7 @@ import difflib
 import math
 import sys
 import warnings
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from importlib import resources
 from pathlib import Path
 
@@ -233,8 +233,9 @@ class Config:
     model : str
         One of ``MODELS``.
     system : hbm.system.System
-        The model with its mounts and excitation, ready for ``hbm`` and ``vehicle``.
-        ``system.notes`` holds ``config_name``, ``model`` and ``source``.
+        The model with its mounts and excitation, ready for ``hbm`` and ``vehicle``;
+        its ``name`` and ``description`` are the configuration's, ``system.notes``
+        holds ``config_name``, ``model`` and ``source``.
     sweep : SweepSettings
     hbm : HBMSettings
     cosim : CosimSettings
@@ -893,7 +894,10 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
         ck.add(f"the model cannot be built from these values: {exc}")
     if ck.problems:
         raise ConfigError(ck.problems, source)
-    system.notes.update(config_name=cfg_name, model=model, source=source)
+    # labels of CSV provenance lines and plot titles: the configuration's name
+    system = replace(system, name=cfg_name,
+                     description=description or system.description,
+                     notes={"config_name": cfg_name, "model": model, "source": source})
     sweep, hbm_settings, cosim = settings
     return Config(cfg_name, description, model, system, sweep, hbm_settings, cosim,
                   source, data)
