@@ -259,6 +259,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="default: [cosim] backend")
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
+    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
+                   help="fixed steps per excitation period (default: [cosim] "
+                        "steps_per_period, else the harness default)")
     p.add_argument("--fmu", type=Path, default=None,
                    help="FMU to use (default: dist/FrictionMount.fmu, built if "
                         "missing)")
@@ -540,6 +543,9 @@ def cmd_sweep(args) -> int:
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
     out = args.out or Path(f"{cfg.name}_sweep.csv")
     kw = {}
+    spp = args.steps_per_period or cfg.cosim.steps_per_period
+    if spp is not None:
+        kw["steps_per_period"] = spp
     if backend == "fmu":
         kw["fmu_path"] = _fmu_path(args.fmu)
     import vehicle
