@@ -109,6 +109,27 @@ def _start(prob: _Problem, freq_hz: float, settings):
     return None, 0, msg
 
 
+def _fold_frequency(prob: _Problem, br: Branch, i: int) -> float:
+    """Frequency of the fold between points i-1 and i (Hz): extremum of the cubic
+    Hermite interpolant of omega(s) built from the two points and their tangents."""
+    y0, y1 = br.y[i - 1], br.y[i]
+    t0, t1 = br.tangent[i - 1], br.tangent[i]
+    h = float(np.linalg.norm(y1 - y0))
+    l0, l1, d0, d1 = y0[-1], y1[-1], h * t0[-1], h * t1[-1]
+    # lam(x) = a x^3 + b x^2 + d0 x + l0 on [0, 1]
+    a = 2 * l0 - 2 * l1 + d0 + d1
+    b = -3 * l0 + 3 * l1 - 2 * d0 - d1
+    roots = np.roots([3 * a, 2 * b, d0]) if abs(a) + abs(b) > 0 else np.array([])
+    roots = [r.real for r in np.atleast_1d(roots)
+             if abs(r.imag) < 1e-12 and -1e-9 <= r.real <= 1 + 1e-9]
+    if roots:
+        x = roots[0]
+        lam = ((a * x + b) * x + d0) * x + l0
+    else:
+        lam = max(l0, l1) if d0 > 0 else min(l0, l1)
+    return float(lam * prob.ws / (2 * np.pi))
+
+
 def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                  turning) -> FrequencyResponse:
     hb = prob.hb
@@ -145,7 +166,9 @@ def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                 stable[i], fmr[i] = is_stable(hb, J, w)
             except (np.linalg.LinAlgError, ValueError):
                 stable[i], fmr[i] = True, np.nan
+    fold = np.array([_fold_frequency(prob, br, i) for i in turning], dtype=float)
     return FrequencyResponse(
+        turning_freq_hz=fold,
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
         transmissibility=trans, stable=stable,
         turning_points=np.asarray(turning, dtype=int), success=br.success,

@@ -120,7 +120,7 @@ def closed_form_forces(U: np.ndarray, ax: NonlinearAxes
     for a in range(n_ax):
         x = X[a]
         gs = gc = dgs = dgc = 0.0  # equivalent stiffness/damping and d/dX
-        k0 = 0.0  # static tangent
+        k0 = dk0 = 0.0  # static tangent at U0 = 0 and its d/dX
         law = ax.law[a]
         if law == CUBIC:
             kc = ax.kc[a]
@@ -142,6 +142,7 @@ def closed_form_forces(U: np.ndarray, ax: NonlinearAxes
             gs += dk * (np.pi - 2 * a1 - np.sin(2 * a1)) / np.pi
             dgs += 4 * dk * np.cos(a1) * d / (np.pi * x * x)
             k0 += dk * (1.0 - 2 * a1 / np.pi)
+            dk0 += 2 * dk * d / (np.pi * x * x * np.cos(a1))
         if ax.kf[a] > 0.0:
             kf, fs = ax.kf[a], ax.fs[a]
             if kf * x > fs:
@@ -158,6 +159,9 @@ def closed_form_forces(U: np.ndarray, ax: NonlinearAxes
         uc, us = Uc[a], Us[a]
         F[0, a] += k0 * U0[a]
         dF[a, 0, 0] += k0
+        if x > 0.0:
+            dF[a, 0, 1] += dk0 * U0[a] * uc / x
+            dF[a, 0, 2] += dk0 * U0[a] * us / x
         F[1, a] += gs * uc + gc * us
         F[2, a] += gs * us - gc * uc
         # chain rule through X = hypot(Uc, Us)

@@ -53,6 +53,10 @@ class FrequencyResponse:
         Largest real part of the Floquet exponents, 1/s (NaN if not computed).
     newton_per_point : ndarray of int, shape (n_points,)
     system_name : str
+    turning_freq_hz : ndarray, shape (n_turning,)
+        Fold (jump) frequencies, Hz, located between the two points around each
+        turning point (extremum of the cubic Hermite interpolant of omega along the
+        arc, built from the points and their tangents).
     """
 
     freq_hz: np.ndarray
@@ -74,15 +78,11 @@ class FrequencyResponse:
     floquet_max_real: np.ndarray = field(default_factory=lambda: np.zeros(0))
     newton_per_point: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     system_name: str = ""
+    turning_freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def n_points(self) -> int:
         return int(self.freq_hz.size)
-
-    @property
-    def turning_freq_hz(self) -> np.ndarray:
-        """Frequencies of the turning points (jump frequencies), Hz."""
-        return self.freq_hz[self.turning_points]
 
     def columns(self) -> list[str]:
         """CSV column names."""
