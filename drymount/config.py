@@ -594,8 +594,11 @@ def _single_mount(ck: _Checker, data: dict) -> MountParameters | None:
     axis = _axis(ck, tbl, "mount")
     if axis is None:
         return None
-    # only the axial axis deflects in these models; the radial ones mirror it
-    return MountParameters(axis, axis, axis)
+    # only the axial axis deflects in these models; the unused radial axes carry the
+    # same elastic law without a friction element (so that nothing reports friction
+    # on an axis that never moves)
+    radial = replace(axis, friction=False)
+    return MountParameters(axis, radial, radial)
 
 
 def _rigid_mount(ck: _Checker, m, i: int):
