@@ -426,8 +426,7 @@ def cmd_hbm(args) -> int:
                   f"{fr.freq_hz[i]:.4g} Hz; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
     if not fr.success:
-        last = fr.freq_hz[-1] if len(fr.freq_hz) else fmin
-        _err(f"harmonic balance stopped at {last:g} Hz: {fr.message}; the "
+        _err(f"harmonic balance did not complete: {fr.message}; the "
              f"{len(fr.freq_hz)} points computed so far are in {out}")
         return EXIT_FAILURE
     return EXIT_OK
