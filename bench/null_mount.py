@@ -9,8 +9,9 @@ values (zero force). The benchmark (``bench/bench_cosim.py``) builds it into a
 temporary folder and times a raw loop over it: the floor of the FMI calls on this
 machine (fmpy wrapper + ctypes + pythonfmu dispatch), with no model work at all.
 
-One extra parameter, ``fail_at`` [s] (default -1: never), makes ``do_step`` raise a
-Python exception at the first communication point ``t >= fail_at``; the tests use it
+One extra parameter, ``fail_at`` [s] (default -1: never), makes ``do_step`` log an
+error and return False (fmi2Discard) at the first communication point
+``t >= fail_at``; the tests use it
 to check that the harness names the mount and the time of an FMU failure and frees
 every instance.
 
@@ -29,6 +30,7 @@ except (ImportError, AttributeError, OSError):  # no ctypes: hold a real referen
     globals().setdefault("_namespace_refs", []).append(globals())
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability  # noqa: E402
+from pythonfmu.enums import Fmi2Status  # noqa: E402
 from pythonfmu.variables import Boolean, Integer, Real  # noqa: E402
 
 _AXES = ("axial", "radial1", "radial2")
@@ -95,5 +97,10 @@ class NullMount(Fmi2Slave):
 
     def do_step(self, current_time, step_size):
         if 0.0 <= self.fail_at <= current_time:
-            raise RuntimeError(f"NullMount: requested failure at t = {current_time}")
+            # Log and return False (fmi2Discard) rather than raise: a Python exception
+            # escaping pythonfmu 0.7.0's do_step (fmi2Fatal path) was seen to corrupt
+            # the host interpreter (segfault at a later garbage collection).
+            self.log(f"NullMount: requested failure at t = {current_time}",
+                     Fmi2Status.error)
+            return False
         return True

@@ -274,7 +274,8 @@ class FMUBackend(_Backend):
         FMU debug logging (default on; messages are kept and quoted in errors).
     start_values : dict, optional
         Extra ``{variable name: value}`` set on every instance before initialisation
-        (after the mount parameters, so it can override them).
+        (after the mount parameters, so it can override them); an entry
+        ``{mount name: {variable name: value}}`` applies to that mount only.
     """
 
     name = "fmu"
@@ -312,8 +313,18 @@ class FMUBackend(_Backend):
                              "required by the harness (see the FMU interface)")
         if md.coSimulation is None:
             raise ValueError(f"FMU {self.fmu_path!r} does not support co-simulation")
-        self._start_values = dict(start_values or {})
-        bad = [n for n in self._start_values if n not in self._vars]
+        mounts = [e.name for e in system.elements]
+        common = {}
+        self._start_values = {name: {} for name in mounts}
+        for key, value in dict(start_values or {}).items():
+            if key in self._start_values and isinstance(value, dict):
+                self._start_values[key].update(value)
+            else:
+                common[key] = value
+        for name in mounts:
+            self._start_values[name] = {**common, **self._start_values[name]}
+        bad = sorted({n for d in self._start_values.values() for n in d
+                      if n not in self._vars})
         if bad:
             raise ValueError(f"`fmu_start_values` names unknown FMU variables {bad}")
 
@@ -366,7 +377,7 @@ class FMUBackend(_Backend):
                 for f in FMU_PARAMETERS:
                     if f not in ("law", "friction"):
                         reals[f"{a}_{f}"] = float(getattr(p, f))
-            for n, v in self._start_values.items():
+            for n, v in self._start_values[name].items():
                 typ = self._vars[n].type
                 store = {"Real": reals, "Integer": ints, "Boolean": bools}
                 store.get(typ, reals)[n] = v

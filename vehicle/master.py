@@ -28,10 +28,12 @@ cannot provide through FMI. (2) Leapfrog is second order and non-dissipative for
 stiffness terms (|amplification| = 1 for omega h < 2), so it does not add numerical
 damping to lightly damped mounts. (3) Using the lagged half-step velocity vh_k in the
 damper would be first order (a phase lag of omega h / 2 in c v, i.e. a spurious
-stiffness c omega^2 h / 2, 0.5 % amplitude error at resonance with 256 steps per
-period); the predictor v_k = vh_k + (h/2) a_{k-1} restores second order at no cost.
-(4) The Jenkins return map is exact for a monotonic increment, so the friction needs
-no sub-stepping. The whole linear part is one affine map: row k+1 of the row buffer
+stiffness c omega^2 h / 2): measured 3.8e-3 amplitude error at 256 steps per period,
+1.9e-2 at 64 (SDOF below); the predictor v_k = vh_k + (h/2) a_{k-1} restores second
+order at no cost (2.5e-4 and 4.0e-3). (4) The Jenkins return map is exact for a
+monotonic increment, so the friction needs no sub-stepping.
+
+The whole linear part is one affine map: row k+1 of the row buffer
 (``[u, v | q, vh, a]``) is ``W @ [q, vh, a | F, Ffr, E | r_k, g_{k+1}]`` with the input
 terms precomputed per step, so the per-step Python work is one ``np.dot``.
 
@@ -42,13 +44,15 @@ spectral radius <= 1 of the linearised amplification matrix.
 
 Measured accuracy (linear SDOF m = 70 kg, k = 91 870 N/m, c = 150 N s/m, unbalance
 excitation; steady-state fundamental amplitude against the exact FRF, worst of 0.7,
-0.9, 1.0, 1.1, 1.5 and 3 times the natural frequency 5.77 Hz; ``bench``/tests):
+0.9, 1.0, 1.1, 1.5 and 3 times the natural frequency 5.77 Hz; run from rest with
+rtol = 1e-9, native backend):
 
     steps per period    16        32        64        128       256
-    max rel. error      2.8e-2    6.1e-3    1.5e-3    3.7e-4    9.3e-5
+    max rel. error      7.1e-2    1.7e-2    4.0e-3    9.9e-4    2.5e-4
 
-i.e. second order (error ~ 0.024 (omega h)^2 ... with omega h = 2 pi / N); at the
-default 256 steps per period the error is below 1e-4, well inside the 0.5 % target.
+Second order (error x 1/4 per halving of h, about 0.4 (2 pi / N)^2 at the flanks of
+the resonance); at the default 256 steps per period the error is 2.5e-4, inside the
+0.5 % target by a factor 20. ``tests/test_vehicle_linear.py`` checks the order.
 """
 
 from __future__ import annotations
@@ -93,7 +97,8 @@ class Master:
     fmu_logging : bool
         FMU debug logging (default on).
     fmu_start_values : dict, optional
-        Extra FMU start values ``{name: value}`` for every instance.
+        Extra FMU start values ``{name: value}`` for every instance, or
+        ``{mount name: {name: value}}`` for one mount.
     omega_h_max : float
         Accuracy limit omega_max * h of the step (default 0.5).
     """
@@ -336,8 +341,9 @@ class Master:
         ``inputs`` (an :mod:`vehicle.inputs` object) or, if None, the system's
         harmonic excitation at ``freq_hz``. ``dt`` defaults to one period /
         ``DEFAULT_STEPS_PER_PERIOD`` (limited by :meth:`dt_limit`) with ``freq_hz``,
-        else to ``min(dt_limit()/4, 1e-3)``. Rows t = 0, dt, ..., n dt with
-        n = round(duration / dt).
+        else to ``min(dt_limit()/4, 1e-3)``, then shortened so that the grid ends at
+        ``duration``. Rows t = k dt, k = 0..n, with n = ceil(duration / dt) for the
+        default step and n = round(duration / dt) for a given ``dt``.
         """
         if duration is None or not (np.isfinite(duration) and duration > 0):
             raise ValueError(f"`duration` must be finite and > 0, got {duration!r}")
@@ -352,15 +358,18 @@ class Master:
                              f"{(self.system.n_dof, self.system.n_base)}")
         if dt is None:
             if freq_hz is not None:
-                dt = 1.0 / (freq_hz * self.steps_per_period(freq_hz))
+                dt0 = 1.0 / (freq_hz * self.steps_per_period(freq_hz))
             else:
-                dt = min(self.dt_limit() / 4.0, 1e-3)
+                dt0 = min(self.dt_limit() / 4.0, 1e-3)
+            n_steps = max(1, math.ceil(duration / dt0 - 1e-9))
+            dt = duration / n_steps
         elif not (np.isfinite(dt) and dt > 0):
             raise ValueError(f"`dt` must be finite and > 0, got {dt!r}")
         elif dt > self.dt_limit() * (1 + 1e-9):
             raise ValueError(f"`dt` = {dt:.4g} s exceeds the step limit "
                              f"{self.dt_limit():.4g} s of this system")
-        n_steps = max(1, int(round(duration / dt)))
+        else:
+            n_steps = max(1, int(round(duration / dt)))
         total = n_steps + 1
         L, n = self.layout, self.system.n_dof
         rows = min(BLOCK_ROWS, total)

@@ -45,8 +45,10 @@ from .master import DEFAULT_STEPS_PER_PERIOD, Master
 __all__ = ["SteadyState", "steady_state", "run_steady", "linear_start",
            "DEFAULT_RTOL", "DEFAULT_MAX_PERIODS", "DEFAULT_MIN_PERIODS"]
 
-#: Default tolerance on the relative period-to-period change of the state.
-DEFAULT_RTOL = 1e-6
+#: Default tolerance on the relative period-to-period change of the state (the
+#: amplitude error it leaves is below the 2.5e-4 discretisation error: measured
+#: 1.5e-4 worst with 1e-4 on the linear SDOF, see vehicle.master).
+DEFAULT_RTOL = 1e-5
 #: Default least and largest number of periods of one steady-state run.
 DEFAULT_MIN_PERIODS = 3
 DEFAULT_MAX_PERIODS = 3000
@@ -324,7 +326,7 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
     steps_per_period : int, optional
         Least steps per period (default 256; more if the step limit demands).
     rtol : float
-        Tolerance on the relative period-to-period change (default 1e-6).
+        Tolerance on the relative period-to-period change (default 1e-5).
     min_periods, max_periods : int
     start : {"linear", "rest"} or SteadyState
         Initial state: the linearised system's steady response (default; sliders at
