@@ -104,7 +104,7 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     if not jacobian:
         return F, None
     # dF[a] = P diag(kt[:, a]) E  (- kf P[:, sel] E[last[sel]] for Jenkins)
-    dF = np.einsum("hn,na,ng->ahg", P, kt, E)
+    dF = np.matmul(P[None, :, :] * kt.T[:, None, :], E)
     for a, sel, last in corr:
         if sel.size:
             dF[a] -= ax.kf[a] * (P[:, sel] @ E[last])

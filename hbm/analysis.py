@@ -67,6 +67,7 @@ class _Problem:
                  np.linalg.norm(hb.excitation(2 * np.pi * fmax_hz)))
         self.rs = rs if rs > 0 else 1.0
         self.n_eval = 0
+        self.f_ends = (float(fmin_hz), float(fmax_hz))
 
     def x_of(self, y):
         return self.xs * y[:-1], self.ws * y[-1]
@@ -130,6 +131,55 @@ def _fold_frequency(prob: _Problem, br: Branch, i: int) -> float:
     return float(lam * prob.ws / (2 * np.pi))
 
 
+def _stability(prob: _Problem, ys, br: Branch, stride: int):
+    """Hill stability along the branch, with the eigenvalue problem solved at every
+    ``stride``-th point, around turning points and wherever ``det J`` changes sign;
+    between two evaluated points with the same verdict and no sign change of
+    ``det J`` the verdict is carried over, otherwise every point between them is
+    evaluated. ``stride = 1`` evaluates every point."""
+    hb = prob.hb
+    npts = len(ys)
+    stable = np.ones(npts, dtype=bool)
+    fmr = np.full(npts, np.nan)
+    jac = []
+    sign = np.empty(npts)
+    for i, y in enumerate(ys):
+        X, w = prob.x_of(y)
+        if i < len(br.jacobian):
+            J = br.jacobian[i][:, :-1] * (prob.rs / prob.xs)
+        else:
+            J = hb.residual(X, w)[1]
+        jac.append((J, w))
+        sign[i] = np.linalg.slogdet(J)[0]
+    done = np.zeros(npts, dtype=bool)
+
+    def evaluate(i):
+        if not done[i]:
+            J, w = jac[i]
+            try:
+                stable[i], fmr[i] = is_stable(hb, J, w)
+            except (np.linalg.LinAlgError, ValueError):
+                stable[i], fmr[i] = True, np.nan
+            done[i] = True
+
+    key = set(range(0, npts, stride)) | {npts - 1}
+    for i in range(1, npts):
+        if sign[i] != sign[i - 1]:
+            key |= {i - 1, i}
+    for i in sorted(key):
+        evaluate(i)
+    keys = sorted(key)
+    for a, b in zip(keys[:-1], keys[1:], strict=True):
+        if b - a < 2:
+            continue
+        if stable[a] == stable[b] and np.all(sign[a:b + 1] == sign[a]):
+            stable[a + 1:b] = stable[a]
+        else:
+            for i in range(a + 1, b):
+                evaluate(i)
+    return stable, fmr
+
+
 def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                  turning) -> FrequencyResponse:
     hb = prob.hb
@@ -148,10 +198,13 @@ def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
     for i, y in enumerate(ys):
         X, w = prob.x_of(y)
         freq[i] = w / (2 * np.pi)
+        for fe in prob.f_ends:  # undo the round-off of the scaling at the ends
+            if abs(freq[i] - fe) <= 1e-12 * fe:
+                freq[i] = fe
         Xr = X.reshape(m, n)
         coef[i] = Xr.T
         amp[i] = np.hypot(Xr[1], Xr[2])
-        peak[i] = np.abs(hb.time_samples(X, opts.n_peak)).max(axis=0)
+        peak[i] = hb.peak_abs(X, opts.n_peak)
         if tr.kind == "force":
             fc, fs = hb.axis_force_fundamental(X, w, tr.forces)
             den = exc.scalar_amplitude(w)
@@ -160,12 +213,8 @@ def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
             den = amp[i, tr.reference] if tr.reference is not None else \
                 exc.scalar_amplitude(w)
             trans[i] = amp[i, tr.dof] / den if den > 0 else np.nan
-        if opts.stability:
-            try:
-                _, J, _ = hb.residual(X, w)
-                stable[i], fmr[i] = is_stable(hb, J, w)
-            except (np.linalg.LinAlgError, ValueError):
-                stable[i], fmr[i] = True, np.nan
+    if opts.stability and npts:
+        stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
     fold = np.array([_fold_frequency(prob, br, i) for i in turning], dtype=float)
     return FrequencyResponse(
         turning_freq_hz=fold,
@@ -327,6 +376,7 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
         br.n_iter.append(its)
         # tangent dX/dlam = -J_x^{-1} J_lam (eq. 3.56)
         _, J = prob(y)
+        br.jacobian.append(J)
         try:
             dx = np.linalg.solve(J[:, :n], -J[:, n])
             dy = np.append(dx, 1.0)

@@ -49,6 +49,8 @@ class Branch:
     ----------
     y : list of ndarray, each (n + 1,)
     tangent : list of ndarray, each (n + 1,)
+    jacobian : list of ndarray, each (n, n + 1)
+        ``dR/dy`` at each point (reused for stability).
     n_iter : list of int
         Newton iterations of each point.
     turning_points : list of int
@@ -61,6 +63,7 @@ class Branch:
 
     y: list = field(default_factory=list)
     tangent: list = field(default_factory=list)
+    jacobian: list = field(default_factory=list)
     n_iter: list = field(default_factory=list)
     turning_points: list = field(default_factory=list)
     success: bool = False
@@ -176,6 +179,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         return br
     br.y.append(y.copy())
     br.tangent.append(t)
+    br.jacobian.append(J)
     br.n_iter.append(0)
     ds = settings.ds_initial
     lam_span = abs(lam_end - y[-1])
@@ -218,15 +222,17 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             if ok_end:
                 y_new = y_c
                 try:
-                    t_end = tangent_at(fun(y_new)[1], t)
+                    J_end = fun(y_new)[1]
+                    t_end = tangent_at(J_end, t)
                 except Exception:  # noqa: BLE001
                     t_end = None
                 if t_end is not None:
-                    t_new = t_end
+                    t_new, J = t_end, J_end
         if t_new[-1] * t[-1] < 0.0:
             br.turning_points.append(len(br.y))
         br.y.append(y_new.copy())
         br.tangent.append(t_new)
+        br.jacobian.append(J)
         br.n_iter.append(its)
         if callback is not None:
             callback(y_new[-1])

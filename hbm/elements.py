@@ -159,11 +159,13 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Periodic response of one Jenkins element to sampled periodic motion.
 
-    Marches :func:`fmu_src.mount_law.jenkins_update` over the samples ``u`` twice,
-    starting from ``w = 0``, and returns the second pass (the period repeats after
-    the first pass whenever the element slips at both global extrema, i.e. when
-    max u - min u > 2 Fs / kf; otherwise the element is stuck with the offset the
-    first pass left, the convention of PHYSICS.md section 1).
+    The periodic response of marching :func:`fmu_src.mount_law.jenkins_update` over
+    the samples ``u`` from ``w = 0`` over two periods and keeping the second (the
+    convention of PHYSICS.md section 1). When ``max u - min u > 2 Fs / kf`` the
+    element slips at both global extrema and the march is periodic from the first
+    of them on, so it is done in one pass starting at the global maximum with
+    ``w = u_max - Fs/kf`` (identical result, tested); otherwise the two passes are
+    marched (the element sticks in the second with the offset the first left).
 
     Parameters
     ----------
@@ -187,17 +189,31 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float
     """
     us = u.tolist()
     n = len(us)
-    w = 0.0
-    last = -1
-    for i, x_ in enumerate(us):  # first pass: only w and the last slip index matter
-        _, w, _, slipping = jenkins_update(x_, w, kf, fs)
-        if slipping:
-            last = i
+    eps = fs / kf
+    i_max = max(range(n), key=us.__getitem__)
+    i_min = min(range(n), key=us.__getitem__)
+    if us[i_max] - us[i_min] > 2.0 * eps:
+        # The element slips at both global extrema, so from the global maximum on the
+        # response is periodic: start there, slipping, with w = u_max - eps (what
+        # the two-pass march from w = 0 reaches there) and march one period.
+        order = list(range(i_max, n)) + list(range(i_max))
+        w = us[i_max] - eps
+        last = i_max
+    else:
+        # never slips at both extrema: march a first pass from w = 0 (the offset it
+        # leaves is the stuck-band convention), the second pass is then periodic
+        order = list(range(n))
+        w = 0.0
+        last = -1
+        for i in order:
+            _, w, _, slipping = jenkins_update(us[i], w, kf, fs)
+            if slipping:
+                last = i
     force = [0.0] * n
     stuck = [True] * n
     last_slip = [0] * n
-    for i, x_ in enumerate(us):
-        f, w, _, slipping = jenkins_update(x_, w, kf, fs)
+    for i in order:
+        f, w, _, slipping = jenkins_update(us[i], w, kf, fs)
         force[i] = f
         if slipping:
             last = i

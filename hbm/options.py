@@ -39,7 +39,13 @@ class HBMOptions:
     max_growth : float
         Largest step growth factor per step.
     stability : bool
-        Compute Hill stability of every point.
+        Compute the Hill stability of the points.
+    stability_stride : int
+        Solve Hill's eigenvalue problem at every ``stability_stride``-th point, at
+        turning points and where ``det(dR/dX)`` changes sign; between two such points
+        with the same verdict the verdict is carried over, otherwise every point
+        between them is evaluated (1: every point). ``floquet_max_real`` is NaN at
+        the points not evaluated.
     n_peak : int
         Phases per period used for the peak ``max |q(t)|``.
     """
@@ -56,6 +62,7 @@ class HBMOptions:
     max_steps: int = 20000
     max_growth: float = 2.0
     stability: bool = True
+    stability_stride: int = 4
     n_peak: int = 256
 
     def __post_init__(self):
@@ -69,7 +76,7 @@ class HBMOptions:
             if f.name == "n_samples" and v is None:
                 continue
             if f.name in ("harmonics", "n_samples", "n_norm", "max_newton", "max_steps",
-                          "n_peak"):
+                          "n_peak", "stability_stride"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                     problems.append(f"`{f.name}` must be an integer >= 1, got {v!r}")
             elif not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):

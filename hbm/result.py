@@ -25,7 +25,8 @@ class FrequencyResponse:
     amplitude : ndarray, shape (n_points, n_dof)
         Fundamental amplitude ``hypot(Qc1, Qs1)``, m or rad.
     peak : ndarray, shape (n_points, n_dof)
-        ``max |q(t)|`` over the period (sampled at ``n_peak`` phases), m or rad.
+        ``max |q(t)|`` over the period (``n_peak`` phases, refined by Newton on
+        ``dq/dt = 0``), m or rad.
     transmissibility : ndarray, shape (n_points,)
         As defined by the system's :class:`hbm.system.Transmissibility` (fundamental
         amplitudes, thesis eq. 4.1 or 4.3), dimensionless.

@@ -50,7 +50,7 @@ def floquet_exponents(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.nd
     A[:size, size:] = np.eye(size)
     A[size:, :size] = -Minv_k @ J
     A[size:, size:] = -Minv_k @ Delta1
-    lam = scipy.linalg.eigvals(A, check_finite=False)
+    lam = scipy.linalg.eigvals(A, check_finite=False, overwrite_a=True)
     order = np.argsort(np.abs(lam.imag), kind="stable")
     return lam[order[: 2 * n]]
 

@@ -72,7 +72,14 @@ def test_middle_branch_unstable(curve):
     # points i..j-1 lie between the folds (on the middle branch)
     assert not curve.stable[i:j].any()
     assert curve.stable[:i].all() and curve.stable[j:].all()
-    assert np.all(curve.floquet_max_real[i:j] > 0)
+    fm = curve.floquet_max_real[i:j]
+    assert np.all(fm[np.isfinite(fm)] > 0)
+    # the strided evaluation gives the same verdicts as evaluating every point
+    full = hbm.frequency_response(_system(), 3.0, 15.0, harmonics=1,
+                                  options=hbm.HBMOptions(stability_stride=1))
+    np.testing.assert_array_equal(full.stable, curve.stable)
+    assert np.all(full.floquet_max_real[i:j] > 0)
+    assert np.all(full.floquet_max_real[:i] < 0) and np.all(full.floquet_max_real[j:] < 0)
 
 
 def test_aft_h1_same_folds():

@@ -44,10 +44,11 @@ def test_linear_law_has_no_nonlinear_axis():
     assert _axes(AxisParameters(law="linear", friction=True, n0=5.0)).n == 1
 
 
-def test_jenkins_periodic_equals_marching_the_law():
-    kf, fs = 60000.0, 20.0
+@pytest.mark.parametrize("amp", [1e-3, 3.2e-4, 2e-4, 1e-4])  # slipping ... stuck
+def test_jenkins_periodic_equals_marching_the_law(amp):
+    kf, fs = 60000.0, 20.0  # eps = 3.3e-4
     th = 2 * np.pi * np.arange(256) / 256
-    u = 1e-3 * np.sin(th) + 3e-4 * np.cos(3 * th) + 2e-4
+    u = amp * np.sin(th) + 0.3 * amp * np.cos(3 * th) + 2e-4
     f, stuck, last = jenkins_periodic(u, kf, fs)
     # reference: march the scalar law three periods, keep the last one
     w = 0.0
