@@ -79,7 +79,8 @@ def test_middle_branch_unstable(curve):
                                   options=hbm.HBMOptions(stability_stride=1))
     np.testing.assert_array_equal(full.stable, curve.stable)
     assert np.all(full.floquet_max_real[i:j] > 0)
-    assert np.all(full.floquet_max_real[:i] < 0) and np.all(full.floquet_max_real[j:] < 0)
+    assert np.all(full.floquet_max_real[:i] < 0)
+    assert np.all(full.floquet_max_real[j:] < 0)
 
 
 def test_aft_h1_same_folds():
