@@ -421,10 +421,13 @@ class RandomRoad(_RoadInput):
 
         r(s) = sum_i a_i cos(2 pi n_i s + phi_i),   a_i = sqrt(2 Gd(n_i) dn)
 
-    with ``n_waves`` spatial frequencies ``n_i`` at the centres of equal bands ``dn``
-    between ``n_min`` and ``n_max`` (default 0.011-2.83 cycles/m, ISO 8608's range),
-    so ``var r = sum a_i^2 / 2`` approximates the integral of Gd over the band. The
-    profile repeats after ``1 / dn`` m (178 m with the defaults). ``s = speed t``.
+    with ``n_waves`` spatial frequencies ``n_i`` at the centres of equal bands ``dn =
+    (n_max - n_min) / n_waves`` covering ``n_min``-``n_max`` (default 0.011-2.83
+    cycles/m, ISO 8608's range; the centres are integer multiples of ``dn``, so the
+    band ``band`` is shifted from the nominal one by less than ``dn / 2``):
+    ``var r = sum a_i^2 / 2`` is the midpoint rule of the integral of Gd over
+    ``band``. The profile is periodic with period ``1 / dn`` m (178 m with the
+    defaults). ``s = speed t``.
 
     Parameters
     ----------
@@ -455,8 +458,12 @@ class RandomRoad(_RoadInput):
             raise ValueError(f"`seed` must be an integer, got {seed!r}")
         self.seed = int(seed)
         dn = (self.n_max - self.n_min) / n_waves
-        self.n = self.n_min + (np.arange(n_waves) + 0.5) * dn
+        k0 = max(1, round(self.n_min / dn))
+        # integer multiples of dn: the profile is periodic with period 1 / dn
+        self.n = (k0 + np.arange(n_waves)) * dn
         self.dn = dn
+        #: band covered by the midpoint rule, cycles/m
+        self.band = ((k0 - 0.5) * dn, (k0 + n_waves - 0.5) * dn)
         self.amplitudes = np.sqrt(2.0 * self.psd(self.n) * dn)
         self.phases = np.random.default_rng(self.seed).uniform(0.0, 2.0 * math.pi,
                                                                n_waves)
