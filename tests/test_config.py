@@ -387,6 +387,7 @@ def _get(node, path):
 _scalars = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
     st.integers(min_value=-10**30, max_value=10**30),
+    st.sampled_from([10**400, -(10**400), 0, -1]),  # beyond float range; edges
     st.booleans(),
     st.text(max_size=8),
     st.sampled_from(["linear", "cubic", "piecewise", "base", "unbalance", "up", "fmu",
