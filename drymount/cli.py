@@ -110,6 +110,15 @@ def _config_arg(p):
                         "(drymount presets list)")
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("drymount")
+    except PackageNotFoundError:  # running from a source tree without install
+        return "(not installed)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``drymount`` argument parser (subcommands in ``args.command``)."""
     parser = argparse.ArgumentParser(
@@ -130,6 +139,8 @@ def build_parser() -> argparse.ArgumentParser:
         ) + "\n\nexit status: 0 success, 1 numerical failure (results so far are "
             "written), 2 bad usage or configuration",
         formatter_class=_Formatter)
+    parser.add_argument("--version", action="version",
+                        version=f"drymount {_version()}")
     parser.add_argument("--traceback", action="store_true",
                         help="show the Python traceback of an unexpected error")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
