@@ -204,7 +204,6 @@ def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         Xr = X.reshape(m, n)
         coef[i] = Xr.T
         amp[i] = np.hypot(Xr[1], Xr[2])
-        peak[i] = hb.peak_abs(X, opts.n_peak)
         if tr.kind == "force":
             fc, fs = hb.axis_force_fundamental(X, w, tr.forces)
             den = exc.scalar_amplitude(w)
@@ -213,6 +212,9 @@ def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
             den = amp[i, tr.reference] if tr.reference is not None else \
                 exc.scalar_amplitude(w)
             trans[i] = amp[i, tr.dof] / den if den > 0 else np.nan
+    if npts:
+        peak[:] = hb.peak_abs(coef.transpose(0, 2, 1).reshape(npts, m * n),
+                              opts.n_peak)
     if opts.stability and npts:
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
     fold = np.array([_fold_frequency(prob, br, i) for i in turning], dtype=float)

@@ -31,6 +31,8 @@ knees) and, for the Jenkins element, ``F_0 = kf U0`` when stuck, 0 when slipping
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from hbm.elements import CUBIC, PIECEWISE, NonlinearAxes
@@ -113,64 +115,67 @@ def closed_form_forces(U: np.ndarray, ax: NonlinearAxes
         ``dF[a, h, g] = dF[h, a] / dU[g, a]``.
     """
     n_ax = U.shape[1]
-    F = np.zeros((3, n_ax))
+    # plain Python floats and math: the arrays are tiny and NumPy scalars are slow
+    U0s, Ucs, Uss = U.tolist()
+    F = [[0.0] * n_ax for _ in range(3)]
     dF = np.zeros((n_ax, 3, 3))
-    U0, Uc, Us = U
-    X = np.hypot(Uc, Us)
+    pi = math.pi
     for a in range(n_ax):
-        x = X[a]
+        u0, uc, us = U0s[a], Ucs[a], Uss[a]
+        x = math.hypot(uc, us)
+        d = [[0.0] * 3 for _ in range(3)]
         gs = gc = dgs = dgc = 0.0  # equivalent stiffness/damping and d/dX
         k0 = dk0 = 0.0  # static tangent at U0 = 0 and its d/dX
-        law = ax.law[a]
+        law = ax.law_list[a]
         if law == CUBIC:
-            kc = ax.kc[a]
-            u0 = U0[a]
+            kc = ax.kc_list[a]
             # exact H = 1 projection of kc (U0 + Uc cos + Us sin)^3
-            F[0, a] += kc * (u0**3 + 1.5 * u0 * x * x)
-            dF[a, 0, 0] += kc * (3 * u0 * u0 + 1.5 * x * x)
-            dF[a, 0, 1] += kc * 3 * u0 * Uc[a]
-            dF[a, 0, 2] += kc * 3 * u0 * Us[a]
+            F[0][a] += kc * (u0**3 + 1.5 * u0 * x * x)
+            d[0][0] += kc * (3 * u0 * u0 + 1.5 * x * x)
+            d[0][1] += kc * 3 * u0 * uc
+            d[0][2] += kc * 3 * u0 * us
             gs += kc * (3 * u0 * u0 + 0.75 * x * x)
             dgs += kc * 1.5 * x
             # the u0-dependence of g_s enters the harmonic rows directly
-            dF[a, 1, 0] += kc * 6 * u0 * Uc[a]
-            dF[a, 2, 0] += kc * 6 * u0 * Us[a]
-        elif law == PIECEWISE and x > ax.delta[a]:
-            d = ax.delta[a]
-            dk = ax.k2[a] - ax.k1[a]
-            a1 = np.arcsin(d / x)
-            gs += dk * (np.pi - 2 * a1 - np.sin(2 * a1)) / np.pi
-            dgs += 4 * dk * np.cos(a1) * d / (np.pi * x * x)
-            k0 += dk * (1.0 - 2 * a1 / np.pi)
-            dk0 += 2 * dk * d / (np.pi * x * x * np.cos(a1))
-        if ax.kf[a] > 0.0:
-            kf, fs = ax.kf[a], ax.fs[a]
+            d[1][0] += kc * 6 * u0 * uc
+            d[2][0] += kc * 6 * u0 * us
+        elif law == PIECEWISE and x > ax.delta_list[a]:
+            dl = ax.delta_list[a]
+            dk = ax.dk_list[a]
+            a1 = math.asin(dl / x)
+            ca1 = math.cos(a1)
+            gs += dk * (pi - 2 * a1 - math.sin(2 * a1)) / pi
+            dgs += 4 * dk * ca1 * dl / (pi * x * x)
+            k0 += dk * (1.0 - 2 * a1 / pi)
+            dk0 += 2 * dk * dl / (pi * x * x * ca1)
+        kf, fs = ax.kf_list[a], ax.fs_list[a]
+        if kf > 0.0:
             if kf * x > fs:
                 r = fs / (kf * x)
-                a2 = np.arcsin(1.0 - 2.0 * r)
-                ca = np.cos(a2)
-                gs += (kf / np.pi) * (np.pi / 2 - a2 - np.sin(a2) * ca)
-                dgs += -4.0 * kf * r * ca / (np.pi * x)
-                gc += (4 * fs / (np.pi * x)) * (1.0 - r)
-                dgc += (4 * fs / np.pi) * (-1.0 / x**2 + 2 * fs / (kf * x**3))
+                a2 = math.asin(1.0 - 2.0 * r)
+                ca = math.cos(a2)
+                gs += (kf / pi) * (pi / 2 - a2 - math.sin(a2) * ca)
+                dgs += -4.0 * kf * r * ca / (pi * x)
+                gc += (4 * fs / (pi * x)) * (1.0 - r)
+                dgc += (4 * fs / pi) * (-1.0 / x**2 + 2 * fs / (kf * x**3))
             else:
                 gs += kf
                 k0 += kf
-        uc, us = Uc[a], Us[a]
-        F[0, a] += k0 * U0[a]
-        dF[a, 0, 0] += k0
-        if x > 0.0:
-            dF[a, 0, 1] += dk0 * U0[a] * uc / x
-            dF[a, 0, 2] += dk0 * U0[a] * us / x
-        F[1, a] += gs * uc + gc * us
-        F[2, a] += gs * us - gc * uc
+        F[0][a] += k0 * u0
+        d[0][0] += k0
+        F[1][a] += gs * uc + gc * us
+        F[2][a] += gs * us - gc * uc
         # chain rule through X = hypot(Uc, Us)
         if x > 0.0:
             xc, xs = uc / x, us / x
+            d[0][1] += dk0 * u0 * xc
+            d[0][2] += dk0 * u0 * xs
         else:
             xc = xs = 0.0
-        dF[a, 1, 1] += gs + (dgs * uc + dgc * us) * xc
-        dF[a, 1, 2] += gc + (dgs * uc + dgc * us) * xs
-        dF[a, 2, 1] += -gc + (dgs * us - dgc * uc) * xc
-        dF[a, 2, 2] += gs + (dgs * us - dgc * uc) * xs
+        d[1][1] += gs + (dgs * uc + dgc * us) * xc
+        d[1][2] += gc + (dgs * uc + dgc * us) * xs
+        d[2][1] += -gc + (dgs * us - dgc * uc) * xc
+        d[2][2] += gs + (dgs * us - dgc * uc) * xs
+        dF[a] = d
+    F = np.array(F)
     return F, dF

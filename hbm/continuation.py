@@ -9,7 +9,8 @@ unknowns, the last one the continuation parameter) and ``J = dR/dy`` of shape
 - pseudo-arclength corrector: Newton on ``[R(y); t . (y - y_pred)] = 0`` (the linearised
   form of the thesis's sphere, eq. 3.58-3.65, which is robust through folds);
 - step adaptation on the Newton iteration count, ``s_k = s_{k-1} sqrt(n_norm / n_iter)``
-  (eq. 3.66), with the step halved when the corrector fails;
+  (eq. 3.66), with the step halved when the corrector fails, and shrunk where the
+  angle between successive tangents exceeds ``max_angle`` (curvature: peaks, folds);
 - turning points: sign changes of ``d lam / ds``.
 
 A stalled continuation returns the branch traced so far with ``success = False`` and
@@ -39,6 +40,7 @@ class ContinuationSettings:
     tol_step: float = 1e-6
     max_steps: int = 20000
     max_growth: float = 2.0
+    max_angle: float = 0.15
 
 
 @dataclass
@@ -244,8 +246,12 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             br.status = 3
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
             return br
-        # eq. 3.66, bounded growth
+        # eq. 3.66, bounded growth; plus a curvature limit: the angle between
+        # successive tangents should not exceed max_angle (resolves peaks and folds)
         fac = np.sqrt(settings.n_norm / max(its, 1))
+        angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
+        if angle > 0.0:
+            fac = min(fac, max(settings.max_angle / angle, 0.5))
         ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
         ds = max(ds, settings.ds_min)
         y, t = y_new, t_new

@@ -68,6 +68,12 @@ class NonlinearAxes:
     kf: np.ndarray
     fs: np.ndarray
 
+    def __post_init__(self):
+        # plain-float copies for the scalar closed forms (NumPy scalars are slow)
+        for name in ("law", "kc", "delta", "kf", "fs"):
+            object.__setattr__(self, f"{name}_list", getattr(self, name).tolist())
+        object.__setattr__(self, "dk_list", (self.k2 - self.k1).tolist())
+
     @property
     def n(self) -> int:
         return len(self.labels)

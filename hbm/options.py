@@ -38,6 +38,9 @@ class HBMOptions:
         Continuation steps before giving up (``success=False``).
     max_growth : float
         Largest step growth factor per step.
+    max_angle : float
+        Largest angle (rad) between successive unit tangents (scaled units) before
+        the next step is shrunk: resolves resonance peaks and folds.
     stability : bool
         Compute the Hill stability of the points.
     stability_stride : int
@@ -61,6 +64,7 @@ class HBMOptions:
     tol_step: float = 1e-6
     max_steps: int = 20000
     max_growth: float = 2.0
+    max_angle: float = 0.15
     stability: bool = True
     stability_stride: int = 4
     n_peak: int = 256
@@ -95,4 +99,4 @@ class HBMOptions:
             ds_min=self.ds_min, ds_max=self.ds_max, n_norm=self.n_norm,
             max_newton=self.max_newton, tol_residual=self.tol_residual,
             tol_step=self.tol_step, max_steps=self.max_steps,
-            max_growth=self.max_growth)
+            max_growth=self.max_growth, max_angle=self.max_angle)

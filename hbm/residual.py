@@ -155,9 +155,9 @@ class HarmonicBalance:
             return R, None, None
         J = A
         if self.axes.n:
-            Bt = self.Bt
             if self.n == 1:
-                J = J + np.tensordot(Bt[:, 0] ** 2, dF, axes=(0, 0))
+                J = J + (self.BB[:, 0, 0] @ dF.reshape(self.axes.n, -1)).reshape(
+                    self.m, self.m)
             else:
                 # J[h i, g j] += sum_a dF[a, h, g] B[a, i] B[a, j]
                 J = J + np.tensordot(dF, self.BB, axes=(0, 0)).transpose(
@@ -179,30 +179,38 @@ class HarmonicBalance:
         return Xr[0] + c @ Xr[1::2] + s @ Xr[2::2]
 
     def peak_abs(self, X: np.ndarray, n_samples: int = 256) -> np.ndarray:
-        """``max |q(t)|`` over the period for each DOF, shape (n,).
+        """``max |q(t)|`` over the period for each DOF.
 
-        Sampled at ``n_samples`` phases, then refined by Newton on ``dq/dtheta = 0``
-        around the largest sample (exact to round-off for a smooth extremum).
+        ``X`` has shape (m n,) or (P, m n) (P solutions at once); returns (n,) or
+        (P, n). Sampled at ``n_samples`` phases, then refined by Newton on
+        ``dq/dtheta = 0`` around the largest sample (exact to round-off for a smooth
+        extremum).
         """
-        q = self.time_samples(X, n_samples)
-        Xr = X.reshape(self.m, self.n)
-        k = np.arange(1, self.H + 1)[:, None]
-        a, b = Xr[1::2], Xr[2::2]  # (H, n)
-        idx = np.argmax(np.abs(q), axis=0)
-        th = 2.0 * np.pi * idx / n_samples
+        single = X.ndim == 1
+        Xr = X.reshape(-1, self.m, self.n)
+        self.time_samples(Xr[0].ravel(), n_samples)  # fills the cache
+        c, s = self._trig[n_samples]
+        a, b = Xr[:, 1::2, :], Xr[:, 2::2, :]  # (P, H, n)
+        q = Xr[:, :1, :] + c @ a + s @ b  # (P, N, n)
+        aq = np.abs(q)
+        idx = np.argmax(aq, axis=1)  # (P, n)
+        best = np.take_along_axis(aq, idx[:, None, :], axis=1)[:, 0, :]
         h = 2.0 * np.pi / n_samples
-        best = np.abs(q[idx, np.arange(self.n)])
-        th0 = th.copy()
+        th0 = h * idx
+        th = th0.copy()
+        k = np.arange(1, self.H + 1)[None, :, None]
         for _ in range(4):
-            c, s = np.cos(k * th), np.sin(k * th)
-            d1 = np.sum(k * (b * c - a * s), axis=0)
-            d2 = -np.sum(k * k * (a * c + b * s), axis=0)
+            kt = k * th[:, None, :]
+            cs, sn = np.cos(kt), np.sin(kt)
+            d1 = np.sum(k * (b * cs - a * sn), axis=1)
+            d2 = -np.sum(k * k * (a * cs + b * sn), axis=1)
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = np.where(d2 != 0.0, -d1 / d2, 0.0)
             th = th0 + np.clip(th - th0 + step, -h, h)
-        c, s = np.cos(k * th), np.sin(k * th)
-        val = np.abs(Xr[0] + np.sum(a * c + b * s, axis=0))
-        return np.maximum(best, val)
+        kt = k * th[:, None, :]
+        val = np.abs(Xr[:, 0, :] + np.sum(a * np.cos(kt) + b * np.sin(kt), axis=1))
+        out = np.maximum(best, val)
+        return out[0] if single else out
 
     def axis_force_fundamental(self, X: np.ndarray, omega: float,
                                pairs) -> np.ndarray:

@@ -1,0 +1,114 @@
+"""Benchmark of the harmonic-balance frequency-response curves (issue 3).
+
+Full curves by arc-length continuation, with stability, for
+
+- sdof-H1:  single DOF, m 70 kg, mount linear k 91 870 N/m, c 150 N s/m, Jenkins
+            kf 60 000 N/m, Fs 20 N (mu 1, n0 20 N), force amplitude 40 N, 2-15 Hz,
+            H = 1 with the closed forms (target <= 0.05 s);
+- sdof-H7:  the same at H = 7 with 64 AFT samples (target <= 0.3 s);
+- quarter-car-H5: m_e 70, m_s 230, m_us 30 kg, k_s 15 000 N/m, c_s 1000 N s/m,
+            tyre 200 000 N/m, mount as above with n0 30 N, road 0.01 m, 1-25 Hz;
+- six-dof-H5: rigid engine 140.8 kg, inertias 8.63/10.02/10.22 kg m^2, mounts at
+            (-0.5,0.25,0), (0.5,0.25,0), (0,-0.25,-0.5) m, linear 91 870 N/m, c 150,
+            lambda 1, friction along x on mount 1 (radial1), y on mount 2 (radial2),
+            z on mount 3 (axial), n0 250 N, kf 60 000 N/m, base (0, 0, 0.0035) m,
+            2-20 Hz (target <= 2 s).
+
+Prints points, Newton iterations, steps, milliseconds per point and seconds per curve
+(best and median of ``--repeat`` runs after a warm-up). With ``--convergence`` it also
+prints the fundamental amplitude at the resonance peak of the single-DOF preset for
+H = 1, 3, 5, 9, 15.
+
+OpenBLAS threads are limited to 1 unless ``--threads`` is given (set before NumPy is
+imported): the matrices are small (at most 132 x 132) and threads only add overhead,
+a lot of it on a busy machine.
+
+Run: ``python bench/bench_hbm.py [--repeat 5] [--convergence] [--threads]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+
+def _parse():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--convergence", action="store_true")
+    ap.add_argument("--threads", action="store_true",
+                    help="keep the default BLAS threading")
+    ap.add_argument("--no-stability", action="store_true")
+    return ap.parse_args()
+
+
+def main():
+    args = _parse()
+    if not args.threads:
+        for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+            os.environ.setdefault(var, "1")
+    import time
+
+    import numpy as np
+
+    import hbm
+    from fmu_src.mount_law import AxisParameters, MountParameters
+    from vehicle.models import quarter_car, rigid_engine, sdof
+
+    def fr_axis(n0):
+        return AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True,
+                              kf=60000.0, mu=1.0, n0=n0)
+
+    s1 = sdof(70.0, MountParameters(axial=fr_axis(20.0)), "force", 40.0)
+    qc = quarter_car(70, 230, 30, 15000, 1000, 200000, 0.0,
+                     MountParameters(axial=fr_axis(30.0)), road_amplitude=0.01)
+    mps = [MountParameters.from_axial(fr_axis(250.0), 1.0, (a,))
+           for a in ("radial1", "radial2", "axial")]
+    six = rigid_engine(140.8, [8.63, 10.02, 10.22],
+                       [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)], mps,
+                       amplitude=(0.0, 0.0, 0.0035))
+    opts = hbm.HBMOptions(stability=not args.no_stability)
+    cases = [
+        ("sdof-H1 (closed forms)", s1, 2.0, 15.0, dict(harmonics=1), 0.05),
+        ("sdof-H7 (AFT N=64)", s1, 2.0, 15.0, dict(harmonics=7, n_samples=64), 0.3),
+        ("quarter-car-H5", qc, 1.0, 25.0, dict(harmonics=5), None),
+        ("six-dof-H5", six, 2.0, 20.0, dict(harmonics=5), 2.0),
+    ]
+    print(f"python {sys.version.split()[0]}, numpy {np.__version__}, "
+          f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS', 'default')}, "
+          f"stability={opts.stability}, repeat={args.repeat}")
+    hdr = (f"{'case':26s} {'points':>6s} {'newton':>6s} {'steps':>5s} "
+           f"{'ms/point':>8s} {'best s':>7s} {'median s':>8s} {'target s':>8s} ok")
+    print(hdr)
+    print("-" * len(hdr))
+    for name, system, fmin, fmax, kw, target in cases:
+        hbm.frequency_response(system, fmin, fmax, options=opts, **kw)  # warm-up
+        times = []
+        for _ in range(args.repeat):
+            t0 = time.perf_counter()
+            r = hbm.frequency_response(system, fmin, fmax, options=opts, **kw)
+            times.append(time.perf_counter() - t0)
+        best, med = min(times), float(np.median(times))
+        ok = "-" if target is None else ("yes" if best <= target else "NO")
+        tg = "-" if target is None else f"{target:.2f}"
+        print(f"{name:26s} {r.n_points:6d} {r.n_newton:6d} {r.n_steps:5d} "
+              f"{1e3 * best / r.n_points:8.2f} {best:7.3f} {med:8.3f} {tg:>8s} {ok}"
+              f"{'' if r.success else '  FAILED: ' + r.message}")
+    if args.convergence:
+        print("\nsdof preset, fundamental amplitude at the resonance peak "
+              "(41 frequencies 5.80-5.92 Hz):")
+        f = np.linspace(5.80, 5.92, 41)
+        res = {}
+        for H in (1, 3, 5, 9, 15):
+            r = hbm.solve_frequencies(s1, f, harmonics=H, options=opts)
+            i = int(np.argmax(r.amplitude[:, 0]))
+            res[H] = (r.amplitude[i, 0], f[i], r.peak[i, 0])
+        for H, (a, fi, pk) in res.items():
+            print(f"  H={H:2d}: amplitude {a * 1e3:.6f} mm at {fi:.4f} Hz, "
+                  f"max|x| {pk * 1e3:.6f} mm, rel. diff. to H=15 "
+                  f"{abs(a / res[15][0] - 1):.2e}")
+
+
+if __name__ == "__main__":
+    main()
