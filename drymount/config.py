@@ -567,6 +567,10 @@ def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
                 kw[name] = x
         elif name in needed:
             why = f" (law \"{law}\")" if name not in ("k1", "c") else ""
+            typo = [k for k in data if k not in ALLOWED_KEYS["mount"]
+                    and difflib.get_close_matches(str(k), [name], n=1, cutoff=0.6)]
+            if typo:
+                why += f"; is `{typo[0]}` a misspelling of it?"
             ck.add(f"`{_join(path, name)}` is missing: a number in {units[name]} is "
                    f"required{why}")
     fr = _friction(ck, data, path)
@@ -884,8 +888,8 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
     ck.keys(data, "", allowed, hints=hints)
     cfg_name = ck.string(data, "name", "", default=name or "config")
     description = ck.string(data, "description", "", default="")
-    settings = _settings(ck, data)
     build = _build(ck, data, model) if model is not None else None
+    settings = _settings(ck, data)
     if ck.problems or build is None or settings is None:
         raise ConfigError(ck.problems or ["invalid configuration"], source)
     try:
