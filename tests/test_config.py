@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import copy
 import math
-import tomllib
+import sys
 
 import numpy as np
 import pytest
@@ -28,6 +28,11 @@ from drymount.config import (
     resolve_config,
 )
 from hbm.system import System
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # Python 3.10
+    import tomli as tomllib
 
 #: Undamped natural frequencies of thesis Table 4.2 (x, y, z, alpha, beta, gamma), Hz.
 TABLE_4_2_HZ = (6.10, 5.82, 7.07, 12.03, 11.59, 14.05)
