@@ -22,7 +22,7 @@ outputs (force ``F``, friction force ``Ffr`` per active axis, cumulative frictio
     re-raised as :class:`FMUError` naming the mount and the simulation time, and
     :meth:`FMUBackend.close` always terminates and frees every instance.
 
-Both follow the FMU protocol of ``docs``/interfaces: the force at t_k is the trial
+Both follow the FMU protocol (docs/fmu.md): the force at t_k is the trial
 return map ``law(u_k, v_k, w_{k-1})``; the step commits ``w_k = w_new(u_k)``; the energy
 output includes the dissipation of the current trial (``E_fr`` = committed + trial).
 """

@@ -227,6 +227,9 @@ def run_steady(master: Master, freq_hz: float, *,
     h = 1.0 / (freq_hz * N)
     omega = 2.0 * math.pi * freq_hz
     n = system.n_dof
+    # committed friction energy before the run (read before new sliders are set: the
+    # FMU's E_fr output includes the trial dissipation of the current inputs)
+    E_start = master.backend.energy()
     if isinstance(start, SteadyState):
         master.set_state(start.q_end, start.qd_end, start.qdd_end, start.sliders)
     elif start == "rest":
@@ -244,7 +247,6 @@ def run_steady(master: Master, freq_hz: float, *,
     master._fill_inputs(rec, inp, k * h, ((k + 1) % N) * h)
     master._set_row0(rec, inp, 0.0)
     t0 = master.time
-    E_start = master.backend.energy()
     steps0 = master.backend.steps
     wall0 = master.wall_time
     ox = L.o_x
