@@ -199,7 +199,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     ----------
     system : hbm.system.System
     freqs_hz : array_like, shape (n_points,)
-        Frequencies, Hz (> 0, distinct); run ascending for ``up``, descending for
+        Frequencies, Hz (> 0); run ascending for ``up``, descending for
         ``down``.
     direction : {"up", "down"}
     backend : {"native", "fmu"}
