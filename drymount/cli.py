@@ -301,7 +301,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="only these systems (sdof_friction, quarter_car_friction, "
                         "six_dof_friction, sdof_cubic)")
     p.add_argument("--inject", default=None, metavar="FIELD=FACTOR",
-                   help="scale a mount-law field on the co-simulation side only "
+                   help="scale a mount-law field on the HBM side only "
                         "(proves that the check can fail), e.g. n0=1.5")
 
     # study --------------------------------------------------------------------
