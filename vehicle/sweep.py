@@ -19,8 +19,10 @@ Parallel sweeps (``workers > 1``): the frequency list (in sweep order) is split 
 with the ``spawn`` context; each process builds its own backend/FMU instances). A
 chunk other than the first has no previous steady state: it starts with a *warm-up*,
 the ``warmup`` frequencies that precede it in the sweep order (default 3) run from the
-linearised start and discarded, so it enters its first frequency from a neighbouring
-steady state. Inside a bistable band this is not the same history as a serial sweep
+linearised start with a loose tolerance (``WARMUP_RTOL`` = 1e-3) and discarded, so it
+enters its first frequency from a neighbouring steady state. Each chunk pays a process
+start and its warm-up: parallel sweeps pay off for long frequency lists on idle
+cores. Inside a bistable band this is not the same history as a serial sweep
 (a chunk that starts past a jump cannot know the branch the serial sweep was on): use
 ``workers=1`` to study jumps and hysteresis.
 
@@ -51,6 +53,8 @@ __all__ = ["sweep", "SweepResult", "DEFAULT_WARMUP"]
 
 #: Warm-up frequencies run (and discarded) before a parallel chunk.
 DEFAULT_WARMUP = 3
+#: Tolerance of the warm-up runs (they only bring the state near the branch).
+WARMUP_RTOL = 1e-3
 
 
 @dataclass
@@ -171,10 +175,11 @@ def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=No
                bar=None):
     """Run one contiguous chunk (in this process). Returns the point rows."""
     rows = []
+    warm = dict(options, rtol=max(options["rtol"], WARMUP_RTOL))
     with Master(system, backend, fmu_path=fmu_path) as m:
         first = True
         for f in warmup_freqs:
-            run_steady(m, f, start="linear" if first else "continue", **options)
+            run_steady(m, f, start="linear" if first else "continue", **warm)
             first = False
         for f in freqs:
             ss = run_steady(m, f, start="linear" if first else "continue", **options)
