@@ -710,7 +710,7 @@ def _family_study(spec: _FamilySpec, out_dir, quick: bool, progress: bool) -> di
     for mount, n0, H in _progress(designs, spec.study, progress):
         sys_ = with_normal_force(systems[mount], n0)
         c = _hbm_curve(sys_, spec.band_hz, H, {"mount": mount, "n0_N": n0, "H": H},
-                       failures, notes)
+                       failures, notes, ds_max=None if quick else PLOT_DS_MAX)
         c.extra["e_fr_J"] = friction_energy(sys_, c.fr, 0, 0)[0]
         curves.append(c)
     cases = []
@@ -1270,7 +1270,7 @@ SIX_DOF_BASE_AMPLITUDE = (0.001, 0.001, 0.001)
 SIX_DOF_ENGINE_FORCES_N = (0.0, 2.0, 5.0, 10.0, 20.0)
 SIX_DOF_ENGINE_FORCES_QUICK_N = (0.0, 10.0)
 #: Normal force of the relocation comparison, N (slips under engine excitation).
-RELOCATION_N0 = 10.0
+RELOCATION_N0 = 2.0
 RELOCATED_MOUNT = 2
 RELOCATED_POSITION = (0.4, -0.25, -0.5)
 
@@ -1818,12 +1818,14 @@ def _summary_jump(r, figs) -> str:
         f"- Time domain (`vehicle.sweep`, native backend, steps of "
         f"{r['sweep_step_hz']:g} Hz from {r['sweep_range_hz'][0]:.2f} to "
         f"{r['sweep_range_hz'][1]:.2f} Hz, each step starting from the previous "
-        "steady state), sweep up: the amplitude drops by {-up[2] * 1e3:.2f} mm "
+        f"steady state), sweep up: the amplitude drops by {-up[2] * 1e3:.2f} mm "
         f"between {up[0]:.3f} and {up[1]:.3f} Hz.",
         f"- Time domain, sweep down: the amplitude rises by {dn[2] * 1e3:.2f} mm "
         f"between {dn[0]:.3f} and {dn[1]:.3f} Hz.",
         f"- Between the jumps the up sweep stays on the upper branch: up minus down "
-        f"amplitude {', '.join(f'{h * 1e3:.2f}' for h in r['hysteresis_m'])} mm.",
+        f"amplitude {min(r['hysteresis_m'], default=float('nan')) * 1e3:.2f} to "
+        f"{max(r['hysteresis_m'], default=float('nan')) * 1e3:.2f} mm at "
+        f"{len(r['hysteresis_m'])} frequencies.",
         f"- Largest difference of a sweep amplitude from the HBM stable branch it is "
         f"on: {100 * r['sweep_vs_hbm_max_rel']:.2f} % of the HBM peak "
         f"({r['sweep_seconds']:.1f} s of time integration).",
