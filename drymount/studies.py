@@ -422,8 +422,12 @@ def _write_csv(path: Path, comment: str, header: Sequence[str], rows) -> None:
     write_csv(path, header, rows, comment=comment)
 
 
-def _save_fig(fig: Figure, path: Path) -> None:
-    save_figure(fig, path, dpi=DPI)
+#: Resolution of the large six-panel figures (keeps them near 100 kB).
+DPI_SIX_PANEL = 75
+
+
+def _save_fig(fig: Figure, path: Path, dpi: int = DPI) -> None:
+    save_figure(fig, path, dpi=dpi)
 
 
 def _plot_branch(ax, f, y, stable=None, **kw):
@@ -1514,7 +1518,7 @@ def _plot_six_dof(base_curves, engine_curves, reloc_curves, forces, lambdas, dof
                              f"{figs_no[(lam, m)]})",
                              ref=ref if m == "halved" else None)
             name = f"six_dof_base_lambda{str(lam).replace('.', '')}_{m}.png"
-            _save_fig(fig, out / name)
+            _save_fig(fig, out / name, dpi=DPI_SIX_PANEL)
             names.append(name)
     eref = next(c for c in engine_curves if c.case["mount"] == "original"
                 and c.case["n0_N"] == 0.0)
@@ -1526,7 +1530,7 @@ def _plot_six_dof(base_curves, engine_curves, reloc_curves, forces, lambdas, dof
                          f"about y), {m} mounts, lambda = 1 (cf. thesis Figs. "
                          "4.35-4.40)", ref=eref if m == "halved" else None)
         name = f"six_dof_engine_{m}.png"
-        _save_fig(fig, out / name)
+        _save_fig(fig, out / name, dpi=DPI_SIX_PANEL)
         names.append(name)
     fig = Figure(figsize=(10, 4))
     ax1, ax2 = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
@@ -1771,9 +1775,9 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
     _plot_branch(ax, fr.freq_hz, amp, fr.stable, color="black", lw=1.4,
                  label=f"HBM H = {H} (unstable dashed)")
     ax.plot(tp_f, tp_a, "o", mfc="none", color="black", ms=8, label="turning points")
-    ax.plot(sweeps["up"].freq_hz, a_up, "^", color="tab:red", ms=6,
+    ax.plot(sweeps["up"].freq_hz, a_up, "^", color="tab:red", ms=4, mfc="none",
             label="time domain, sweep up")
-    ax.plot(sweeps["down"].freq_hz, a_dn, "v", color="tab:blue", ms=6,
+    ax.plot(sweeps["down"].freq_hz, a_dn, "v", color="tab:blue", ms=4, mfc="none",
             label="time domain, sweep down")
     _log_axes(ax, ylabel="engine amplitude x [m]",
               title="cubic mount: fold and jumps (cf. thesis Figs. 3.5, 3.7)")
