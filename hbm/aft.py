@@ -93,7 +93,8 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     fr = ax.friction
     corr = []
     for a in fr:
-        ff, stuck, last = jenkins_periodic(u[:, a], ax.kf[a], ax.fs[a])
+        ff, stuck, last = jenkins_periodic(u[:, a], ax.kf[a], ax.fs[a],
+                                            ax.w_start[a])
         f[:, a] += ff
         if jacobian:
             kt[:, a] += np.where(stuck, ax.kf[a], 0.0)

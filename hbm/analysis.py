@@ -10,6 +10,7 @@ Both return a :class:`hbm.result.FrequencyResponse`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 
@@ -93,21 +94,57 @@ class _Problem:
 
 
 def build_problem(system: System, fmin_hz: float, fmax_hz: float, harmonics: int = 7,
-                  n_samples: int | None = None, closed_form: bool | None = None):
-    """The scaled problem used by the drivers (for tests and custom continuation)."""
-    hb = HarmonicBalance(system, harmonics, n_samples, closed_form)
+                  n_samples: int | None = None, closed_form: bool | None = None,
+                  sliders=None):
+    """The scaled problem used by the drivers (for tests and custom continuation).
+
+    ``sliders`` (n_elements, 3), m: slider positions the AFT march starts from."""
+    hb = HarmonicBalance(system, harmonics, n_samples, closed_form, sliders)
     return _Problem(hb, fmin_hz, fmax_hz)
 
 
 def _start(prob: _Problem, freq_hz: float, settings):
+    """First solution at ``freq_hz``: Newton from the free and the stuck linear
+    solutions, with more iterations than a continuation step (damped Newton can
+    need many from a linear guess far from a strongly nonlinear solution)."""
     n = prob.hb.size
     msg = ""
+    total = 0
+    start = dataclasses.replace(settings, max_newton=max(4 * settings.max_newton, 50))
     for stuck in (False, True):
         y0 = prob.linear_guess(freq_hz, stuck)
-        y, ok, its, msg = newton(prob, y0, settings, fixed=n)
+        y, ok, its, msg = newton(prob, y0, start, fixed=n)
+        total += its
         if ok:
-            return y, its, ""
-    return None, 0, msg
+            return y, total, ""
+    # load stepping: raise the excitation from a small fraction to 1, each Newton
+    # started from the previous solution scaled up (halving the increment on failure)
+    hb = prob.hb
+    try:
+        mu, dmu = 0.0, 0.125
+        y = prob.linear_guess(freq_hz, False) * 0.0
+        y[-1] = 2 * np.pi * freq_hz / prob.ws
+        while mu < 1.0:
+            target = min(1.0, mu + dmu)
+            hb.exc_scale = target
+            guess = y.copy()
+            if mu > 0:
+                guess[:-1] *= target / mu
+            else:
+                guess = prob.linear_guess(freq_hz, False)
+                guess[:-1] *= target
+            y_new, ok, its, msg = newton(prob, guess, start, fixed=n)
+            total += its
+            if ok:
+                y, mu = y_new, target
+                dmu = min(2 * dmu, 0.25)
+            else:
+                dmu *= 0.5
+                if dmu < 1e-3:
+                    return None, total, f"load stepping stalled at {mu:.3g} ({msg})"
+    finally:
+        hb.exc_scale = 1.0
+    return y, total, ""
 
 
 def _fold_frequency(prob: _Problem, br: Branch, i: int) -> float:

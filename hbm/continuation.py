@@ -11,7 +11,12 @@ unknowns, the last one the continuation parameter) and ``J = dR/dy`` of shape
 - step adaptation on the Newton iteration count, ``s_k = s_{k-1} sqrt(n_norm / n_iter)``
   (eq. 3.66), with the step halved when the corrector fails, and shrunk where the
   angle between successive tangents exceeds ``max_angle`` (curvature: peaks, folds);
-- turning points: sign changes of ``d lam / ds``.
+- turning points: sign changes of ``d lam / ds``;
+- nonsmooth corners (the AFT residual is piecewise smooth: a sample crossing a knee
+  or switching between stick and slip): when the corrector fails at a small step,
+  the tangent of the piece beyond the kink is tried in both directions, which
+  continues a branch that turns sharply at the kink (a corner fold);
+- Newton with backtracking on the residual norm (kinks can make full steps cycle).
 
 A stalled continuation returns the branch traced so far with ``success = False`` and
 the reason; it never raises once the work has started.
@@ -41,6 +46,9 @@ class ContinuationSettings:
     max_steps: int = 20000
     max_growth: float = 2.0
     max_angle: float = 0.15
+    min_damping: float = 1.0 / 64
+    corner_ds: float = 1e-3
+    max_correction: float = 1.0
 
 
 @dataclass
@@ -86,45 +94,123 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
 
     With ``fixed`` = index, that unknown is held (natural parametrisation, eq. 3.53);
     with ``tangent`` and ``y_pred`` the pseudo-arclength equation
-    ``tangent . (y - y_pred) = 0`` closes the system.
+    ``tangent . (y - y_pred) = 0`` (the linearised form of the thesis's sphere,
+    eq. 3.58-3.65) closes the system.
 
     Returns ``(y, converged, n_iter, message)``.
     """
     y = np.array(y0, dtype=float)
     last = np.inf
     n = y.size - 1
-    for it in range(settings.max_newton + 1):
+    if fixed is not None:
+        keep = np.ones(n + 1, bool)
+        keep[fixed] = False
+
+    def evaluate(yy):
         try:
-            R, J = fun(y)
+            R, J = fun(yy)
         except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
-            return y, False, it, f"evaluation failed: {exc}"
-        r = _norm(R)
-        if not np.isfinite(r):
-            return y, False, it, "non-finite residual"
+            return None, None, f"evaluation failed: {exc}"
+        if not np.all(np.isfinite(R)):
+            return None, None, "non-finite residual"
+        return R, J, ""
+
+    def closing(yy):
+        """Value and gradient of the closing equation."""
+        return float(np.dot(tangent, yy - y_pred)), tangent
+
+    def merit(yy, R):
+        g = 0.0 if fixed is not None else closing(yy)[0]
+        return float(np.dot(R, R)) + g * g
+
+    R, J, msg = evaluate(y)
+    if R is None:
+        return y, False, 0, msg
+    r = _norm(R)
+    for it in range(settings.max_newton + 1):
         if r <= settings.tol_residual and last <= settings.tol_step:
             return y, True, it, ""
         if it == settings.max_newton:
             break
-        if fixed is not None:
-            keep = np.ones(n + 1, bool)
-            keep[fixed] = False
-            try:
-                dx = np.linalg.solve(J[:, keep], -R)
-            except np.linalg.LinAlgError:
-                return y, False, it, "singular Jacobian"
-            step = np.zeros(n + 1)
-            step[keep] = dx
-        else:
-            A = np.vstack([J, tangent])
-            b = np.append(-R, -np.dot(tangent, y - y_pred))
-            try:
+        try:
+            if fixed is not None:
+                step = np.zeros(n + 1)
+                step[keep] = np.linalg.solve(J[:, keep], -R)
+            else:
+                g, dg = closing(y)
+                A = np.vstack([J, dg])
+                b = np.append(-R, -g)
                 step = np.linalg.solve(A, b)
-            except np.linalg.LinAlgError:
-                return y, False, it, "singular extended Jacobian"
-        y = y + step
-        last = _norm(step)
+        except np.linalg.LinAlgError:
+            return y, False, it, "singular Jacobian"
+        # Backtracking on |R|^2 (+ the arc-length equation squared): the residual of
+        # the AFT is only piecewise smooth (knees, stick-slip switches at samples), and
+        # full Newton steps can cycle between two pieces around a kink.
+        phi0 = merit(y, R)
+        alpha = 1.0
+        while True:
+            y_try = y + alpha * step
+            R_try, J_try, msg = evaluate(y_try)
+            if R_try is not None and (merit(y_try, R_try) <= (1 - 1e-4 * alpha) * phi0
+                                      or alpha <= settings.min_damping):
+                break
+            if R_try is None and alpha <= settings.min_damping:
+                return y, False, it + 1, msg
+            alpha *= 0.5
+        y, R, J = y_try, R_try, J_try
+        r = _norm(R)
+        last = alpha * _norm(step)
     return y, False, settings.max_newton, (
         f"no convergence in {settings.max_newton} iterations (residual {r:.3g})")
+
+
+def _distance_to_polyline(p: np.ndarray, pts: list) -> float:
+    """Distance of ``p`` to the polyline through ``pts`` (one point: to that point)."""
+    best = _norm(p - pts[-1])
+    for a, b in zip(pts[:-1], pts[1:], strict=True):
+        d = b - a
+        dd = float(np.dot(d, d))
+        s = 0.0 if dd == 0.0 else min(1.0, max(0.0, float(np.dot(p - a, d)) / dd))
+        best = min(best, _norm(p - a - s * d))
+    return best
+
+
+def _corner_step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
+                 settings: ContinuationSettings, history: list):
+    """Continue past a kink of a piecewise-smooth residual.
+
+    The predictor ``y + ds t`` lies beyond the kink; the null vector ``tB`` of the
+    Jacobian there is the branch direction on that piece. The branch continues along
+    ``+tB`` (a corner) or ``-tB`` (a corner fold, where it turns back in the
+    parameter); each is corrected on its pseudo-arclength plane, and a point back on
+    the old branch (within ``0.1 ds`` of the polyline through the last points
+    ``history``, or behind ``y`` on the line of ``t``) is rejected.
+
+    Returns ``(y_new, n_iter, direction)``; ``direction`` is None on failure.
+    """
+    its_total = 0
+    try:
+        _, J = fun(y + ds * t)
+        tB = tangent_at(J, t)
+    except (FloatingPointError, ValueError, np.linalg.LinAlgError):
+        return y, 0, None
+    if tB is None:
+        return y, 0, None
+    for sgn in (1.0, -1.0):
+        d = sgn * tB
+        y_p = y + ds * d
+        y_c, ok, its, _ = newton(fun, y_p, settings, tangent=d, y_pred=y_p)
+        its_total += its
+        if not ok or _norm(y_c - y_p) > settings.max_correction * ds:
+            continue
+        step = y_c - y
+        along = float(np.dot(step, t))
+        perp = _norm(step - along * t)
+        if (along < 0.0 and perp < 0.05 * abs(along)) or \
+                _distance_to_polyline(y_c, history) < 0.1 * ds:
+            continue  # back on the old branch
+        return y_c, its_total, d
+    return y, its_total, None
 
 
 def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
@@ -194,6 +280,15 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         y_pred = y + ds * t
         y_new, ok, its, msg = newton(fun, y_pred, settings, tangent=t, y_pred=y_pred)
         br.n_newton += its
+        if ok and _norm(y_new - y_pred) > settings.max_correction * ds:
+            # converged far from the prediction: probably onto another branch
+            ok, msg = False, "corrector jumped away from the prediction"
+        corner = None
+        if not ok and ds <= settings.corner_ds:
+            y_c, its_c, corner = _corner_step(fun, y, t, ds, settings, br.y[-4:])
+            br.n_newton += its_c
+            if corner is not None:
+                y_new, ok, its = y_c, True, its_c
         if not ok:
             ds *= 0.5
             if ds < settings.ds_min:
@@ -204,7 +299,8 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             continue
         try:
             R, J = fun(y_new)
-            t_new = tangent_at(J, t)
+            # after a corner the new piece's direction gives the orientation
+            t_new = tangent_at(J, t if corner is None else corner)
         except Exception as exc:  # noqa: BLE001
             t_new = None
             msg = str(exc)

@@ -53,6 +53,10 @@ class NonlinearAxes:
         Elastic parameters (N/m, N/m^3, N/m, m, m).
     kf, fs : ndarray, shape (n_ax,)
         Contact stiffness (N/m) and slip force (N); ``kf = 0`` means no friction.
+    w_start : ndarray, shape (n_ax,)
+        Slider position the AFT march starts from, m (default 0: the HBM convention
+        of PHYSICS.md section 1). Only an element that does not slip at both extrema
+        of the period keeps it; see :func:`jenkins_periodic`.
     """
 
     labels: tuple[str, ...]
@@ -67,8 +71,11 @@ class NonlinearAxes:
     delta_neg: np.ndarray
     kf: np.ndarray
     fs: np.ndarray
+    w_start: np.ndarray | None = None
 
     def __post_init__(self):
+        if self.w_start is None:
+            object.__setattr__(self, "w_start", np.zeros(len(self.labels)))
         # plain-float copies for the scalar closed forms (NumPy scalars are slow)
         for name in ("law", "kc", "delta", "kf", "fs"):
             object.__setattr__(self, f"{name}_list", getattr(self, name).tolist())
@@ -93,12 +100,20 @@ class NonlinearAxes:
         return not bool(np.any(self.law == PIECEWISE_ASYM))
 
 
-def nonlinear_axes(system: System) -> NonlinearAxes:
+def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
     """Collect the active axes of ``system`` whose law is not purely linear.
 
     An axis is nonlinear if it carries a friction element, a cubic law with
-    ``kc != 0`` or a piecewise law with ``k2 != k1``.
+    ``kc != 0`` or a piecewise law with ``k2 != k1``. ``sliders`` (array_like, shape
+    (n_elements, 3), m) gives the slider positions the AFT march starts from, e.g.
+    those a time simulation ended with (default: all zero).
     """
+    if sliders is not None:
+        sliders = np.asarray(sliders, dtype=float)
+        if sliders.shape != (len(system.elements), 3) or not np.all(
+                np.isfinite(sliders)):
+            raise ValueError(f"`sliders` must be finite with shape "
+                             f"{(len(system.elements), 3)}, got {sliders.tolist()}")
     rows = []
     for ie, e in enumerate(system.elements):
         for j in e.active_axes:
@@ -124,6 +139,8 @@ def nonlinear_axes(system: System) -> NonlinearAxes:
                             for *_, p in rows], dtype=float),
         kf=np.array([p.kf if p.friction else 0.0 for *_, p in rows], dtype=float),
         fs=np.array([p.fs for *_, p in rows], dtype=float),
+        w_start=np.array([sliders[ie, j] if sliders is not None else 0.0
+                          for ie, j, _, _ in rows], dtype=float),
     )
 
 
@@ -161,7 +178,7 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
     return f, kt
 
 
-def jenkins_periodic(u: np.ndarray, kf: float, fs: float
+def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Periodic response of one Jenkins element to sampled periodic motion.
 
@@ -179,6 +196,9 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float
         Deflection at the samples of one period, m.
     kf, fs : float
         Contact stiffness (N/m, > 0) and slip force (N, >= 0).
+    w_start : float
+        Slider position the first pass starts from, m (0 by convention); it only
+        matters when the element does not slip at both extrema.
 
     Returns
     -------
@@ -209,7 +229,7 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float
         # never slips at both extrema: march a first pass from w = 0 (the offset it
         # leaves is the stuck-band convention), the second pass is then periodic
         order = list(range(n))
-        w = 0.0
+        w = float(w_start)
         last = -1
         for i in order:
             _, w, _, slipping = jenkins_update(us[i], w, kf, fs)

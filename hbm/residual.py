@@ -48,7 +48,7 @@ class HarmonicBalance:
     """
 
     def __init__(self, system: System, harmonics: int = 7, n_samples: int | None = None,
-                 closed_form: bool | None = None):
+                 closed_form: bool | None = None, sliders=None):
         if not isinstance(system, System):
             raise TypeError(f"`system` must be a hbm.system.System, got "
                             f"{type(system).__name__}")
@@ -56,15 +56,20 @@ class HarmonicBalance:
                 or harmonics < 1:
             raise ValueError(f"`harmonics` must be an integer >= 1, got {harmonics!r}")
         H = int(harmonics)
-        ax = nonlinear_axes(system)
+        ax = nonlinear_axes(system, sliders)
+        offsets = bool(np.any(ax.w_start != 0.0))
         if closed_form is None:
-            closed_form = H == 1 and ax.has_closed_form
+            # the closed forms assume the zero slider offset of the HBM convention
+            closed_form = H == 1 and ax.has_closed_form and not offsets
         elif closed_form:
             if H != 1:
                 raise ValueError(f"`closed_form` needs harmonics == 1, got {H}")
             if not ax.has_closed_form:
                 raise ValueError("`closed_form`: the `piecewise_asym` law has no "
                                  "closed form; use closed_form=False (AFT)")
+            if offsets:
+                raise ValueError("`closed_form` assumes sliders starting at 0; with "
+                                 "`sliders` use closed_form=False (AFT)")
         if n_samples is None:
             n_samples = default_n_samples(H)
         if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) \
@@ -106,12 +111,15 @@ class HarmonicBalance:
         self.e0, self.e1, self.e2 = e0.ravel(), e1.ravel(), e2.ravel()
         self.Bt = ax.B  # (n_ax, n)
         self.BB = np.einsum("ai,aj->aij", ax.B, ax.B)  # (n_ax, n, n)
+        #: factor on the excitation (load stepping to a first solution); 1 normally
+        self.exc_scale = 1.0
         self._trig = {}
 
     # ----------------------------------------------------------------------------------
     def excitation(self, omega: float) -> np.ndarray:
         """Excitation coefficient vector ``f_exc(omega)``, shape (m n,)."""
-        return self.e0 + omega * self.e1 + omega * omega * self.e2
+        f = self.e0 + omega * self.e1 + omega * omega * self.e2
+        return f if self.exc_scale == 1.0 else self.exc_scale * f
 
     def linear_matrix(self, omega: float) -> np.ndarray:
         """``dR/dX`` of the linear part, shape (m n, m n)."""
@@ -119,7 +127,7 @@ class HarmonicBalance:
 
     def axis_coefficients(self, X: np.ndarray) -> np.ndarray:
         """Deflection coefficients of the nonlinear axes, shape (2H+1, n_ax)."""
-        return X.reshape(self.m, self.n) @ self.Bt.T + self.Yax
+        return X.reshape(self.m, self.n) @ self.Bt.T + self.exc_scale * self.Yax
 
     def nonlinear_forces(self, X: np.ndarray, jacobian: bool = True):
         """Force coefficients ``(2H+1, n_ax)`` of the nonlinear remainders, dF/dU."""
@@ -163,7 +171,7 @@ class HarmonicBalance:
                 J = J + np.tensordot(dF, self.BB, axes=(0, 0)).transpose(
                     0, 2, 1, 3).reshape(self.size, self.size)
         dR_dw = ((self.A1 + (2.0 * omega) * self.A2) @ X
-                 - (self.e1 + 2.0 * omega * self.e2))
+                 - self.exc_scale * (self.e1 + 2.0 * omega * self.e2))
         return R, J, dR_dw
 
     # ----------------------------------------------------------------------------------
