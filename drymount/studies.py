@@ -40,6 +40,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -548,6 +549,24 @@ class SegmentedResponse:
     restarts: list
 
 
+def _clip(fr, fmin: float, fmax: float):
+    """The points of ``fr`` inside [fmin, fmax] Hz (a branch that turns back can
+    leave the band); turning points renumbered."""
+    f = np.asarray(fr.freq_hz, dtype=float)
+    keep = (f >= fmin * (1 - 1e-9)) & (f <= fmax * (1 + 1e-9))
+    if np.all(keep):
+        return fr
+    new_index = np.cumsum(keep) - 1
+    tps = np.array([new_index[t] for t in fr.turning_points if keep[t]], dtype=int)
+    return SimpleNamespace(
+        freq_hz=f[keep], coefficients=np.asarray(fr.coefficients)[keep],
+        amplitude=np.asarray(fr.amplitude)[keep],
+        transmissibility=np.asarray(fr.transmissibility)[keep],
+        stable=np.asarray(fr.stable, dtype=bool)[keep], turning_points=tps,
+        success=fr.success, message=fr.message, dof_names=fr.dof_names,
+        harmonics=fr.harmonics)
+
+
 def _segmented(system: System, band, harmonics: int, options) -> SegmentedResponse:
     f0, fmax = float(band[0]), float(band[1])
     parts, restarts = [], []
@@ -563,6 +582,7 @@ def _segmented(system: System, band, harmonics: int, options) -> SegmentedRespon
             break
         restarts.append((f_next, fr.message))
         f0 = f_next
+    parts = [_clip(fr, float(band[0]), fmax) for fr in parts]
     if len(parts) == 1:
         fr = parts[0]
         return SegmentedResponse(
