@@ -7,7 +7,7 @@ imports only Python's standard library, so the FMU runs in any host Python.
 In each local axis j of a mount (``axial``, ``radial1``, ``radial2``) the force that the
 mount exerts on the chassis side (equal and opposite on the engine side) is
 
-    F_j = F_el(u_j) + c_j du_j/dt + F_fr,j        u_j = engine minus chassis displacement
+    F_j = F_el(u_j) + c_j du_j/dt + F_fr,j      u_j = engine minus chassis deflection
 
 with ``F_el`` one of (thesis Sec. 2.3-2.4, PHYSICS.md section 1)
 
@@ -132,7 +132,8 @@ class AxisParameters:
         """Every problem of these parameters, each naming field, value and rule."""
         out = []
         if self.law not in LAW_CODES:
-            out.append(f"`{prefix}law` must be one of {', '.join(LAWS)}, got {self.law!r}")
+            out.append(f"`{prefix}law` must be one of {', '.join(LAWS)}, "
+                       f"got {self.law!r}")
         for name, rule in (
             ("k1", ">= 0"),
             ("kc", ">= 0"),
@@ -148,7 +149,8 @@ class AxisParameters:
             if not ok:
                 out.append(f"`{prefix}{name}` must be finite and {rule}, got {value!r}")
         if not isinstance(self.friction, bool):
-            out.append(f"`{prefix}friction` must be true or false, got {self.friction!r}")
+            out.append(f"`{prefix}friction` must be true or false, "
+                       f"got {self.friction!r}")
         if not _finite(self.kf) or (self.friction and self.kf <= 0) or self.kf < 0:
             rule = "> 0 when friction is on" if self.friction else ">= 0"
             out.append(f"`{prefix}kf` must be finite and {rule}, got {self.kf!r}")
@@ -165,7 +167,7 @@ class AxisParameters:
 
     @property
     def eps(self) -> float:
-        """Slip displacement eps = Fs / kf in m, thesis eq. 2.13 (0 without friction)."""
+        """Slip displacement eps = Fs / kf in m, thesis eq. 2.13 (0 if no friction)."""
         return self.fs / self.kf if self.friction else 0.0
 
     def scaled(self, lam: float) -> AxisParameters:
@@ -195,7 +197,8 @@ class MountParameters:
         for name in AXES:
             axis = getattr(self, name)
             if not isinstance(axis, AxisParameters):
-                problems.append(f"`{name}` must be AxisParameters, got {type(axis).__name__}")
+                problems.append(f"`{name}` must be AxisParameters, "
+                                f"got {type(axis).__name__}")
         if problems:
             raise ParameterError(problems)
 
@@ -307,7 +310,8 @@ def axis_force(u: float, v: float, w: float, law: int, k1: float, kc: float,
     return f_el + c * v, 0.0, w, k_el, False, 0.0
 
 
-def axis_force_p(u: float, v: float, w: float, p: AxisParameters, fs: float | None = None
+def axis_force_p(u: float, v: float, w: float, p: AxisParameters,
+                 fs: float | None = None
                  ) -> tuple[float, float, float, float, bool, float]:
     """:func:`axis_force` with an :class:`AxisParameters`; ``fs`` overrides mu * n0."""
     return axis_force(u, v, w, p.law_code, p.k1, p.kc, p.k2, p.delta, p.delta_neg,

@@ -21,7 +21,7 @@ from hbm.result import FrequencyResponse
 from hbm.stability import is_stable
 from hbm.system import System
 
-__all__ = ["solutions_at", "solve_on_branch"]
+__all__ = ["solutions_at", "solve_on_branch", "solve_from_phasors"]
 
 
 def _crossings(curve: FrequencyResponse, freq_hz: float) -> list[tuple[int, float]]:
@@ -131,3 +131,107 @@ def solve_on_branch(system: System, freqs_hz, curve: FrequencyResponse,
     else:
         br.success, br.status, br.message = True, 0, "solved at every frequency"
     return _postprocess(prob, ys, opts, br, [])
+
+
+def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
+                       n_samples: int | None = None, closed_form: bool | None = None,
+                       static=None, coefficients=None, sliders=None, options=None
+                       ) -> FrequencyResponse:
+    """Newton at each frequency started from a given fundamental (e.g. a co-simulated
+    steady state), higher harmonics and static term starting at zero.
+
+    Newton converges to an exact HBM solution near the start, so a steady state from a
+    time simulation selects the branch it is on; the HBM solution is still computed
+    from the harmonic-balance equations alone. Frequencies where Newton fails are
+    left out (``success=False``, the message lists them); the others are returned in
+    the given order.
+
+    Parameters
+    ----------
+    freqs_hz : array_like, shape (n_freq,)
+    phasors : array_like, complex, shape (n_freq, n_dof)
+        ``q(t) ~ Im(phasor exp(i omega t))`` per DOF, m or rad.
+    static : array_like, shape (n_freq, n_dof), optional
+        Static term (mean over the period) to start from, m or rad. Needed to reach
+        an asymmetric solution: Newton started in the symmetric subspace (static
+        term and even harmonics zero) of a symmetric system stays there, even where
+        the symmetric solution is unstable and the motion has broken the symmetry.
+    coefficients : array_like, shape (n_freq, n_dof, 2K+1), optional
+        Full start (layout ``[static, cos1, sin1, ...]``, e.g.
+        ``vehicle.SweepResult.fourier``), truncated or zero-padded to H; overrides
+        ``phasors`` and ``static``. The surest way onto the branch a time simulation
+        is on when its motion is not symmetric (even harmonics).
+    sliders : array_like, shape (n_freq, n_mounts, 3), optional
+        Slider positions the AFT march starts from at each frequency, m, e.g. where
+        the time simulation left them. A Jenkins element that never slips keeps any
+        offset (PHYSICS.md section 1); with a nonlinear elastic law the offset moves
+        the operating point and so the amplitude. Default: zero (HBM convention).
+    """
+    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
+    P = np.asarray(phasors, dtype=complex)
+    if P.shape != (f.size, system.n_dof):
+        raise ValueError(f"`phasors` must have shape {(f.size, system.n_dof)}, got "
+                         f"{P.shape}")
+    H, N, opts = _options(options, harmonics, n_samples)
+    fmin, fmax = float(f.min()), float(max(f.max(), 1.001 * f.min()))
+    if static is not None:
+        static = np.asarray(static, dtype=float)
+        if static.shape != (f.size, system.n_dof):
+            raise ValueError(f"`static` must have shape {(f.size, system.n_dof)}, "
+                             f"got {static.shape}")
+    if sliders is not None:
+        sliders = np.asarray(sliders, dtype=float)
+        if sliders.shape != (f.size, len(system.elements), 3):
+            raise ValueError(f"`sliders` must have shape "
+                             f"{(f.size, len(system.elements), 3)}, got "
+                             f"{sliders.shape}")
+    settings = opts.continuation_settings()
+    br = Branch()
+    points, failed = [], []
+    prob = build_problem(system, fmin, fmax, H, N, closed_form)
+    for k, (fk, pk) in enumerate(zip(f, P, strict=True)):
+        if sliders is not None:  # each point marches from its own slider state
+            prob = build_problem(system, fmin, fmax, H, N, closed_form, sliders[k])
+        hb = prob.hb
+        X = np.zeros((hb.m, hb.n))
+        X[1] = pk.imag  # cos1
+        X[2] = pk.real  # sin1
+        if static is not None:
+            X[0] = static[k]
+        if coefficients is not None:
+            c = np.asarray(coefficients[k], dtype=float).T  # (2K+1, n_dof)
+            r = min(c.shape[0], hb.m)
+            X[:] = 0.0
+            X[:r] = c[:r]
+        y, ok, its, _ = newton(prob, prob.y_of(X.ravel(), 2 * np.pi * fk), settings,
+                               fixed=hb.size)
+        br.n_newton += its
+        br.n_steps += 1
+        if ok:
+            one = Branch(n_iter=[its], success=True)
+            points.append(_postprocess(prob, [y], opts, one, []))
+        else:
+            failed.append(fk)
+    if failed:
+        br.status = 1
+        br.message = ("Newton did not converge at " +
+                      ", ".join(f"{v:.6g}" for v in failed) + " Hz")
+    else:
+        br.success, br.message = True, "solved at every frequency"
+    if not points:
+        return _postprocess(prob, [], opts, br, [])
+    first = points[0]
+
+    def cat(name):
+        return np.concatenate([getattr(p, name) for p in points])
+
+    return FrequencyResponse(
+        freq_hz=cat("freq_hz"), coefficients=cat("coefficients"),
+        amplitude=cat("amplitude"), peak=cat("peak"),
+        transmissibility=cat("transmissibility"), stable=cat("stable"),
+        turning_points=np.zeros(0, dtype=int), success=br.success, status=br.status,
+        message=br.message, n_newton=br.n_newton, n_steps=br.n_steps,
+        dof_names=first.dof_names, harmonics=first.harmonics,
+        n_samples=first.n_samples, closed_form=first.closed_form,
+        floquet_max_real=cat("floquet_max_real"),
+        newton_per_point=cat("newton_per_point"), system_name=first.system_name)

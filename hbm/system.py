@@ -1,7 +1,8 @@
 """System description shared by harmonic balance (``hbm``) and the time-domain harness
 (``vehicle``), so both always solve the same equations.
 
-Equations of motion, DOFs ``q`` (n), base (chassis or road) displacements ``y`` (n_base):
+Equations of motion, DOFs ``q`` (n), base (chassis or road) displacements ``y``
+(n_base):
 
     M q'' + C q' + K q + sum_e B_e^T F_e(u_e, v_e, w_e) = f(t) + K_b y + C_b y'
 
@@ -222,7 +223,8 @@ class System:
     def linearized_base(self, stuck: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Base coupling ``(Kb_total, Cb_total)`` with mounts linearised, (n, n_base).
 
-        The linear equations read ``M q'' + C_tot q' + K_tot q = f + Kb_tot y + Cb_tot y'``.
+        The linear equations read
+        ``M q'' + C_tot q' + K_tot q = f + Kb_tot y + Cb_tot y'``.
         """
         Kb = self.Kb.copy()
         Cb = self.Cb.copy()

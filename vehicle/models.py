@@ -83,7 +83,8 @@ def quarter_car(m_e: float, m_s: float, m_us: float, k_s: float, c_s: float,
     return System("quarter_car", ("engine", "sprung", "unsprung"), M, C, K, (el,),
                   Excitation("base", np.array([road_amplitude])),
                   Transmissibility("displacement", dof=0, reference=1),
-                  Kb=np.array([[0.0], [0.0], [k_t]]), Cb=np.array([[0.0], [0.0], [c_t]]),
+                  Kb=np.array([[0.0], [0.0], [k_t]]),
+                  Cb=np.array([[0.0], [0.0], [c_t]]),
                   base_names=("road",), description="engine on a quarter car")
 
 

@@ -155,6 +155,21 @@ def fundamental(x: np.ndarray) -> np.ndarray:
     return 1j * Q
 
 
+def fourier_coefficients(x: np.ndarray, harmonics: int) -> np.ndarray:
+    """Real Fourier coefficients of samples ``x`` (N, n) over one period, in the
+    harmonic-balance layout ``[static, cos1, sin1, ..., cosH, sinH]``: returns
+    shape (n, 2H+1), with ``x_k ~ c0 + sum_h c_h cos(2 pi h k/N) + s_h sin(...)``."""
+    N = x.shape[0]
+    H = min(int(harmonics), (N - 1) // 2)
+    k = np.arange(N)
+    out = np.empty((x.shape[1], 2 * H + 1))
+    out[:, 0] = x.mean(axis=0)
+    for h in range(1, H + 1):
+        out[:, 2 * h - 1] = (2.0 / N) * (np.cos(2 * np.pi * h * k / N) @ x)
+        out[:, 2 * h] = (2.0 / N) * (np.sin(2 * np.pi * h * k / N) @ x)
+    return out
+
+
 def loop_area(u: np.ndarray, F: np.ndarray) -> np.ndarray:
     """Closed trapezoidal integral of F du over one period, per column, J."""
     du = np.roll(u, -1, axis=0) - u

@@ -46,6 +46,7 @@ from .steady import (
     DEFAULT_MAX_PERIODS,
     DEFAULT_MIN_PERIODS,
     DEFAULT_RTOL,
+    fourier_coefficients,
     run_steady,
 )
 
@@ -53,6 +54,8 @@ __all__ = ["sweep", "SweepResult", "DEFAULT_WARMUP"]
 
 #: Warm-up frequencies run (and discarded) before a parallel chunk.
 DEFAULT_WARMUP = 3
+#: Harmonics kept in ``SweepResult.fourier`` (a start for HBM on the same branch).
+FOURIER_HARMONICS = 15
 #: Tolerance of the warm-up runs (they only bring the state near the branch).
 WARMUP_RTOL = 1e-3
 
@@ -77,6 +80,15 @@ class SweepResult:
     friction_energy : ndarray, shape (n_points,)
         Friction energy dissipated per cycle, J.
     dof_names : tuple of str
+    phasor : ndarray, complex, shape (n_points, n_dof)
+        Fundamental of each DOF, ``q(t) ~ Im(phasor exp(i omega t))``, m or rad.
+    mean : ndarray, shape (n_points, n_dof)
+        Mean of each DOF over the last period (the static term), m or rad.
+    fourier : ndarray, shape (n_points, n_dof, 2K+1)
+        Fourier coefficients of each DOF over the last period, harmonic-balance
+        layout ``[static, cos1, sin1, ...]`` up to ``K = FOURIER_HARMONICS``.
+    sliders : ndarray, shape (n_points, n_mounts, 3)
+        Slider positions at the end of each steady state, m (axes in ``AXES`` order).
     direction : str
         ``"up"`` or ``"down"``.
     backend : str
@@ -103,6 +115,10 @@ class SweepResult:
     elapsed: float = 0.0
     workers: int = 1
     notes: dict = field(default_factory=dict)
+    phasor: np.ndarray | None = None
+    sliders: np.ndarray | None = None
+    mean: np.ndarray | None = None
+    fourier: np.ndarray | None = None
 
     @property
     def success(self) -> bool:
@@ -168,7 +184,9 @@ class SweepResult:
 
 def _point_row(ss):
     return (ss.freq_hz, ss.amplitude, ss.peak, ss.transmissibility, ss.converged,
-            ss.n_periods, ss.friction_energy)
+            ss.n_periods, ss.friction_energy, ss.phasor,
+            np.asarray(ss.sliders, dtype=float), ss.mean,
+            fourier_coefficients(ss.q, FOURIER_HARMONICS))
 
 
 def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=None,
@@ -292,6 +310,11 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         converged=np.array([r[4] for r in rows], dtype=bool),
         n_periods=np.array([r[5] for r in rows], dtype=int),
         friction_energy=np.array([r[6] for r in rows], dtype=float),
+        phasor=np.array([r[7] for r in rows], dtype=complex).reshape(len(rows), n),
+        sliders=np.array([r[8] for r in rows], dtype=float).reshape(
+            len(rows), len(system.elements), 3),
+        mean=np.array([r[9] for r in rows], dtype=float).reshape(len(rows), n),
+        fourier=np.array([r[10] for r in rows], dtype=float),
         dof_names=tuple(system.dof_names), direction=direction, backend=backend,
         system_name=system.name, transmissibility_kind=system.transmissibility.kind,
         elapsed=elapsed, workers=workers,
