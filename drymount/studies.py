@@ -66,7 +66,6 @@ __all__ = [
     "with_normal_force",
     "with_stiffness_factor",
     "with_friction_of",
-    "with_lambda",
     "relocate_mount",
     "mount_position",
     "engine_excited",
@@ -167,23 +166,6 @@ def with_stiffness_factor(system: System, factor: float) -> System:
         params.append(MountParameters(*[
             replace(p, k1=p.k1 * factor, kc=p.kc * factor, k2=p.k2 * factor)
             for p in e.params.axes]))
-    return system.with_mount_params(params)
-
-
-def with_lambda(system: System, lam: float) -> System:
-    """A copy whose radial axes have ``lam`` times the axial stiffness (thesis eq. 4.4).
-
-    Each radial axis keeps its own friction element; its elastic stiffnesses (k1, kc,
-    k2) become ``lam`` times those of the mount's axial axis.
-    """
-    if not (np.isfinite(lam) and lam > 0):
-        raise StudyError(f"`lambda` must be finite and > 0, got {lam!r}")
-    params = []
-    for e in system.elements:
-        a = e.params.axial
-        radial = [replace(p, k1=a.k1 * lam, kc=a.kc * lam, k2=a.k2 * lam)
-                  for p in (e.params.radial1, e.params.radial2)]
-        params.append(MountParameters(a, *radial))
     return system.with_mount_params(params)
 
 
@@ -1343,8 +1325,11 @@ def run_six_dof(out_dir, quick: bool = False, progress: bool = True) -> dict:
     2. engine excitation ``ENGINE_EXCITATION`` (second-order force along z and roll
        moment about y), original and halved mounts, lambda = 1 (Figs. 4.35-4.40);
     3. mount ``RELOCATED_MOUNT`` moved to ``RELOCATED_POSITION`` under engine
-       excitation, original mounts, n0 = 0 and ``SIX_DOF_GOOD_N0``: the beta response
+       excitation, original mounts, n0 = 0 and ``RELOCATION_N0``: the beta response
        and the friction energy per cycle of that mount (Figs. 4.41-4.44).
+
+    The base input is ``SIX_DOF_BASE_AMPLITUDE`` (x, y, z); the engine-excitation
+    designs use ``SIX_DOF_ENGINE_FORCES_N``.
 
     Returns
     -------
@@ -1353,9 +1338,11 @@ def run_six_dof(out_dir, quick: bool = False, progress: bool = True) -> dict:
         the design and ``<dof>_peak``, ``<dof>_peak_hz``), ``good_design_ratio``
         {lambda: {dof: peak(halved, 250 N) / peak(original, 0 N)}},
         ``lambda_effect`` {mount/n0: {dof: peak(1.2) / peak(1.0)}},
-        ``beta_reduction`` {position: 1 - beta peak(250 N) / beta peak(0 N)},
-        ``mount3_energy_max_J`` {position: max energy per cycle at 250 N},
-        ``natural_frequencies_hz`` {position: (6,)}, ``failures``, ``files``.
+        ``engine_ratio`` {mount/n0: {dof: peak / peak(original, 0 N)}},
+        ``beta_reduction`` {position: 1 - beta peak(RELOCATION_N0) / beta peak(0)},
+        ``mount3_energy_max_J`` {position: max energy per cycle at RELOCATION_N0},
+        ``natural_frequencies_hz`` {position: (6,)}, ``notes`` (restarted curves),
+        ``failures``, ``files``.
     """
     out = Path(out_dir)
     H = SIX_DOF_HARMONICS_QUICK if quick else SIX_DOF_HARMONICS
@@ -1680,6 +1667,57 @@ JUMP_STEP_QUICK_HZ = 0.2
 JUMP_MARGIN = 0.3
 
 
+#: Fig. 3.7 analog: a slow ramp from below the lower fold onto the upper branch up to
+#: ``JUMP_STEP_BELOW_HZ`` under the up sweep's last upper-branch frequency, a hold, then
+#: a step to ``JUMP_STEP_ABOVE_HZ`` past its jump. Ramp, hold and after-step times, s.
+JUMP_STEP_BELOW_HZ = 0.2
+JUMP_STEP_ABOVE_HZ = 0.15
+JUMP_RAMP_S = 120.0
+JUMP_HOLD_S = 4.0
+JUMP_AFTER_S = 10.0
+
+
+class _FrequencyStep:
+    """Unbalance excitation ``U omega(t)^2 sin(phi(t))`` (thesis eq. 4.2): the
+    frequency ramps linearly from ``f_a`` to ``f1`` over ``t_ramp``, holds ``f1`` until
+    ``t_step``, then steps to ``f2``; the phase ``phi = 2 pi int f dt`` is continuous.
+
+    A :class:`vehicle.inputs.Input` (built by :func:`_frequency_step_input`).
+    """
+
+    def __init__(self, f_a, f1, f2, t_ramp, t_step):
+        self.f_a, self.f1, self.f2 = f_a, f1, f2
+        self.t_ramp, self.t_step = t_ramp, t_step
+
+    def freq(self, t):
+        t = np.asarray(t, dtype=float)
+        ramp = self.f_a + (self.f1 - self.f_a) * t / self.t_ramp
+        return np.where(t < self.t_ramp, ramp, np.where(t < self.t_step, self.f1,
+                                                         self.f2))
+
+    def cycles(self, t):
+        t = np.asarray(t, dtype=float)
+        tr, ts = self.t_ramp, self.t_step
+        c_ramp = self.f_a * t + 0.5 * (self.f1 - self.f_a) * t**2 / tr
+        c_tr = 0.5 * (self.f_a + self.f1) * tr
+        c_ts = c_tr + self.f1 * (ts - tr)
+        return np.where(t < tr, c_ramp, np.where(t < ts, c_tr + self.f1 * (t - tr),
+                                                 c_ts + self.f2 * (t - ts)))
+
+
+def _frequency_step_input(system: System, profile: _FrequencyStep):
+    from vehicle.inputs import Input
+
+    U = np.asarray(system.excitation.amplitude, dtype=float)
+
+    class FrequencyStepInput(Input):
+        def _force(self, t):
+            w = 2.0 * math.pi * profile.freq(t)
+            return (w**2 * np.sin(2.0 * math.pi * profile.cycles(t)))[:, None] * U
+
+    return FrequencyStepInput(system)
+
+
 def _jump_location(freq_hz, amplitude, direction: str) -> tuple[float, float, float]:
     """Where a stepped sweep jumps: ``(f_before, f_after, change of amplitude)``.
 
@@ -1753,6 +1791,26 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
             failures.append(f"sweep {direction}: "
                             f"{int(np.sum(~np.asarray(sw.converged)))} steps did not "
                             "reach a steady state")
+    # Fig. 3.7: ramp onto the upper branch, hold, step the frequency past the fold
+    f1 = res["up"][0] - JUMP_STEP_BELOW_HZ
+    f2 = res["up"][1] + JUMP_STEP_ABOVE_HZ
+    f_a = max(0.9 * f_lo, step)
+    t_step = JUMP_RAMP_S + JUMP_HOLD_S
+    profile = _FrequencyStep(f_a, f1, f2, JUMP_RAMP_S, t_step)
+    th = vehicle.simulate(system, duration=t_step + JUMP_AFTER_S, backend="native",
+                          inputs=_frequency_step_input(system, profile),
+                          dt=1.0 / (f2 * 128))
+    t_th, x_th = np.asarray(th.t), np.asarray(th.q)[:, 0]
+
+    def window_amp(a, b):
+        m = (t_th >= a) & (t_th < b)
+        return float(np.max(np.abs(x_th[m])))
+
+    step_result = {"f_ramp_start_hz": f_a, "f_before_hz": f1, "f_after_hz": f2,
+                   "t_step_s": t_step,
+                   "amp_before_m": window_amp(t_step - 1.0, t_step),
+                   "amp_after_m": window_amp(t_step + JUMP_AFTER_S - 1.0,
+                                             t_step + JUMP_AFTER_S)}
     # hysteresis: between the two jumps the up sweep rides the upper branch
     f_up = np.asarray(sweeps["up"].freq_hz, dtype=float)
     a_up = np.asarray(sweeps["up"].amplitude)[:, 0]
@@ -1780,6 +1838,7 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
         "sweep_vs_hbm_max_rel": float(max(rel)) if rel else float("nan"),
         "sweep_seconds": t_sweep, "hbm_seconds": c.seconds,
         "hbm_unstable_points": int(np.sum(~np.asarray(fr.stable, dtype=bool))),
+        "frequency_step": step_result,
         "system": _system_values(system), "failures": failures,
     }
     _write_curves(out / "jump_hbm.csv", "cubic single DOF, HBM: freq in Hz, x_amp in "
@@ -1790,8 +1849,8 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
     _write_csv(out / "jump_sweeps.csv", "time-domain stepped sweeps (vehicle.sweep, "
                "native backend): freq in Hz, x_amp in m (fundamental amplitude)",
                ["direction", "freq_hz", "x_amp", "converged"], rows)
-    fig = Figure(figsize=(7, 4.5))
-    ax = fig.add_subplot()
+    fig = Figure(figsize=(11, 4.2))
+    ax = fig.add_subplot(1, 2, 1)
     _plot_branch(ax, fr.freq_hz, amp, fr.stable, color="black", lw=1.4,
                  label=f"HBM H = {H} (unstable dashed)")
     ax.plot(tp_f, tp_a, "o", mfc="none", color="black", ms=8, label="turning points")
@@ -1804,6 +1863,15 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
     lo, hi = freqs[0] / 1.6, freqs[-1] * 1.6
     ax.set_xlim(lo, hi)
     ax.legend(fontsize=8)
+    ax2 = fig.add_subplot(1, 2, 2)
+    m = t_th >= t_step - JUMP_HOLD_S
+    ax2.plot(t_th[m] - t_step, x_th[m] * 1e3, color="black", lw=0.6)
+    ax2.axvline(0.0, color="tab:red", lw=1.0, ls="--")
+    ax2.set_xlabel(f"time from the frequency step [s] (step at t = {t_step:g} s)")
+    ax2.set_ylabel("engine displacement x [mm]")
+    ax2.set_title(f"frequency step {f1:.2f} -> {f2:.2f} Hz after a {JUMP_RAMP_S:g} s "
+                  "ramp (cf. Fig. 3.7)", fontsize=9)
+    ax2.grid(True, alpha=0.3)
     fig.tight_layout()
     _save_fig(fig, out / "jump.png")
     figs = ["jump.png"]
@@ -1850,6 +1918,12 @@ def _summary_jump(r, figs) -> str:
         f"amplitude {min(r['hysteresis_m'], default=float('nan')) * 1e3:.2f} to "
         f"{max(r['hysteresis_m'], default=float('nan')) * 1e3:.2f} mm at "
         f"{len(r['hysteresis_m'])} frequencies.",
+        f"- Frequency step (Fig. 3.7): after a {JUMP_RAMP_S:g} s ramp from "
+        f"{r['frequency_step']['f_ramp_start_hz']:.2f} Hz onto the upper branch, "
+        f"{r['frequency_step']['f_before_hz']:.2f} Hz held (amplitude "
+        f"{r['frequency_step']['amp_before_m'] * 1e3:.2f} mm), then "
+        f"{r['frequency_step']['f_after_hz']:.2f} Hz: {JUMP_AFTER_S:g} s later the "
+        f"amplitude is {r['frequency_step']['amp_after_m'] * 1e3:.2f} mm.",
         f"- Largest difference of a sweep amplitude from the HBM stable branch it is "
         f"on: {100 * r['sweep_vs_hbm_max_rel']:.2f} % of the HBM peak "
         f"({r['sweep_seconds']:.1f} s of time integration).",
