@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import sys
 
 import numpy as np
@@ -91,6 +92,13 @@ class _Problem:
         X[1] = Q.imag
         X[2] = Q.real
         return self.y_of(X.ravel(), 2 * np.pi * freq_hz)
+
+
+def _lam_to_hz(message: str, prob: _Problem) -> str:
+    """Continuation messages speak of the scaled parameter; users of frequencies."""
+    return re.sub(r"lam = ([-+0-9.eE]+)",
+                  lambda m: f"{float(m.group(1)) * prob.ws / (2 * np.pi):.6g} Hz",
+                  message)
 
 
 def build_problem(system: System, fmin_hz: float, fmax_hz: float, harmonics: int = 7,
@@ -345,6 +353,7 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
         br = continue_branch(prob, y0, lam_end, settings,
                              lam_start=2 * np.pi * fmin_hz / prob.ws, callback=callback)
         br.n_newton += its0
+        br.message = _lam_to_hz(br.message, prob)
         if br.n_iter:
             br.n_iter[0] = its0
         turning = br.turning_points

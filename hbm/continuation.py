@@ -27,6 +27,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import math
+
 import numpy as np
 
 __all__ = ["ContinuationSettings", "Branch", "newton", "continue_branch"]
@@ -68,7 +70,7 @@ class Branch:
     success, status, message, n_newton, n_steps
         ``status``: 0 reached the end, 1 step size below ``ds_min``, 2 too many steps,
         3 left the parameter range backwards, 4 the evaluation failed (non-finite),
-        5 interrupted.
+        7 the branch turned back onto itself (retraced points are dropped).
     """
 
     y: list = field(default_factory=list)
@@ -164,15 +166,19 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
         f"no convergence in {settings.max_newton} iterations (residual {r:.3g})")
 
 
-def _distance_to_polyline(p: np.ndarray, pts: list) -> float:
-    """Distance of ``p`` to the polyline through ``pts`` (one point: to that point)."""
+def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False):
+    """Distance of ``p`` to the polyline through ``pts`` (one point: to that point);
+    with ``with_segment`` also the length of the nearest segment."""
     best = _norm(p - pts[-1])
+    seg = 0.0
     for a, b in zip(pts[:-1], pts[1:], strict=True):
         d = b - a
         dd = float(np.dot(d, d))
         s = 0.0 if dd == 0.0 else min(1.0, max(0.0, float(np.dot(p - a, d)) / dd))
-        best = min(best, _norm(p - a - s * d))
-    return best
+        dist = _norm(p - a - s * d)
+        if dist < best:
+            best, seg = dist, math.sqrt(dd)
+    return (best, seg) if with_segment else best
 
 
 def _corner_step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
@@ -338,6 +344,29 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             br.success = True
             br.status, br.message = 0, "reached the end of the range"
             return br
+        if br.turning_points and len(br.y) - br.turning_points[-1] <= 400:
+            # A branch that turns back onto itself (it can, at a kink of the sampled
+            # nonsmooth problem or at a branch point of a symmetric system) would
+            # retrace the curve: stop when a point falls back onto the part traced
+            # before the last turning point, and say so.
+            # "onto": within 5 % of the nearest old chord (the chords' own error
+            # from the curvature), away from the fold (arc > 0.2 scaled units)
+            k = br.turning_points[-1]
+            old = br.y[max(0, k - 400):k - 2]
+            retrace = False
+            if len(old) >= 2 and _norm(br.y[-1] - br.y[k]) > 0.2:
+                dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True)
+                retrace = dist < 0.05 * seg + 1e-9
+            if retrace:
+                f_tp = br.y[k][-1]
+                del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
+                del br.n_iter[k + 1:]
+                br.turning_points.pop()
+                br.status = 7
+                br.message = (f"the branch turns back onto itself at lam = {f_tp:.6g} "
+                              f"(a dead end of the sampled nonsmooth problem or a "
+                              f"branch point; try more samples or harmonics)")
+                return br
         if y_new[-1] < lam_low:
             br.status = 3
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"

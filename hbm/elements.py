@@ -208,10 +208,10 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
         Whether the element sticks at each sample.
     last_slip : ndarray of int, shape (N,)
         Index (within the period) of the last slip sample before or at each sample,
-        -1 if the element never slipped since ``w = 0``. At a stuck sample n,
+        -1 if the element never slipped since the start. At a stuck sample n,
         ``w = u[last_slip[n]] -+ Fs / kf``, hence
         ``dF_n/dX = kf (du_n/dX - du_{last_slip[n]}/dX)`` (or ``kf du_n/dX`` if
-        ``last_slip[n] == -1``, where ``w = 0``).
+        ``last_slip[n] == -1``, where ``w = w_start`` is fixed).
     """
     us = u.tolist()
     n = len(us)

@@ -39,7 +39,8 @@ class FrequencyResponse:
         Whether the curve reached ``fmax``.
     status : int
         0 done; 1 step below ``ds_min``; 2 too many steps; 3 turned back below
-        ``fmin``; 4 evaluation failed; 5 interrupted; 6 no start solution.
+        ``fmin``; 4 evaluation failed; 6 no start solution; 7 the branch turned back
+        onto itself (a dead end of the sampled nonsmooth problem).
     message : str
     n_newton : int
         Newton iterations in total.
