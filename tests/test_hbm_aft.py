@@ -12,7 +12,7 @@ from vehicle.models import quarter_car, rigid_engine, sdof
 
 # Analytic vs central differences. The laws are piecewise smooth; with generic
 # coefficients no sample sits on a kink, so the only error is the FD truncation and
-# round-off: measured <= 3e-8 of the Jacobian's largest entry.
+# round-off: measured <= 6e-10 of the Jacobian's largest entry.
 RTOL_FD = 1e-6
 
 
