@@ -160,7 +160,7 @@ class FrequencyResponse:
             if name not in self.dof_names:
                 raise ValueError(f"`dof` must be one of {self.dof_names}, got {name!r}")
             y = getattr(self, quantity)[:, self.dof_names.index(name)]
-            ylabel = f"{name} {quantity}"
+            ylabel = f"{name} {quantity} [m or rad]"
         label = label or f"HBM H={self.harmonics}"
         st = self.stable.astype(bool)
         ys = np.where(st, y, np.nan)
