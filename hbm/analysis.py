@@ -291,7 +291,9 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     harmonics : int, optional
         Number of harmonics H (default ``options.harmonics`` = 7).
     n_samples : int, optional
-        AFT samples per period (default ``max(64, 8H)`` rounded to a power of 2).
+        AFT samples per period (default ``max(64, 8H)`` rounded to a power of 2);
+        doubled up to ``options.refine_samples`` times when the continuation
+        stalls or dead-ends at a kink of the sampled residual.
     closed_form : bool, optional
         H = 1 closed forms (default: when H == 1 and every law has one).
     options : HBMOptions, optional
@@ -302,7 +304,7 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     -------
     FrequencyResponse
         ``success`` False (with the branch so far and ``message``) if the
-        continuation stalled.
+        continuation stalled, also after refining the samples.
 
     Raises
     ------
@@ -327,12 +329,38 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     _check_range(fmin_hz, fmax_hz)
     H, N, opts = _options(options, harmonics, n_samples)
     prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
+    result = _trace(prob, fmin_hz, fmax_hz, opts, progress)
+    # A dead end or a stall at a kink of the sampled (AFT) residual: the kinks shrink
+    # with more samples, so trace again with twice as many (at most
+    # ``opts.refine_samples`` times) and say so in the message.
+    history = []
+    refine = 0
+    while (not result.success and result.status in (1, 7) and not prob.hb.closed_form
+           and refine < opts.refine_samples):
+        refine += 1
+        history.append(f"with {prob.hb.n_samples} AFT samples {result.message}")
+        prob = build_problem(system, fmin_hz, fmax_hz, H, 2 * prob.hb.n_samples,
+                             closed_form)
+        result = _trace(prob, fmin_hz, fmax_hz, opts, progress)
+    if history:
+        result.message += (f" (AFT samples raised to {prob.hb.n_samples}: "
+                           + "; ".join(history) + ")")
+    return result
+
+
+def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
+           progress: bool) -> FrequencyResponse:
+    """One continuation of ``prob`` from ``fmin_hz`` to ``fmax_hz``."""
+    H = prob.hb.H
     settings = opts.continuation_settings()
     bar = None
     if progress:
         from tqdm import tqdm
+        desc = f"HBM H={H}"
+        if not prob.hb.closed_form:
+            desc += f" N={prob.hb.n_samples}"
         bar = tqdm(total=round(fmax_hz - fmin_hz, 6), unit="Hz", file=sys.stderr,
-                   desc=f"HBM H={H}", bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} Hz "
+                   desc=desc, bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} Hz "
                    "[{elapsed}<{remaining}]")
     try:
         y0, its0, msg = _start(prob, fmin_hz, settings)

@@ -51,6 +51,11 @@ class HBMOptions:
         the points not evaluated.
     n_peak : int
         Phases per period used for the peak ``max |q(t)|``.
+    refine_samples : int
+        How often :func:`hbm.frequency_response` may double the AFT sample count and
+        trace the curve again when the continuation stalls or dead-ends at a kink of
+        the sampled nonsmooth residual (0: never). The result's ``n_samples`` and
+        ``message`` say when it did.
     """
 
     harmonics: int = 7
@@ -68,6 +73,7 @@ class HBMOptions:
     stability: bool = True
     stability_stride: int = 4
     n_peak: int = 256
+    refine_samples: int = 2
 
     def __post_init__(self):
         problems = []
@@ -78,6 +84,10 @@ class HBMOptions:
                     problems.append(f"`{f.name}` must be true or false, got {v!r}")
                 continue
             if f.name == "n_samples" and v is None:
+                continue
+            if f.name == "refine_samples":
+                if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+                    problems.append(f"`{f.name}` must be an integer >= 0, got {v!r}")
                 continue
             if f.name in ("harmonics", "n_samples", "n_norm", "max_newton", "max_steps",
                           "n_peak", "stability_stride"):

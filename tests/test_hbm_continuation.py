@@ -107,7 +107,8 @@ def test_closed_form_unavailable_for_asymmetric_law():
 
 @pytest.mark.parametrize("field,value", [("ds_min", -1.0), ("harmonics", 0),
                                          ("stability", 1), ("n_samples", 2.0),
-                                         ("max_newton", True)])
+                                         ("max_newton", True),
+                                         ("refine_samples", -1)])
 def test_options_validation(field, value):
     with pytest.raises(ValueError, match=field):
         hbm.HBMOptions(**{field: value})
@@ -122,9 +123,27 @@ def test_stalled_continuation_returns_branch():
     # Newton cannot converge in one iteration on the nonlinear branch: the step
     # shrinks below ds_min and the continuation stops with what it has
     r = hbm.frequency_response(s, 2.0, 15.0, harmonics=3,
-                               options=hbm.HBMOptions(max_newton=1, ds_min=1e-3))
+                               options=hbm.HBMOptions(max_newton=1, ds_min=1e-3,
+                                                      refine_samples=0))
     assert not r.success and r.status == 1 and "ds_min" in r.message
     assert r.n_points >= 1 and r.freq_hz[0] == 2.0
+
+
+def test_dead_end_of_the_sampled_problem_is_refined():
+    """The six-DOF preset with friction at H = 5 and 64 samples: the branch turns
+    back onto itself at a kink near 9.65 Hz (measured). Without refinement the curve
+    so far comes back with status 7; by default the samples are doubled, the curve
+    reaches fmax and the message says what happened."""
+    from drymount.config import load_preset
+    s = load_preset("six_dof_halved").system
+    off = hbm.HBMOptions(stability=False, refine_samples=0)
+    r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5, options=off)
+    assert not r.success and r.status == 7 and r.n_samples == 64
+    assert r.n_points > 10 and 9.0 < r.freq_hz.max() < 10.0
+    r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5,
+                               options=hbm.HBMOptions(stability=False))
+    assert r.success and r.n_samples == 128 and r.freq_hz[-1] == 25.0
+    assert "raised to 128" in r.message and "64 AFT samples" in r.message
 
 
 def test_csv_and_plot(tmp_path):
