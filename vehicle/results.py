@@ -2,19 +2,18 @@
 
 :class:`TimeHistory` (from :func:`vehicle.simulate`) lives here; ``SteadyState`` and
 ``SweepResult`` are in :mod:`vehicle.steady` and :mod:`vehicle.sweep`. Files are
-written atomically: to a temporary file in the destination folder, then
-``os.replace``, so a reader never sees a partial file.
+written atomically through :func:`drymount.io.atomic_path` (a temporary file in the
+destination folder, then ``os.replace``), so a reader never sees a partial file.
 """
 
 from __future__ import annotations
 
-import contextlib
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from drymount.io import atomic_path
 
 __all__ = ["TimeHistory", "atomic_path", "dof_unit", "write_csv"]
 
@@ -24,25 +23,6 @@ _ROTATIONS = ("alpha", "beta", "gamma")
 def dof_unit(name: str) -> str:
     """Unit of a DOF: rad for the rotations alpha, beta, gamma, else m."""
     return "rad" if name in _ROTATIONS else "m"
-
-
-@contextlib.contextmanager
-def atomic_path(path):
-    """Yield a temporary path next to ``path`` (same suffix); on success it replaces
-    ``path`` with ``os.replace``, on error it is removed."""
-    path = Path(path)
-    folder = path.parent if str(path.parent) else Path(".")
-    folder.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix or ".tmp",
-                               dir=folder)
-    os.close(fd)
-    try:
-        yield Path(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 def write_csv(path, header: list[str], columns: list[np.ndarray], comment: str) -> Path:
