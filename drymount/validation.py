@@ -312,8 +312,8 @@ def _plot_case(res: CaseResult, path: Path) -> None:
     dofs = next(iter(res.curves.values()))["dofs"]
     ncol = min(3, len(dofs))
     nrow = -(-len(dofs) // ncol)
-    fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.2 * nrow),
-                             squeeze=False)
+    size = (max(4.2 * ncol, 6.4), 3.2 * nrow + 0.6)
+    fig, axes = plt.subplots(nrow, ncol, figsize=size, squeeze=False)
     dof_names = res.dof_names
     for ax, i in zip(axes.flat, dofs, strict=False):
         for direction, c in res.curves.items():
@@ -334,8 +334,8 @@ def _plot_case(res: CaseResult, path: Path) -> None:
         ax.axis("off")
     axes.flat[0].legend(fontsize=7)
     verdict = "PASS" if res.passed else "FAIL"
-    fig.suptitle(f"{res.case.name} ({res.case.preset}): max error "
-                 f"{100 * res.max_err:.3g} % of peak, {verdict}")
+    fig.suptitle(f"{res.case.name} ({res.case.preset}):\nmax error "
+                 f"{100 * res.max_err:.3g} % of peak, {verdict}", fontsize=10)
     fig.tight_layout()
     save_figure(fig, path)
     plt.close(fig)
