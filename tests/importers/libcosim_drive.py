@@ -1,0 +1,76 @@
+"""Drive the mount FMU through libcosim (libcosimpy), a C++ FMI 2.0 importer.
+
+Run as a script: ``python libcosim_drive.py FMU``; prints one JSON object. Used by
+``tests/test_fmu_libcosim.py`` in a subprocess, so that the importer's process holds
+nothing but libcosim, the FMU and (for the reference) the mount law.
+
+Two instances of the FMU in one execution (different normal forces), the axial
+deflection a sine ``X sin(omega t)`` set through libcosim's override manipulator before
+each step, the outputs read with its last-value observer after each step. The
+reference is :mod:`fmu_src.mount_law` stepped in-process with the same inputs.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+
+from libcosimpy.CosimExecution import CosimExecution
+from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+from libcosimpy.CosimManipulator import CosimManipulator
+from libcosimpy.CosimObserver import CosimObserver
+from libcosimpy.CosimSlave import CosimLocalSlave
+
+H = 1e-4           # s, communication step
+X, FREQ = 0.002, 5.0   # m, Hz: the sine deflection
+KF = 60000.0       # N/m
+N0 = (20.0, 10.0)  # N, normal force of each instance (mu = 1)
+CYCLES = 3
+
+
+def main(fmu: str) -> dict:
+    from fmu_src.mount_law import AxisParameters, axis_force_p
+
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_step_size(step_size=int(round(H * 1e9)))
+    idx = [ex.add_local_slave(CosimLocalSlave(fmu_path=fmu, instance_name=f"mount{i}"))
+           for i in range(len(N0))]
+    ref = {v.name.decode(): v.reference for v in ex.slave_variables(idx[0])}
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    man = CosimManipulator.create_override()
+    ex.add_manipulator(man)
+    for i, n0 in zip(idx, N0, strict=True):
+        ex.boolean_initial_value(i, ref["axial_friction"], True)
+        ex.real_initial_value(i, ref["axial_n0"], n0)
+        ex.real_initial_value(i, ref["axial_kf"], KF)
+    params = [AxisParameters(friction=True, n0=n0, kf=KF) for n0 in N0]
+    w_law = [0.0 for _ in N0]
+    omega = 2 * math.pi * FREQ
+    n_per = int(round(1 / (FREQ * H)))
+    worst, peak = 0.0, 0.0
+    energy = [[] for _ in N0]
+    for k in range(CYCLES * n_per + 1):
+        t = k * H
+        u, v = X * math.sin(omega * t), X * omega * math.cos(omega * t)
+        for i in idx:
+            man.slave_real_values(i, [ref["u_axial"], ref["v_axial"]], [u, v])
+        if not ex.step(1):
+            raise RuntimeError(f"libcosim step failed at t = {t}")
+        for j, i in enumerate(idx):
+            F, E = obs.last_real_values(i, [ref["F_axial"], ref["E_fr_axial"]])
+            f_law, _, w_law[j], _, _, _ = axis_force_p(u, v, w_law[j], params[j])
+            worst = max(worst, abs(F - f_law))
+            peak = max(peak, abs(f_law))
+            energy[j].append(E)
+    loops = [e[-1] - e[-1 - n_per] for e in energy]
+    closed = [4 * n0 * (X - n0 / KF) for n0 in N0]
+    return dict(steps=CYCLES * n_per + 1, instances=len(idx),
+                max_abs_force_diff=worst, peak_force=peak, loop_energy=loops,
+                closed_form=closed,
+                time=ex.status().current_time * 1e-9)
+
+
+if __name__ == "__main__":
+    print(json.dumps(main(sys.argv[1])))
