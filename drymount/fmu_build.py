@@ -34,6 +34,8 @@ from pathlib import Path
 __all__ = [
     "FMU_SOURCES",
     "build_fmu",
+    "compile_loader",
+    "libpython_location",
     "default_fmu_path",
     "ensure_fmu",
     "fmu_module_names",
@@ -42,6 +44,11 @@ __all__ = [
 
 #: Files of ``fmu_src`` copied into the FMU, byte for byte.
 FMU_SOURCES = ("mount_law.py", "friction_mount.py")
+#: C source of the linux64 loader in front of pythonfmu's binary (see
+#: :func:`compile_loader`).
+LOADER_SOURCE = "fmu_loader.c"
+#: Name of pythonfmu's own binary in the FMU once the loader takes its place.
+REAL_BINARY = "FrictionMount.pythonfmu.so"
 #: Source of the FMU's ``documentation/`` folder.
 DOC_DIR = Path(__file__).resolve().parent / "fmu_doc"
 
@@ -115,6 +122,90 @@ def fmu_module_names(version: str | None = None) -> tuple[str, str, str]:
     return f"drymount_mount_{suffix}", f"drymount_fmu_{suffix}", version
 
 
+def _c_string(text: str) -> str:
+    """``text`` as a C string literal (for a -D definition)."""
+    out = "".join(c if c.isprintable() and c not in '"\\' else f"\\{ord(c):03o}"
+                  for c in text)
+    return f'"{out}"'
+
+
+def libpython_location() -> tuple[str, str, str] | None:
+    """``(path, soname, home)`` of this interpreter's shared libpython, or None for a
+    statically linked Python (which cannot host the FMU in a non-Python importer)."""
+    import sysconfig
+
+    if not sysconfig.get_config_var("Py_ENABLE_SHARED"):
+        return None
+    libdir = sysconfig.get_config_var("LIBDIR") or ""
+    soname = sysconfig.get_config_var("INSTSONAME") or \
+        sysconfig.get_config_var("LDLIBRARY") or ""
+    path = Path(libdir) / soname
+    if not soname or not path.exists():
+        return None
+    return str(path), soname, sys.base_prefix
+
+
+def compile_loader(dest: Path) -> str:
+    """Compile ``fmu_src/fmu_loader.c`` into ``dest`` for linux64.
+
+    The loader lets importers that are not Python programs run the FMU without
+    ``LD_PRELOAD``: at the first ``fmi2Instantiate`` it loads this interpreter's
+    libpython (unless the process already has Python), sets ``PYTHONHOME`` if unset,
+    and forwards every FMI call to pythonfmu's binary. Returns ``""`` on success,
+    else why it was not built (no C compiler, not linux x86_64, static Python, a
+    compiler error); the FMU then ships pythonfmu's binary alone and a C/C++
+    importer must ``LD_PRELOAD`` libpython as documented.
+    """
+    import platform
+    import subprocess
+
+    if not sys.platform.startswith("linux") or platform.machine() not in ("x86_64",
+                                                                          "AMD64"):
+        return f"not built: linux64 only (this is {sys.platform} {platform.machine()})"
+    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
+    if not cc:
+        return "not built: no C compiler (cc, gcc or $CC) on the build machine"
+    lib = libpython_location()
+    if lib is None:
+        return "not built: the building Python has no shared libpython"
+    path, soname, home = lib
+    cmd = [*cc.split(), "-std=c11", "-shared", "-fPIC", "-O2", "-fvisibility=hidden",
+           f"-DDRYMOUNT_LIBPYTHON_PATH={_c_string(path)}",
+           f"-DDRYMOUNT_LIBPYTHON_SONAME={_c_string(soname)}",
+           f"-DDRYMOUNT_PYTHONHOME={_c_string(home)}",
+           "-o", str(dest), str(source_dir() / LOADER_SOURCE), "-ldl", "-lpthread"]
+    try:
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        return f"not built: {cc} failed to run ({exc})"
+    if out.returncode != 0:
+        return f"not built: {cc} failed: {out.stderr.strip()[:500]}"
+    return ""
+
+
+def _install_loader(fmu: Path, loader: Path) -> None:
+    """Rewrite the zip ``fmu``: pythonfmu's linux64 binary becomes ``REAL_BINARY``,
+    the loader takes its name."""
+    import zipfile
+
+    so = "binaries/linux64/FrictionMount.so"
+    rewritten = fmu.with_suffix(".loader.zip")
+    with zipfile.ZipFile(fmu) as zin, \
+            zipfile.ZipFile(rewritten, "w", zipfile.ZIP_DEFLATED) as zout:
+        for info in zin.infolist():
+            data = zin.read(info.filename)
+            if info.filename == so:
+                for name, payload in (("binaries/linux64/" + REAL_BINARY, data),
+                                      (so, loader.read_bytes())):
+                    entry = zipfile.ZipInfo(name, date_time=info.date_time)
+                    entry.compress_type = zipfile.ZIP_DEFLATED
+                    entry.external_attr = 0o755 << 16  # rwxr-xr-x, as a library
+                    zout.writestr(entry, payload)
+            else:
+                zout.writestr(info, data)
+    os.replace(rewritten, fmu)
+
+
 def default_fmu_path() -> Path:
     """``dist/FrictionMount.fmu`` under the current working directory."""
     return Path.cwd() / "dist" / "FrictionMount.fmu"
@@ -161,11 +252,25 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
         doc = tmp / "documentation"
         shutil.copytree(DOC_DIR, doc, ignore=shutil.ignore_patterns("__pycache__",
                                                                      "*.pyc"))
+        loader = tmp / "FrictionMount.so"
+        why_not = compile_loader(loader)
+        lib = libpython_location()
+        if why_not:
+            loader_note = (f"linux64 loader: {why_not}. A C/C++ importer must "
+                           f"LD_PRELOAD libpython (externalDependencies.txt).")
+        else:
+            loader_note = (f"linux64 loader: binaries/linux64/FrictionMount.so loads "
+                           f"{lib[0]} (or $DRYMOUNT_LIBPYTHON, or {lib[1]} on the "
+                           f"library path) when the importer has no Python, sets "
+                           f"PYTHONHOME={lib[2]} if unset, and forwards to "
+                           f"binaries/linux64/{REAL_BINARY} (pythonfmu).")
         (doc / "build.txt").write_text(
             f"drymount version: {version}\n"
             f"Python package inside resources/: {package}\n"
             f"entry module (resources/slavemodule.txt): {entry}\n"
-            f"files copied byte for byte from fmu_src/: {', '.join(FMU_SOURCES)}\n")
+            f"files copied byte for byte from fmu_src/: {', '.join(FMU_SOURCES)}\n"
+            f"built with Python {sys.version.split()[0]} ({sys.base_prefix})\n"
+            f"{loader_note}\n")
         partial = tmp / "FrictionMount.fmu"
         dont_write = sys.dont_write_bytecode
         sys.dont_write_bytecode = True  # keep __pycache__ out of the FMU
@@ -180,6 +285,8 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
             for mod in [m for m in sys.modules
                         if m in (package, entry) or m.startswith(package + ".")]:
                 del sys.modules[mod]
+        if not why_not:
+            _install_loader(partial, loader)
         # unique per process: concurrent builders (parallel sweep workers) never share
         part = dest.parent / f".{dest.name}.{os.getpid()}.part"
         os.replace(shutil.copy2(partial, part), dest)
@@ -190,7 +297,8 @@ def ensure_fmu(path: str | os.PathLike | None = None) -> Path:
     """Return ``path`` (default :func:`default_fmu_path`), building it if it is
     missing or older than any of its sources (``fmu_src``, ``fmu_doc``, this file)."""
     path = Path(path) if path is not None else default_fmu_path()
-    sources = [source_dir() / name for name in FMU_SOURCES] + [Path(__file__)]
+    sources = [source_dir() / name for name in (*FMU_SOURCES, LOADER_SOURCE)]
+    sources.append(Path(__file__))
     sources += [f for f in DOC_DIR.rglob("*") if f.is_file()]
     newest = max(f.stat().st_mtime for f in sources)
     if not path.exists() or path.stat().st_mtime < newest:

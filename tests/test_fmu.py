@@ -520,16 +520,19 @@ def c_host(tmp_path_factory) -> Path:
     return exe
 
 
-def _run_c_host(exe, fmu, args):
-    """The documented recipe: LD_PRELOAD=libpython, PYTHONHOME=the interpreter's
-    prefix; nothing else from this environment (no PYTHONPATH: the FMU needs none)."""
-    env = {"PATH": "/usr/bin:/bin", "LD_PRELOAD": str(_libpython()),
-           "PYTHONHOME": sys.base_prefix}
-    return subprocess.run([str(exe), str(fmu[1])] + [str(a) for a in args], env=env,
-                          capture_output=True, text=True, timeout=120)
+def _run_c_host(exe, fmu, args, preload=True, unzipdir=None):
+    """``preload``: the documented manual recipe, LD_PRELOAD=libpython and
+    PYTHONHOME=the interpreter's prefix; else nothing but PATH (the FMU's linux64
+    loader finds libpython itself). Never PYTHONPATH: the FMU needs none."""
+    env = {"PATH": "/usr/bin:/bin"}
+    if preload:
+        env.update(LD_PRELOAD=str(_libpython()), PYTHONHOME=sys.base_prefix)
+    return subprocess.run([str(exe), str(unzipdir or fmu[1])] + [str(a) for a in args],
+                          env=env, capture_output=True, text=True, timeout=120)
 
 
-def test_c_importer_matches_in_process_law(c_host, fmu):
+@pytest.mark.parametrize("preload", [True, False], ids=["LD_PRELOAD", "loader"])
+def test_c_importer_matches_in_process_law(c_host, fmu, preload):
     vr = fmu[2]
     x, freq, n, h = 0.005, 10.0, 2000, 1e-4
     params = {"axial_friction": True, "axial_n0": 100.0, "axial_kf": 80000.0,
@@ -539,7 +542,7 @@ def test_c_importer_matches_in_process_law(c_host, fmu):
                f"R{vr['axial_kc']}=5.708e8"]
     out = _run_c_host(c_host, fmu, [n, h, x, freq, vr["u_axial"], vr["v_axial"],
                                     vr["F_axial"], vr["Ffr_axial"], vr["E_fr"]]
-                      + setters)
+                      + setters, preload=preload)
     assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
     lines = out.stdout.splitlines()
     assert "REPLAY identical" in lines and "TWIN identical" in lines
@@ -569,6 +572,32 @@ def test_c_importer_sees_initialization_error(c_host, fmu):
     assert "FAILED fmi2ExitInitializationMode status=4" in out.stdout
     assert ("`axial_kf` must be finite and > 0 when friction is on, got 0.0"
             in out.stdout)
+
+
+def test_loader_reports_missing_libpython(c_host, fmu, tmp_path, monkeypatch):
+    """A loader built for a libpython that is not there: fmi2Instantiate returns NULL
+    and the importer's logger gets the reason and the remedy; no crash."""
+    import shutil
+
+    from drymount import fmu_build
+
+    if not (Path(fmu[1]) / "binaries" / "linux64" / fmu_build.REAL_BINARY).exists():
+        pytest.skip("this FMU was built without the linux64 loader (see build.txt)")
+    unzipdir = tmp_path / "fmu"
+    shutil.copytree(fmu[1], unzipdir)
+    monkeypatch.setattr(fmu_build, "libpython_location", lambda: (
+        "/nonexistent/libpython3.99.so.1.0", "libpython3.99.so.1.0", "/nonexistent"))
+    so = unzipdir / "binaries" / "linux64" / "FrictionMount.so"
+    assert fmu_build.compile_loader(so) == ""
+    vr = fmu[2]
+    out = _run_c_host(c_host, fmu, [5, 1e-4, 0.001, 10.0, vr["u_axial"], vr["v_axial"],
+                                    vr["F_axial"], vr["Ffr_axial"], vr["E_fr"]],
+                      preload=False, unzipdir=unzipdir)
+    assert out.returncode == 3, out.stdout + out.stderr
+    assert "FAILED fmi2Instantiate" in out.stdout
+    assert "cannot load libpython (tried: /nonexistent/libpython3.99.so.1.0, " \
+        "libpython3.99.so.1.0" in out.stdout
+    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "LD_PRELOAD" in out.stdout
 
 
 def test_docs_fmpy_example_runs(fmu_path, tmp_path, monkeypatch):
