@@ -436,6 +436,12 @@ def cmd_hbm(args) -> int:
             print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
                   f"{fr.freq_hz[i]:.4g} Hz; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
+            for direction in ("up", "down"):
+                events = [f"jumps at {f:.4g} Hz" if k >= 0 else
+                          f"leaves the curve at {f:.4g} Hz (stability lost "
+                          f"without a fold)" for f, _, k in fr.sweep_jumps(direction)]
+                if events:
+                    print(f"  a slow sweep {direction} " + "; then ".join(events))
     if not fr.success:
         _err(f"harmonic balance did not complete: {fr.message}; the "
              f"{len(fr.freq_hz)} points computed so far are in {out}")

@@ -86,6 +86,88 @@ class FrequencyResponse:
     def n_points(self) -> int:
         return int(self.freq_hz.size)
 
+    def sweep_jumps(self, direction: str = "up", min_change: float = 0.01
+                    ) -> list[tuple[float, int, int]]:
+        """Where a slow stepped sweep along this curve would jump.
+
+        A quasi-static sweep follows the stable solution it is on in the direction of
+        the sweep; where that solution ends at a fold it jumps to the stable solution
+        on another part of the curve at that frequency, the one nearest in amplitude
+        (each DOF relative to its largest amplitude on the curve), and goes on from
+        there. Jumps smaller than
+        ``min_change`` in that measure (the closely spaced fold pairs of a sampled
+        nonsmooth problem) are followed silently.
+
+        Parameters
+        ----------
+        direction : ``"up"`` (from the first point) or ``"down"`` (from the last).
+        min_change : float
+            Smallest amplitude change reported as a jump.
+
+        Returns
+        -------
+        list of ``(freq_hz, from_index, to_index)``
+            ``freq_hz`` is the frequency of the last point before the jump.
+            ``to_index`` is -1 where the solution loses stability away from a fold
+            (a bifurcation, e.g. symmetry breaking, onto a solution the curve does not
+            contain): the sweep leaves the curve there and the walk ends. The walk
+            also ends where no stable solution is found beyond a fold.
+        """
+        if direction not in ("up", "down"):
+            raise ValueError(f"`direction` must be 'up' or 'down', got {direction!r}")
+        n = self.n_points
+        if n < 2:
+            return []
+        f = self.freq_hz
+        st = np.asarray(self.stable, dtype=bool)
+        scale = np.nanmax(self.amplitude, axis=0)
+        amp = self.amplitude / np.where(scale > 0, scale, 1.0)
+        sgn = 1.0 if direction == "up" else -1.0
+
+        def heading(k):
+            """Index step along which the frequency moves with the sweep at k."""
+            for d in (1, -1):
+                if 0 <= k + d < n and sgn * (f[k + d] - f[k]) > 0:
+                    return d
+            return 0
+
+        i = 0 if direction == "up" else n - 1
+        d = heading(i)
+        jumps, seen = [], set()
+        while d and (i, d) not in seen:
+            seen.add((i, d))
+            j = i + d
+            if 0 <= j < n and st[j] and sgn * (f[j] - f[i]) >= 0:
+                i = j
+                continue
+            if not 0 <= j < n:
+                break  # the end of the computed range
+            near_fold = any(abs(int(t) - j) <= 2 for t in self.turning_points)
+            if sgn * (f[j] - f[i]) >= 0 and not near_fold:
+                # stability lost away from a fold: a bifurcation onto a solution
+                # this curve does not contain; the sweep leaves the curve
+                jumps.append((float(f[i]), i, -1))
+                break
+            # a fold: the solution ends here; land on another stable part
+            best = None
+            for k in range(n - 1):
+                if k in (i, i - 1) or not (st[k] and st[k + 1]):
+                    continue
+                lo, hi = sorted((f[k], f[k + 1]))
+                if not lo <= f[i] <= hi or lo == hi:
+                    continue
+                land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
+                dist = float(np.linalg.norm(amp[land] - amp[i]))
+                if land != i and (best is None or dist < best[0]):
+                    best = (dist, land)
+            if best is None:
+                break
+            if best[0] >= min_change:
+                jumps.append((float(f[i]), i, best[1]))
+            i = best[1]
+            d = heading(i)
+        return jumps
+
     def columns(self) -> list[str]:
         """CSV column names."""
         cols = ["freq_hz"]
@@ -120,9 +202,25 @@ class FrequencyResponse:
                 vals = [f"{v:.10g}" for v in row[:-1]] + [str(int(row[-1]))]
                 fh.write(",".join(vals) + "\n")
 
+    def _plot_jumps(self, ax, y):
+        for direction, color in (("up", "C1"), ("down", "C2")):
+            events = self.sweep_jumps(direction)
+            for f, i, k in events:
+                if k < 0:
+                    ax.plot([f], [y[i]], "x", color=color, ms=8)
+                else:
+                    ax.annotate("", xy=(f, y[k]), xytext=(f, y[i]),
+                                arrowprops=dict(arrowstyle="->", ls=":", color=color))
+            kinds = [("jump", any(k >= 0 for *_, k in events)),
+                     ("x leaves curve", any(k < 0 for *_, k in events))]
+            if events:
+                ax.plot([], [], ":", color=color, label=f"sweep {direction}: "
+                        + " / ".join(name for name, present in kinds if present))
+
     def plot(self, path: str | os.PathLike | None = None, ax=None,
              quantity: str = "transmissibility", dof: str | None = None,
-             logy: bool = True, label: str | None = None, **kwargs):
+             logy: bool = True, label: str | None = None, jumps: bool = True,
+             **kwargs):
         """Plot the curve; unstable parts dashed, turning points marked.
 
         Parameters
@@ -135,6 +233,9 @@ class FrequencyResponse:
             DOF name for amplitude/peak (default: the first).
         logy : bool
         label : str, optional
+        jumps : bool
+            Draw where slow sweeps up and down would jump (:meth:`sweep_jumps`):
+            dotted arrows; a cross where a sweep leaves the curve.
         **kwargs
             Passed to ``Axes.plot``.
 
@@ -175,6 +276,8 @@ class FrequencyResponse:
         if len(self.turning_points):
             ax.plot(self.freq_hz[self.turning_points], y[self.turning_points], "o",
                     mfc="none", color=line.get_color(), label="turning points")
+        if jumps:
+            self._plot_jumps(ax, y)
         if logy and np.all(y[np.isfinite(y)] > 0):
             ax.set_yscale("log")
         ax.set_xlabel("frequency [Hz]")

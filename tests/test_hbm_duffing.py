@@ -89,3 +89,50 @@ def test_aft_h1_same_folds():
     ref = hbm.frequency_response(_system(), 3.0, 15.0, harmonics=1)
     # cubic: AFT exact for N > 4H (no aliasing); fold locations agree
     np.testing.assert_allclose(r.turning_freq_hz, ref.turning_freq_hz, rtol=1e-9)
+
+
+# A slow sweep jumps at the last computed point before the fold: within one curve
+# step of the classical fold (measured 4.4e-6 up, 2.7e-5 down).
+RTOL_SWEEP_JUMP = 1e-3
+
+
+def test_sweep_jumps_at_the_folds(curve):
+    f_down, f_up = _classical_folds()
+    up, down = curve.sweep_jumps("up"), curve.sweep_jumps("down")
+    assert len(up) == 1 and len(down) == 1
+    f, i, k = up[0]
+    # sweep up: off the upper branch at the jump-down fold, onto the lower branch
+    assert f == pytest.approx(f_down, rel=RTOL_SWEEP_JUMP) and f <= f_down
+    assert curve.amplitude[k, 0] < 0.2 * curve.amplitude[i, 0]  # measured x0.030
+    assert curve.stable[k] and curve.freq_hz[k] >= f
+    f, i, k = down[0]
+    # sweep down: off the lower branch at the jump-up fold, onto the upper branch
+    assert f == pytest.approx(f_up, rel=RTOL_SWEEP_JUMP) and f >= f_up
+    assert curve.amplitude[k, 0] > 1.5 * curve.amplitude[i, 0]  # measured x1.98
+    assert curve.stable[k] and curve.freq_hz[k] <= f
+    with pytest.raises(ValueError, match="direction"):
+        curve.sweep_jumps("sideways")
+
+
+def _synthetic(freq, amp, stable, turning=()):
+    n = len(freq)
+    return hbm.FrequencyResponse(
+        freq_hz=np.asarray(freq, float), coefficients=np.zeros((n, 1, 3)),
+        amplitude=np.asarray(amp, float)[:, None], peak=np.asarray(amp, float)[:, None],
+        transmissibility=np.asarray(amp, float), stable=np.asarray(stable, bool),
+        turning_points=np.asarray(turning, int), success=True, status=0, message="",
+        n_newton=0, n_steps=0, dof_names=("x",), harmonics=1)
+
+
+def test_sweep_leaves_the_curve_where_stability_is_lost_without_a_fold():
+    r = _synthetic([1, 2, 3, 4, 5], [1, 2, 3, 2, 1], [1, 1, 0, 0, 1])
+    assert r.sweep_jumps("up") == [(2.0, 1, -1)]
+    assert r.sweep_jumps("down") == [(5.0, 4, -1)]
+
+
+def test_tiny_fold_pairs_are_followed_silently():
+    # a zigzag of 0.1 % in amplitude (two folds): no jump reported
+    f = [1.0, 2.0, 3.0, 2.999, 3.001, 4.0]
+    a = [1.0, 1.0, 1.0, 1.0005, 1.001, 1.0]
+    r = _synthetic(f, a, [1, 1, 1, 0, 1, 1], turning=(3, 4))
+    assert r.sweep_jumps("up") == [] and r.sweep_jumps("down") == []
