@@ -183,6 +183,26 @@ def compile_loader(dest: Path) -> str:
     return ""
 
 
+def _forget_modules(package: str, entry: str) -> None:
+    """Remove the FMU's model modules from ``sys.modules``."""
+    for mod in [m for m in sys.modules
+                if m in (package, entry) or m.startswith(package + ".")]:
+        del sys.modules[mod]
+
+
+def _check_binaries(fmu: Path) -> None:
+    """Raise unless the FMU holds pythonfmu's linux64 and win64 binaries."""
+    import zipfile
+
+    with zipfile.ZipFile(fmu) as z:
+        names = set(z.namelist())
+    missing = [n for n in ("binaries/linux64/FrictionMount.so",
+                           "binaries/win64/FrictionMount.dll") if n not in names]
+    if missing:
+        raise RuntimeError(f"pythonfmu wrote an FMU without {missing}: is the "
+                           f"installed pythonfmu complete (pip install pythonfmu)?")
+
+
 def _install_loader(fmu: Path, loader: Path) -> None:
     """Rewrite the zip ``fmu``: pythonfmu's linux64 binary becomes ``REAL_BINARY``,
     the loader takes its name."""
@@ -204,6 +224,33 @@ def _install_loader(fmu: Path, loader: Path) -> None:
             else:
                 zout.writestr(info, data)
     os.replace(rewritten, fmu)
+
+
+def _fmu_builder():
+    """pythonfmu's ``FmuBuilder`` from the installed package.
+
+    An FMU instantiated in this process imports ``pythonfmu`` from the copy bundled in
+    its ``resources/`` when the process had not imported it yet (module names are
+    global). That copy has no ``resources/binaries``, and a builder imported from it
+    writes an FMU without binaries. Drop it from ``sys.modules`` and import the
+    installed package (same version; live instances keep the classes they hold)."""
+    mod = sys.modules.get("pythonfmu")
+    if mod is not None and not (Path(mod.__file__).parent / "resources" /
+                                "binaries").is_dir():
+        for name in [m for m in sys.modules
+                     if m == "pythonfmu" or m.startswith("pythonfmu.")]:
+            del sys.modules[name]
+        saved = list(sys.path)
+        # FMU resource folders on sys.path hold slavemodule.txt
+        sys.path[:] = [p for p in sys.path if not (Path(p or ".") /
+                                                    "slavemodule.txt").exists()]
+        try:
+            from pythonfmu import FmuBuilder
+        finally:
+            sys.path[:] = saved
+        return FmuBuilder
+    from pythonfmu import FmuBuilder
+    return FmuBuilder
 
 
 def default_fmu_path() -> Path:
@@ -229,7 +276,7 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
     pathlib.Path
         The absolute path of the FMU.
     """
-    from pythonfmu import FmuBuilder
+    FmuBuilder = _fmu_builder()  # noqa: N806 - pythonfmu's class
 
     dest = Path(dest).resolve()
     if dest.suffix != ".fmu":
@@ -272,6 +319,10 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
             f"built with Python {sys.version.split()[0]} ({sys.base_prefix})\n"
             f"{loader_note}\n")
         partial = tmp / "FrictionMount.fmu"
+        # An instance of this FMU in the process may have imported these modules
+        # already (against the FMU's own pythonfmu): the builder must import them
+        # afresh from ``tmp``.
+        _forget_modules(package, entry)
         dont_write = sys.dont_write_bytecode
         sys.dont_write_bytecode = True  # keep __pycache__ out of the FMU
         try:
@@ -282,9 +333,8 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
             # The builder imports the model into this process: forget it again, so a
             # later instantiation of the FMU here loads the FMU's own copy.
             sys.path[:] = path_before
-            for mod in [m for m in sys.modules
-                        if m in (package, entry) or m.startswith(package + ".")]:
-                del sys.modules[mod]
+            _forget_modules(package, entry)
+        _check_binaries(partial)
         if not why_not:
             _install_loader(partial, loader)
         # unique per process: concurrent builders (parallel sweep workers) never share

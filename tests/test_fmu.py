@@ -647,3 +647,43 @@ def test_reset_starts_over(fmu):
     finally:
         mount.free()
     assert np.array_equal(first, second)
+
+
+REPO = Path(__file__).resolve().parents[1]
+
+_BUILD_AFTER_INSTANCE = """
+import sys, zipfile
+from pathlib import Path
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+fmu, dest = sys.argv[1], sys.argv[2]
+assert "pythonfmu" not in sys.modules
+md = read_model_description(fmu)
+s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu),
+              modelIdentifier="FrictionMount", instanceName="m")
+s.instantiate()
+bundled = sys.modules["pythonfmu"].__file__
+s.freeInstance()
+from drymount.fmu_build import build_fmu
+out = build_fmu(dest)
+names = zipfile.ZipFile(out).namelist()
+print(bundled)
+print(sorted(n for n in names if n.startswith("binaries/")))
+"""
+
+
+def test_build_after_an_instance_imported_the_bundled_pythonfmu(fmu_path, tmp_path):
+    """An instance in a fresh process imports the FMU's bundled pythonfmu (it has no
+    binaries); a build in that process afterwards must still use the installed
+    pythonfmu and ship the binaries (regression: it wrote an FMU without any)."""
+    script = tmp_path / "build_after.py"
+    script.write_text(_BUILD_AFTER_INSTANCE)
+    out = subprocess.run([sys.executable, str(script), str(fmu_path),
+                          str(tmp_path / "again.fmu")], capture_output=True,
+                         text=True, timeout=300, cwd=tmp_path,
+                         env=dict(os.environ, PYTHONPATH=str(REPO)))
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-3000:]
+    bundled, binaries = out.stdout.strip().splitlines()[-2:]
+    assert "site-packages" not in bundled  # the precondition really happened
+    assert "binaries/linux64/FrictionMount.so" in binaries
+    assert "binaries/win64/FrictionMount.dll" in binaries
