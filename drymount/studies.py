@@ -41,16 +41,18 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import SimpleNamespace
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 from scipy.optimize import minimize_scalar
-from tqdm import tqdm
 
 import hbm
 from drymount.io import atomic_write_text, save_figure, write_csv
 from fmu_src.mount_law import AXES, MountParameters, jenkins_update
 from hbm.system import Excitation, MountElement, System, Transmissibility
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = [
     "STUDIES",
@@ -409,6 +411,13 @@ def _write_csv(path: Path, comment: str, header: Sequence[str], rows) -> None:
 DPI_SIX_PANEL = 75
 
 
+def _new_figure(**kwargs) -> Figure:
+    """A matplotlib Figure (imported here: the studies' numerics need no matplotlib)."""
+    from matplotlib.figure import Figure
+
+    return Figure(**kwargs)
+
+
 def _save_fig(fig: Figure, path: Path, dpi: int = DPI) -> None:
     save_figure(fig, path, dpi=dpi)
 
@@ -641,6 +650,8 @@ def _write_curves(path: Path, comment: str, curves: Sequence[Curve]) -> None:
 
 
 def _progress(items, desc: str, progress: bool):
+    from tqdm import tqdm
+
     return tqdm(items, desc=desc, unit="curve", disable=not progress, leave=False,
                 file=sys.stderr)
 
@@ -795,7 +806,7 @@ def _plot_family(spec: _FamilySpec, curves, forces, hs, best, out: Path, stem: s
                                                 "H": H_hi})
     names = []
     for mount, fig_no in (("original", spec.figs[0]), ("halved", spec.figs[1])):
-        fig = Figure(figsize=(7, 4.5))
+        fig = _new_figure(figsize=(7, 4.5))
         ax = fig.add_subplot()
         if mount == "halved":
             ax.plot(cref.fr.freq_hz, cref.fr.transmissibility, color="0.6", lw=3,
@@ -821,7 +832,7 @@ def _plot_family(spec: _FamilySpec, curves, forces, hs, best, out: Path, stem: s
         name = f"{stem}_{mount}.png"
         _save_fig(fig, out / name)
         names.append(name)
-    fig = Figure(figsize=(7, 4.5))
+    fig = _new_figure(figsize=(7, 4.5))
     ax = fig.add_subplot()
     cbest = next(c for c in curves if c.case == {"mount": "halved",
                                                  "n0_N": best["n0_N"], "H": H_hi})
@@ -1155,7 +1166,7 @@ def run_optimize_n0(out_dir, quick: bool = False, progress: bool = True) -> dict
 
 def _plot_optimize(objectives, optima, reference, out: Path) -> list[str]:
     colors = {"original": "tab:blue", "halved": "tab:red"}
-    fig = Figure(figsize=(9, 3.8))
+    fig = _new_figure(figsize=(9, 3.8))
     for j, kind in enumerate(("peak", "rms")):
         ax = fig.add_subplot(1, 2, j + 1)
         for mount, color in colors.items():
@@ -1179,7 +1190,7 @@ def _plot_optimize(objectives, optima, reference, out: Path) -> list[str]:
         ax.legend(fontsize=7)
     fig.tight_layout()
     _save_fig(fig, out / "optimize_n0_objectives.png")
-    fig = Figure(figsize=(7, 4.5))
+    fig = _new_figure(figsize=(7, 4.5))
     ax = fig.add_subplot()
     ref_fr = objectives[("original", "peak")].curves[0.0]
     ax.plot(ref_fr.freq_hz, ref_fr.transmissibility, color="black", lw=1.6,
@@ -1488,7 +1499,7 @@ def run_six_dof(out_dir, quick: bool = False, progress: bool = True) -> dict:
 
 def _six_panel(curves, forces, dofs, title, ref=None) -> Figure:
     colors = _n0_colors(forces)
-    fig = Figure(figsize=(11, 6))
+    fig = _new_figure(figsize=(11, 6))
     axes = [fig.add_subplot(2, 3, k + 1) for k in range(6)]
     for j, (ax, d) in enumerate(zip(axes, dofs, strict=True)):
         if ref is not None:
@@ -1539,7 +1550,7 @@ def _plot_six_dof(base_curves, engine_curves, reloc_curves, forces, lambdas, dof
         name = f"six_dof_engine_{m}.png"
         _save_fig(fig, out / name, dpi=DPI_SIX_PANEL)
         names.append(name)
-    fig = Figure(figsize=(10, 4))
+    fig = _new_figure(figsize=(10, 4))
     ax1, ax2 = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
     jb = dofs.index("beta")
     style = {"table_4_1": ("tab:blue", "mount 3 at Table 4.1"),
@@ -1849,7 +1860,7 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
     _write_csv(out / "jump_sweeps.csv", "time-domain stepped sweeps (vehicle.sweep, "
                "native backend): freq in Hz, x_amp in m (fundamental amplitude)",
                ["direction", "freq_hz", "x_amp", "converged"], rows)
-    fig = Figure(figsize=(11, 4.2))
+    fig = _new_figure(figsize=(11, 4.2))
     ax = fig.add_subplot(1, 2, 1)
     _plot_branch(ax, fr.freq_hz, amp, fr.stable, color="black", lw=1.4,
                  label=f"HBM H = {H} (unstable dashed)")

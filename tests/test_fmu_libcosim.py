@@ -19,7 +19,8 @@ import pytest
 
 from drymount.fmu_build import build_fmu
 
-pytest.importorskip("libcosimpy", reason="no libcosimpy wheel for this platform")
+pytest.importorskip("libcosimpy", reason="libcosimpy is not installed (the test extra "
+                    "installs it on CPython >= 3.11, linux x86_64)")
 
 DRIVER = Path(__file__).parent / "importers" / "libcosim_drive.py"
 REPO = Path(__file__).resolve().parent.parent
