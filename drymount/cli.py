@@ -104,6 +104,19 @@ def _add(sub, name: str, help_: str, description: str, examples: list[str]):
                           epilog=_examples(*examples), formatter_class=_Formatter)
 
 
+def _harness_args(p, kind: str) -> None:
+    """Options shared by ``cosim`` and ``sweep``: step, FMU, output files."""
+    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
+                   help="fixed steps per excitation period (default: [cosim] "
+                        "steps_per_period, else the harness default)")
+    p.add_argument("--fmu", type=Path, default=None,
+                   help="FMU to use (default: dist/FrictionMount.fmu, built if "
+                        "missing)")
+    p.add_argument("--out", type=Path, default=None,
+                   help=f"CSV file to write (default: <name>_{kind}.csv)")
+    p.add_argument("--plot", type=Path, default=None, help="plot file to write")
+
+
 def _config_arg(p):
     p.add_argument("config", metavar="CONFIG",
                    help="TOML configuration file (docs/config.md) or preset name "
@@ -232,15 +245,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--backend", choices=("fmu", "native"), default=None,
                    help="fmu: FMU instances through fmpy; native: in-process law "
                         "(default: [cosim] backend)")
-    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
-                   help="fixed steps per excitation period (default: [cosim] "
-                        "steps_per_period, else the harness default)")
-    p.add_argument("--fmu", type=Path, default=None,
-                   help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing)")
-    p.add_argument("--out", type=Path, default=None,
-                   help="CSV file to write (default: <name>_cosim.csv)")
-    p.add_argument("--plot", type=Path, default=None, help="plot file to write")
+    _harness_args(p, "cosim")
 
     # sweep --------------------------------------------------------------------
     p = _add(sub, "sweep", "stepped-sine sweep of co-simulated steady states",
@@ -270,15 +275,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="default: [cosim] backend")
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
-    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
-                   help="fixed steps per excitation period (default: [cosim] "
-                        "steps_per_period, else the harness default)")
-    p.add_argument("--fmu", type=Path, default=None,
-                   help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing)")
-    p.add_argument("--out", type=Path, default=None,
-                   help="CSV file to write (default: <name>_sweep.csv)")
-    p.add_argument("--plot", type=Path, default=None, help="plot file to write")
+    _harness_args(p, "sweep")
     p.add_argument("--hbm", type=Path, default=None, metavar="CURVE_CSV",
                    help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
