@@ -7,7 +7,8 @@ period (``u = E U``), the nonlinear remainder of the mount law is evaluated ther
 truncated to H harmonics; ``P E = I`` for ``N > 2H``). The Jacobian follows by the chain
 rule through the law's tangent at each sample (``dF/dU = P diag(df/du) E``); for the
 Jenkins element a stuck sample depends on the last slip sample too (see
-:func:`hbm.elements.jenkins_periodic`), which is done with fancy indexing.
+:func:`hbm.elements.jenkins_periodic`). The Jenkins march is vectorised over samples,
+elements and batches (:mod:`hbm.friction_march`).
 
 The nonlinear remainders are rate independent (the viscous part ``c v`` is linear and
 handled in the frequency domain), so the AFT needs no velocities and its result does
@@ -21,7 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
+from hbm.elements import NonlinearAxes, elastic_remainder
+from hbm.friction_march import jenkins_jacobian, jenkins_march
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 
@@ -74,39 +76,34 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
 
     Parameters
     ----------
-    U : ndarray, shape (2H+1, n_ax)
-        Deflection coefficients of each axis, m.
+    U : ndarray, shape (..., 2H+1, n_ax)
+        Deflection coefficients of each axis, m (leading axes: any batch, e.g.
+        several frequency points, evaluated in one pass).
     ax : NonlinearAxes
     basis : FourierBasis
     jacobian : bool
 
     Returns
     -------
-    F : ndarray, shape (2H+1, n_ax)
+    F : ndarray, shape (..., 2H+1, n_ax)
         Force coefficients, N.
-    dF : ndarray, shape (n_ax, 2H+1, 2H+1) or None
-        ``dF[a, h, g] = dF[h, a] / dU[g, a]``.
+    dF : ndarray, shape (..., n_ax, 2H+1, 2H+1) or None
+        ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
     E, P = basis.E, basis.P
-    u = E @ U  # (N, n_ax)
+    u = E @ U  # (..., N, n_ax)
     f, kt = elastic_remainder(u, ax)
     fr = ax.friction
-    corr = []
-    for a in fr:
-        ff, stuck, last = jenkins_periodic(u[:, a], ax.kf[a], ax.fs[a],
-                                            ax.w_start[a])
-        f[:, a] += ff
-        if jacobian:
-            kt[:, a] += np.where(stuck, ax.kf[a], 0.0)
-            # stuck after a slip: w = u[last] -+ eps depends on X too
-            sel = np.flatnonzero(stuck & (last >= 0))
-            corr.append((a, sel, last[sel]))
+    if fr.size:
+        # the Jenkins elements, all at once (hbm.friction_march: equal to the scalar
+        # march of hbm.elements.jenkins_periodic, vectorised)
+        march = jenkins_march(u[..., fr], ax.kf[fr], ax.fs[fr], ax.w_start[fr])
+        f[..., fr] += march.force
     F = P @ f
     if not jacobian:
         return F, None
-    # dF[a] = P diag(kt[:, a]) E  (- kf P[:, sel] E[last[sel]] for Jenkins)
-    dF = np.matmul(P[None, :, :] * kt.T[:, None, :], E)
-    for a, sel, last in corr:
-        if sel.size:
-            dF[a] -= ax.kf[a] * (P[:, sel] @ E[last])
+    # dF[a] = P diag(kt[:, a]) E, plus the Jenkins part
+    dF = (P * np.swapaxes(kt, -1, -2)[..., None, :]) @ E
+    if fr.size:
+        dF[..., fr, :, :] += jenkins_jacobian(march, ax.kf[fr], E, P)
     return F, dF

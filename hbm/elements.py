@@ -150,31 +150,31 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
 
     Parameters
     ----------
-    u : ndarray, shape (N, n_ax)
-        Deflection samples, m.
+    u : ndarray, shape (..., N, n_ax)
+        Deflection samples (leading axes: any batch), m.
     ax : NonlinearAxes
 
     Returns
     -------
-    f, df_du : ndarray, shape (N, n_ax)
+    f, df_du : ndarray, shape (..., N, n_ax)
         Force in N and tangent in N/m.
     """
     f = np.zeros_like(u)
     kt = np.zeros_like(u)
     cub = ax.law == CUBIC
     if np.any(cub):
-        uc = u[:, cub]
-        f[:, cub] = ax.kc[cub] * uc * uc * uc
-        kt[:, cub] = 3.0 * ax.kc[cub] * uc * uc
+        uc = u[..., cub]
+        f[..., cub] = ax.kc[cub] * uc * uc * uc
+        kt[..., cub] = 3.0 * ax.kc[cub] * uc * uc
     pw = (ax.law == PIECEWISE) | (ax.law == PIECEWISE_ASYM)
     if np.any(pw):
-        up = u[:, pw]
+        up = u[..., pw]
         dk = (ax.k2 - ax.k1)[pw]
         hi = up > ax.delta[pw]
         lo = up < -ax.delta_neg[pw]
-        f[:, pw] = dk * (np.where(hi, up - ax.delta[pw], 0.0)
+        f[..., pw] = dk * (np.where(hi, up - ax.delta[pw], 0.0)
                          + np.where(lo, up + ax.delta_neg[pw], 0.0))
-        kt[:, pw] = dk * (hi | lo)
+        kt[..., pw] = dk * (hi | lo)
     return f, kt
 
 
