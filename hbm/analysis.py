@@ -177,11 +177,16 @@ def _fold_frequency(prob: _Problem, br: Branch, i: int) -> float:
 
 
 def _stability(prob: _Problem, ys, br: Branch, stride: int):
-    """Hill stability along the branch, with the eigenvalue problem solved at every
-    ``stride``-th point, around turning points and wherever ``det J`` changes sign;
-    between two evaluated points with the same verdict and no sign change of
-    ``det J`` the verdict is carried over, otherwise every point between them is
-    evaluated. ``stride = 1`` evaluates every point."""
+    """Hill stability along the branch.
+
+    The eigenvalue problem is solved at every ``stride``-th point, at both ends and
+    on both sides of every sign change of ``det J`` (folds, branch points: a real
+    Floquet exponent crosses zero there). Between two such points with the same
+    verdict, and no sign change of ``det J``, the verdict is carried over; where the
+    verdicts differ the change is located by bisection (a complex pair crossing,
+    which leaves ``det J`` alone); where ``det J`` changes sign every point between
+    them is evaluated. ``stride = 1`` evaluates every point.
+    """
     hb = prob.hb
     npts = len(ys)
     stable = np.ones(npts, dtype=bool)
@@ -207,6 +212,17 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int):
                 stable[i], fmr[i] = True, np.nan
             done[i] = True
 
+    def bisect(a, b):
+        """Verdicts at a < b known, det J of one sign on [a, b]."""
+        while b - a >= 2:
+            if stable[a] == stable[b]:
+                stable[a + 1:b] = stable[a]
+                return
+            c = (a + b) // 2
+            evaluate(c)
+            bisect(a, c)
+            a = c
+
     key = set(range(0, npts, stride)) | {npts - 1}
     for i in range(1, npts):
         if sign[i] != sign[i - 1]:
@@ -215,10 +231,8 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int):
         evaluate(i)
     keys = sorted(key)
     for a, b in zip(keys[:-1], keys[1:], strict=True):
-        if b - a < 2:
-            continue
-        if stable[a] == stable[b] and np.all(sign[a:b + 1] == sign[a]):
-            stable[a + 1:b] = stable[a]
+        if np.all(sign[a:b + 1] == sign[a]):
+            bisect(a, b)
         else:
             for i in range(a + 1, b):
                 evaluate(i)
