@@ -20,10 +20,16 @@ References: thesis Sec. 3.1 (Fourier approximation, eq. 3.8-3.10); Cameron and G
 
 from __future__ import annotations
 
+import weakref
+from dataclasses import dataclass
+
 import numpy as np
 
+from fmu_src.mount_law import LAW_CODES
 from hbm.elements import NonlinearAxes, elastic_remainder
-from hbm.friction_march import jenkins_jacobian, jenkins_march
+from hbm.friction_march import jenkins_aft
+
+LINEAR = LAW_CODES["linear"]
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 
@@ -70,6 +76,33 @@ class FourierBasis:
         self.theta = theta
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """What :func:`aft_forces` needs of a :class:`NonlinearAxes`, prepared once."""
+
+    friction: np.ndarray  # indices of the Jenkins axes
+    all_friction: bool  # every axis has one (no gather needed)
+    kf: np.ndarray
+    fs: np.ndarray
+    w_start: np.ndarray
+    elastic: bool  # some axis has a nonlinear elastic remainder
+
+
+_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _plan(ax: NonlinearAxes) -> _Plan:
+    plan = _PLANS.get(ax)
+    if plan is None:
+        fr = ax.friction
+        plan = _Plan(fr, bool(np.array_equal(fr, np.arange(ax.n))),
+                     np.ascontiguousarray(ax.kf[fr]), np.ascontiguousarray(ax.fs[fr]),
+                     np.ascontiguousarray(ax.w_start[fr], dtype=float),
+                     bool(np.any(ax.law != LINEAR)))
+        _PLANS[ax] = plan
+    return plan
+
+
 def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
                jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
     """Fourier coefficients of the nonlinear remainders by AFT, with the Jacobian.
@@ -91,19 +124,36 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
     E, P = basis.E, basis.P
+    plan = _plan(ax)
     u = E @ U  # (..., N, n_ax)
-    f, kt = elastic_remainder(u, ax)
-    fr = ax.friction
-    if fr.size:
+    if plan.elastic:
+        f, kt = elastic_remainder(u, ax)
+    else:
+        f = kt = None
+    dF_fr = None
+    if plan.friction.size:
         # the Jenkins elements, all at once (hbm.friction_march: equal to the scalar
-        # march of hbm.elements.jenkins_periodic, vectorised)
-        march = jenkins_march(u[..., fr], ax.kf[fr], ax.fs[fr], ax.w_start[fr])
-        f[..., fr] += march.force
+        # march of hbm.elements.jenkins_periodic, without a per-sample Python loop)
+        fr = plan.friction
+        ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
+                                plan.fs, plan.w_start, E, P, jacobian)
+        if f is None and plan.all_friction:
+            f = ff
+        else:
+            if f is None:
+                f = np.zeros_like(u)
+            f[..., fr] += ff
     F = P @ f
     if not jacobian:
         return F, None
-    # dF[a] = P diag(kt[:, a]) E, plus the Jenkins part
-    dF = (P * np.swapaxes(kt, -1, -2)[..., None, :]) @ E
-    if fr.size:
-        dF[..., fr, :, :] += jenkins_jacobian(march, ax.kf[fr], E, P)
+    if kt is not None:
+        # dF[a] = P diag(kt[:, a]) E, plus the Jenkins part
+        dF = (P * np.swapaxes(kt, -1, -2)[..., None, :]) @ E
+        if dF_fr is not None:
+            dF[..., fr, :, :] += dF_fr
+    elif plan.all_friction:
+        dF = dF_fr
+    else:
+        dF = np.zeros((*U.shape[:-2], ax.n, *P.shape[:1], E.shape[1]))
+        dF[..., fr, :, :] = dF_fr
     return F, dF

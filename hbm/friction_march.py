@@ -47,7 +47,7 @@ import numpy as np
 from hbm.elements import jenkins_periodic
 
 __all__ = ["BACKENDS", "JenkinsMarch", "jenkins_march", "jenkins_jacobian",
-           "resolve_backend"]
+           "jenkins_aft", "resolve_backend"]
 
 #: Names of the march implementations.
 BACKENDS = ("numpy", "numba")
@@ -294,3 +294,44 @@ def jenkins_jacobian(march: JenkinsMarch, kf, E: np.ndarray, P: np.ndarray
     back = kt * (last >= 0)  # weight of the last slip sample's motion
     Z = kt[..., None] * E - back[..., None] * E[np.maximum(last, 0)]
     return P @ Z
+
+
+def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarray,
+                E: np.ndarray, P: np.ndarray, jacobian: bool = True,
+                backend: str | None = None):
+    """Friction forces at the samples and their coefficient Jacobian, for the AFT.
+
+    The lean path of :func:`hbm.aft.aft_forces`: the arguments are taken as checked
+    (``kf``, ``fs``, ``w_start`` float arrays of shape (C,) with ``kf > 0``,
+    ``fs >= 0``); with numba the march and the Jacobian samples are one compiled call.
+
+    Parameters
+    ----------
+    u : ndarray, shape (..., N, C)
+    kf, fs, w_start : ndarray, shape (C,)
+    E : ndarray, shape (N, m)
+    P : ndarray, shape (m, N)
+    jacobian : bool
+    backend : str, optional
+
+    Returns
+    -------
+    force : ndarray, shape (..., N, C)
+    dF : ndarray, shape (..., C, m, m) or None
+        As :func:`jenkins_jacobian`.
+    """
+    backend = _DEFAULT if backend is None else resolve_backend(backend)
+    shape = u.shape
+    u3 = u.reshape(-1, *shape[-2:])
+    if backend == "numba":
+        from hbm import friction_march_numba
+        if not jacobian:
+            return friction_march_numba.march(u3, kf, fs, w_start)[0].reshape(
+                shape), None
+        force, Z = friction_march_numba.march_and_samples(u3, kf, fs, w_start, E)
+        dF = P @ Z
+        return force.reshape(shape), dF.reshape(*shape[:-2], *dF.shape[-3:])
+    force, stuck, last, n_bad = _march(u3, kf, fs, w_start)
+    march = JenkinsMarch(force.reshape(shape), stuck.reshape(shape),
+                         last.reshape(shape), n_bad, backend)
+    return march.force, (jenkins_jacobian(march, kf, E, P) if jacobian else None)

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march", "jacobian_samples"]
+__all__ = ["march", "jacobian_samples", "march_and_samples"]
 
 
 @njit(cache=True)
@@ -112,3 +112,21 @@ def jacobian_samples(E: np.ndarray, kf: np.ndarray, stuck: np.ndarray,
     Z = np.empty((nb, C, N, E.shape[1]))
     _samples(E, kf, stuck, last, Z)
     return Z
+
+
+@njit(cache=True)
+def _march_samples(u, kf, fs, w_start, E, force, stuck, last, Z):  # pragma: no cover
+    _march(u, kf, fs, w_start, force, stuck, last)
+    _samples(E, kf, stuck, last, Z)
+
+
+def march_and_samples(u: np.ndarray, kf: np.ndarray, fs: np.ndarray,
+                      w_start: np.ndarray, E: np.ndarray):
+    """``(force, Z)``: :func:`march` and :func:`jacobian_samples` in one call."""
+    nb, N, C = u.shape
+    force = np.empty_like(u)
+    stuck = np.empty(u.shape, dtype=np.bool_)
+    last = np.empty(u.shape, dtype=np.int64)
+    Z = np.empty((nb, C, N, E.shape[1]))
+    _march_samples(u, kf, fs, w_start, E, force, stuck, last, Z)
+    return force, Z
