@@ -134,7 +134,8 @@ def test_friction_energy_equals_jenkins_loop_area():
     coeffs[:, 0, 2] = amps  # sine coefficient of the first harmonic
     coeffs[:, 0, 0] = 1e-3  # a static offset must not change the loop
     fr = SimpleNamespace(freq_hz=np.full(n, 5.0), coefficients=coeffs)
-    energy, slip = friction_energy(system, fr, 0, 0, n_samples=512)
+    work = friction_energy(system, fr, 0, 0, n_samples=512)
+    energy, slip = work.energy, work.slip_fraction
     expected = np.where(amps > eps, 4 * p.fs * (amps - eps), 0.0)
     np.testing.assert_allclose(energy, expected, rtol=RTOL_ENERGY, atol=1e-15)
     assert slip[0] == 0.0 and slip[-1] > 0.9
@@ -352,8 +353,9 @@ def test_jump(jump):
     assert len(r["turning_points_hz"]) == 2
     assert r["hbm_unstable_points"] > 0
     f_lo, f_hi = sorted(r["turning_points_hz"])
-    up_before, up_after, up_change = r["jump_up"]
-    dn_before, dn_after, dn_change = r["jump_down"]
+    up, dn = r["jump_up"], r["jump_down"]
+    up_before, up_after, up_change = up.f_before_hz, up.f_after_hz, up.change_m
+    dn_before, dn_after, dn_change = dn.f_before_hz, dn.f_after_hz, dn.change_m
     assert up_change < 0 < dn_change
     # the up sweep jumps down near the upper fold (not past it: there is no upper
     # branch beyond), the down sweep jumps up where the lower branch ends
