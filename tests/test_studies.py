@@ -55,6 +55,10 @@ JUMP_EARLY_RTOL = 0.15
 #: Relocating mount 3 must let friction cut the beta peak by at least this fraction
 #: (measured 0.58 with H = 3, n0 = 2 N; at Table 4.1 the change is 0.06).
 MIN_BETA_REDUCTION = 0.2
+#: FFT of the sampled crank input against its closed-form orders: exact for a
+#: trigonometric polynomial sampled above its Nyquist rate, rounding only (measured
+#: 9e-16).
+RTOL_FFT = 1e-12
 
 TABLE_4_1 = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
 
@@ -211,6 +215,32 @@ def test_engine_excitation_is_the_crank_mechanism():
     f = s.excitation.force_amplitude(omega)
     np.testing.assert_allclose(f, [0, 0, force, 0, torque, 0], rtol=1e-12)
     assert s.n_base == 0 and s.excitation.kind == "unbalance"
+
+
+def test_one_crank_model_for_time_domain_and_hbm():
+    """The harness's crank input and the studies' engine excitation are one model
+    (hbm.crank): the second-order Fourier coefficients of the time-domain force and
+    moment equal the HBM unbalance excitation at omega = 2 w (force: cosine, moment:
+    sine; the HBM applies both as one amplitude vector)."""
+    from vehicle.inputs import CrankInput
+
+    s = engine_excited(load_system("six_dof_original"))
+    inp = CrankInput(s, 3000.0)
+    assert inp.engine == ENGINE_EXCITATION
+    omega = 2 * inp.omega
+    n = 256
+    t = np.arange(n) / n * (2 * math.pi / inp.omega)  # one crank revolution
+    spec = np.fft.rfft(inp.force(t), axis=0) * 2 / n
+    z, beta = s.dof_names.index("z"), s.dof_names.index("beta")
+    f = s.excitation.force_amplitude(omega)
+    assert spec[2, z].real == pytest.approx(f[z], rel=RTOL_FFT)
+    assert -spec[2, beta].imag == pytest.approx(f[beta], rel=RTOL_FFT)
+    # the fourth order as hbm.crank states it
+    o4 = ENGINE_EXCITATION.orders()[1]
+    assert spec[4, z].real == pytest.approx(o4.force * inp.omega**2, rel=RTOL_FFT)
+    assert -spec[4, beta].imag == pytest.approx(o4.moment * inp.omega**2, rel=RTOL_FFT)
+    with pytest.raises(ValueError, match="`crank_radius` must be smaller than"):
+        CrankInput(s, 3000.0, R=0.2, l=0.1)
 
 
 def test_main_dispatch(monkeypatch, tmp_path, capsys):
