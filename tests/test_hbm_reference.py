@@ -12,7 +12,7 @@ import pytest
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
 from hbm.reference import periodic_response
-from vehicle.models import quarter_car, sdof
+from hbm.systems import quarter_car, sdof
 
 RTOL_HBM_VS_TIME = 5e-3  # the requirement; measured <= 7.2e-4 at H = 7 (peak)
 RTOL_REF_LINEAR = 1e-7   # reference on a linear system; measured 1.2e-8 (period tol)

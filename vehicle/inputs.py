@@ -32,7 +32,7 @@ Inputs
 Examples
 --------
 >>> from fmu_src.mount_law import AxisParameters, MountParameters
->>> from vehicle.models import quarter_car
+>>> from hbm.systems import quarter_car
 >>> mount = MountParameters.from_axial(AxisParameters(law="linear"))
 >>> qc = quarter_car(70, 230, 30, 15000, 1000, 200000, 0, mount, 0.01)
 >>> road = RandomRoad(qc, "C", speed=20.0, seed=1)
