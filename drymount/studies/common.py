@@ -253,10 +253,10 @@ def _cycle_work(u: np.ndarray, kf: float, fs: float) -> tuple[float, int]:
     for period in range(2):
         e_sum, n_slip = 0.0, 0
         for uk in u:
-            _, w_new, _, slipping = jenkins_update(float(uk), w, kf, fs)
-            e_sum += fs * abs(w_new - w)
-            n_slip += slipping
-            w = w_new
+            step = jenkins_update(float(uk), w, kf, fs)
+            e_sum += fs * abs(step.w_new - w)
+            n_slip += step.slipping
+            w = step.w_new
     return e_sum, n_slip
 
 
