@@ -52,6 +52,7 @@ import numpy as np
 
 from fmu_src.interface import parameter_unit
 from fmu_src.mount_law import AXES, ELASTIC_LAWS, LAWS, AxisParameters, MountParameters
+from hbm.options import HBMOptions
 from hbm.system import System
 
 if sys.version_info >= (3, 11):
@@ -184,12 +185,19 @@ class HBMSettings:
     ----------
     harmonics : int
         Number of harmonics H (1..MAX_HARMONICS); 1 is the thesis's single harmonic.
+        Default: ``hbm.HBMOptions``'s (the one source of the HBM defaults).
     n_samples : int or None
         AFT time samples per period (>= 2H + 1); None lets ``hbm`` choose.
     """
 
-    harmonics: int = 7
-    n_samples: int | None = None
+    harmonics: int = HBMOptions.harmonics
+    n_samples: int | None = HBMOptions.n_samples
+
+    def options(self, **overrides) -> HBMOptions:
+        """These settings as ``hbm.HBMOptions`` (other fields at their defaults or
+        ``overrides``)."""
+        return HBMOptions(harmonics=self.harmonics, n_samples=self.n_samples,
+                          **overrides)
 
 
 @dataclass(frozen=True)
@@ -214,12 +222,6 @@ class CosimSettings:
     freq_hz: float | None = None
     duration: float | None = None
     steps_per_period: int | None = None
-
-    def dt(self, freq_hz: float) -> float | None:
-        """Step size in s at ``freq_hz`` (None when ``steps_per_period`` is unset)."""
-        if self.steps_per_period is None:
-            return None
-        return 1.0 / (float(freq_hz) * self.steps_per_period)
 
 
 @dataclass(frozen=True, eq=False)
