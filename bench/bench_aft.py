@@ -183,7 +183,7 @@ def bench_aft(args, np):
     from hbm.aft import FourierBasis, aft_forces
     from hbm.elements import jenkins_periodic, nonlinear_axes
     from hbm.friction_march import resolve_backend
-    from vehicle.models import sdof
+    from hbm.systems import sdof
 
     p = AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True, kf=60000.0,
                        mu=1.0, n0=20.0)

@@ -25,11 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fmu_src.mount_law import LAW_CODES
 from hbm.elements import NonlinearAxes, elastic_remainder
 from hbm.friction_march import jenkins_aft
-
-LINEAR = LAW_CODES["linear"]
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 
@@ -98,7 +95,8 @@ def _plan(ax: NonlinearAxes) -> _Plan:
         plan = _Plan(fr, bool(np.array_equal(fr, np.arange(ax.n))),
                      np.ascontiguousarray(ax.kf[fr]), np.ascontiguousarray(ax.fs[fr]),
                      np.ascontiguousarray(ax.w_start[fr], dtype=float),
-                     bool(np.any(ax.law != LINEAR)))
+                     any(law.remainder is not None and bool(np.any(mask))
+                         for law, mask in ax.groups))
         _PLANS[ax] = plan
     return plan
 

@@ -11,7 +11,7 @@ from hbm.aft import FourierBasis, aft_forces
 from hbm.elements import jenkins_periodic, nonlinear_axes
 from hbm.friction_march import (BACKENDS, jenkins_jacobian, jenkins_march,
                                 resolve_backend)
-from vehicle.models import sdof
+from hbm.systems import sdof
 
 # Same operations on the same floats: measured 0.0 (bitwise); the bound is the brief's.
 ATOL_FORCE = 1e-12  # N
