@@ -283,9 +283,12 @@ def _run_cli(extra_env, tmp):
     env["PYTHONPATH"] = str(ROOT)
     before = os.times()
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "drymount.cli", "hbm", "six_dof_halved",
-                    "--quiet", "--out", str(Path(tmp) / "six.csv")], cwd=ROOT, env=env,
-                   check=True, stdout=subprocess.DEVNULL)
+    run = subprocess.run([sys.executable, "-m", "drymount.cli", "hbm",
+                          "six_dof_halved", "--quiet", "--out",
+                          str(Path(tmp) / "six.csv")], cwd=ROOT, env=env,
+                         capture_output=True, text=True)
+    if run.returncode != 0:
+        raise RuntimeError(f"drymount hbm failed ({run.returncode}): {run.stderr}")
     wall = time.perf_counter() - t0
     after = os.times()
     cpu = (after.children_user - before.children_user
