@@ -4,13 +4,15 @@ a ratio measured in the same run.
 
 1. AFT evaluation (forces and analytic Jacobian) of the single-DOF friction preset S1
    (linear mount 91 870 N/m, Jenkins kf 60 000 N/m, Fs 20 N) at H = 7 for N = 64, 256,
-   1024 samples: drymount's default path (numba when installed), its pure-NumPy path,
-   the old per-sample scalar march (``hbm.elements.jenkins_periodic``), and a C kernel
-   of the same algorithm compiled here with ``gcc -O3`` and timed inside C (a loop of
-   calls, no ctypes overhead; its dot products vectorised by gcc): the compiled
-   floor. Target: N = 1024 within 3x of the
-   floor; fixed overhead per call (the intercept at N = 0 of the line through the
-   three timings) under 15 us.
+   1024 samples: the march backends of ``hbm.friction_march`` (``numba``, the
+   default when installed; ``numpy``, the default without numba: the scalar march
+   below 400 samples x columns, else ``scan``; ``scan``, the pure-NumPy prefix scan),
+   the previous AFT (the per-sample scalar march ``hbm.elements.jenkins_periodic``),
+   and a C kernel of the same algorithm compiled here with ``gcc -O3`` and timed
+   inside C (a loop of calls, no ctypes overhead; its dot products vectorised by
+   gcc): the compiled floor. Target: N = 1024 within 3x of the floor; fixed overhead
+   per call (the intercept at N = 0 of the line through the three timings) under
+   15 us, for the default backend.
 2. ``python -m drymount.cli hbm six_dof_halved`` with the defaults against
    ``DRYMOUNT_THREADS=1`` (target: within 1.2x, wall and CPU); with
    ``--library-threads`` also the libraries' own threading
@@ -216,7 +218,7 @@ def bench_aft(args, np):
             b = FourierBasis(H, N)
             num = max(20, 20000 // N)
             times = {}
-            for backend in ("numba", "numpy"):
+            for backend in ("numba", "numpy", "scan"):
                 try:
                     resolve_backend(backend)
                 except ValueError:
@@ -247,9 +249,9 @@ def bench_aft(args, np):
 
 
 def _print_aft(np, rows, default):
-    names = [k for k in ("numba", "numpy", "scalar", "C") if k in rows[0][1]]
-    label = {"numba": "numba", "numpy": "NumPy", "scalar": "scalar(old)",
-             "C": "C floor"}
+    names = [k for k in ("numba", "numpy", "scan", "scalar", "C") if k in rows[0][1]]
+    label = {"numba": "numba", "numpy": "numpy", "scan": "scan",
+             "scalar": "scalar(old)", "C": "C floor"}
     print(f"{'N':>6s} " + " ".join(f"{label[k]:>12s}" for k in names)
           + f" {'default/C':>10s}")
     for N, t in rows:

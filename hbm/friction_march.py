@@ -29,11 +29,19 @@ the samples, the elements and any batch of motions (e.g. several frequency point
 :func:`jenkins_jacobian` gives the analytic AFT Jacobian of the friction forces from the
 stick flags and slip indices (a stuck sample depends on its last slip sample too).
 
-Backends: ``"numpy"`` (the array scan above; always available) and ``"numba"`` (the
-scalar algorithm compiled, :mod:`hbm.friction_march_numba`; with the optional ``fast``
-extra). Both equal the scalar march bit for bit. The default ``"auto"`` takes numba when
-it is installed; the environment variable ``DRYMOUNT_MARCH=numpy|numba|auto`` overrides
-it (read at import).
+Backends, all equal to the scalar march bit for bit:
+
+- ``"scan"``: the array scan above (pure NumPy);
+- ``"scalar"``: the scalar march per column (:func:`hbm.elements.jenkins_periodic`);
+- ``"numpy"``: ``"scalar"`` below :data:`SCAN_FROM` samples x columns, where its few
+  microseconds of fixed cost beat the scan's ~100 us (about 60 NumPy calls), else
+  ``"scan"`` (measured crossover ~400 on the 2-core development machine,
+  ``bench/bench_aft.py``);
+- ``"numba"``: the scalar algorithm compiled (:mod:`hbm.friction_march_numba`; the
+  optional ``fast`` extra), the fastest at every size.
+
+The default ``"auto"`` is ``"numba"`` when numba is installed, else ``"numpy"``; the
+environment variable ``DRYMOUNT_MARCH`` overrides it (read at import).
 """
 
 from __future__ import annotations
@@ -50,7 +58,9 @@ __all__ = ["BACKENDS", "JenkinsMarch", "jenkins_march", "jenkins_jacobian",
            "jenkins_aft", "resolve_backend"]
 
 #: Names of the march implementations.
-BACKENDS = ("numpy", "numba")
+BACKENDS = ("numpy", "numba", "scan", "scalar")
+#: Samples x columns from which the ``"numpy"`` backend scans instead of looping.
+SCAN_FROM = 400
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 
 
@@ -63,8 +73,8 @@ def resolve_backend(backend: str | None = None) -> str:
     if name == "auto":
         return "numba" if _HAVE_NUMBA else "numpy"
     if name not in BACKENDS:
-        raise ValueError(f"march `backend` (or $DRYMOUNT_MARCH) must be one of auto, "
-                         f"{', '.join(BACKENDS)}, got {name!r}")
+        raise ValueError(f"march `backend` (or $DRYMOUNT_MARCH) must be one of "
+                         f"auto, {', '.join(BACKENDS)}, got {name!r}")
     if name == "numba" and not _HAVE_NUMBA:
         raise ValueError("march backend 'numba' needs numba: pip install "
                          "'drymount[fast]' (or use 'numpy')")
@@ -210,6 +220,25 @@ def _march(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarray):
     return force, stuck, last, len(bad)
 
 
+def _march_scalar(u, kf, fs, w_start):
+    """The scalar march of every column of ``u`` (nb, N, C)."""
+    force = np.empty_like(u)
+    stuck = np.empty(u.shape, dtype=bool)
+    last = np.empty(u.shape, dtype=int)
+    for b in range(u.shape[0]):
+        for k in range(u.shape[2]):
+            force[b, :, k], stuck[b, :, k], last[b, :, k] = jenkins_periodic(
+                u[b, :, k], float(kf[k]), float(fs[k]), float(w_start[k]))
+    return force, stuck, last, 0
+
+
+def _march_numpy(u3, kf, fs, w_start, backend):
+    """The march of a NumPy backend (``numpy``, ``scan`` or ``scalar``)."""
+    if backend == "scalar" or (backend == "numpy" and u3.size < SCAN_FROM):
+        return _march_scalar(u3, kf, fs, w_start)
+    return _march(u3, kf, fs, w_start)
+
+
 def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
                   ) -> JenkinsMarch:
     """Periodic response of Jenkins elements, equal to the scalar march.
@@ -225,7 +254,7 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
         Slider position the first pass starts from, m (default 0); it only matters for
         an element that does not slip at both extrema.
     backend : str, optional
-        ``"numpy"``, ``"numba"`` or ``"auto"``; default: ``$DRYMOUNT_MARCH`` or auto,
+        One of :data:`BACKENDS` or ``"auto"``; default: ``$DRYMOUNT_MARCH`` or auto,
         resolved at import (:func:`resolve_backend`).
 
     Returns
@@ -254,7 +283,7 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
         force, stuck, last = friction_march_numba.march(u3, kf, fs, w_start)
         n_bad = 0
     else:
-        force, stuck, last, n_bad = _march(u3, kf, fs, w_start)
+        force, stuck, last, n_bad = _march_numpy(u3, kf, fs, w_start, backend)
     return JenkinsMarch(force.reshape(shape), stuck.reshape(shape),
                         last.reshape(shape), n_bad, backend)
 
@@ -331,7 +360,7 @@ def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarr
         force, Z = friction_march_numba.march_and_samples(u3, kf, fs, w_start, E)
         dF = P @ Z
         return force.reshape(shape), dF.reshape(*shape[:-2], *dF.shape[-3:])
-    force, stuck, last, n_bad = _march(u3, kf, fs, w_start)
+    force, stuck, last, n_bad = _march_numpy(u3, kf, fs, w_start, backend)
     march = JenkinsMarch(force.reshape(shape), stuck.reshape(shape),
                          last.reshape(shape), n_bad, backend)
     return march.force, (jenkins_jacobian(march, kf, E, P) if jacobian else None)

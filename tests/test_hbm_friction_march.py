@@ -19,7 +19,7 @@ ATOL_JAC = 1e-12  # relative to the largest Jacobian entry; measured 0.0
 
 HAVE_NUMBA = "numba" in {resolve_backend("auto")}
 backends = pytest.mark.parametrize("backend", [
-    "numpy", pytest.param("numba", marks=pytest.mark.skipif(
+    "scan", "numpy", pytest.param("numba", marks=pytest.mark.skipif(
         not HAVE_NUMBA, reason="numba not installed: pip install 'drymount[fast]'"))])
 
 
@@ -78,7 +78,7 @@ def test_march_equals_scalar_march(backend, regime, shape, N):
 @backends
 def test_march_tie_at_the_slip_threshold_falls_back_to_the_scalar_march(backend):
     """A slip decision within round-off: the scan (w < u - eps) and the scalar map
-    (kf (u - w) > Fs) disagree; the NumPy path detects it and re-marches that column."""
+    (kf (u - w) > Fs) disagree; the scan detects it and re-marches that column."""
     kf, fs = 60000.0, 20.0
     w0 = -0.0002439722018352235
     u0 = 8.936113149810985e-05  # u0 - eps > w0 but kf (u0 - w0) <= fs (found by search)
@@ -88,7 +88,7 @@ def test_march_tie_at_the_slip_threshold_falls_back_to_the_scalar_march(backend)
     f_ref, stuck_ref, last_ref = _reference(u, [kf], [fs], [w0])
     assert np.array_equal(m.force, f_ref) and np.array_equal(m.stuck, stuck_ref)
     assert np.array_equal(m.last_slip, last_ref)
-    assert m.n_fallback == (1 if backend == "numpy" else 0)
+    assert m.n_fallback == (1 if backend == "scan" else 0)
 
 
 def _jacobian_reference(u, kf, fs, E, P):
@@ -134,7 +134,7 @@ def test_numba_backend_equals_numpy_backend_in_the_aft():
     b = FourierBasis(7, 64)
     u = b.E @ (rng.normal(size=(8, 15, 2)) * 1e-3)
     kf, fs = np.array([6e4, 6e4]), np.array([20.0, 60.0])
-    m1 = jenkins_march(u, kf, fs, backend="numpy")
+    m1 = jenkins_march(u, kf, fs, backend="scan")
     m2 = jenkins_march(u, kf, fs, backend="numba")
     assert np.array_equal(m1.force, m2.force)
     assert np.array_equal(jenkins_jacobian(m1, kf, b.E, b.P),
@@ -148,4 +148,4 @@ def test_bad_input_names_the_field():
         jenkins_march(np.zeros((8, 2)), [1.0], [1.0])
     with pytest.raises(ValueError, match="must be one of auto, numpy, numba"):
         resolve_backend("fortran")
-    assert set(BACKENDS) == {"numpy", "numba"}
+    assert set(BACKENDS) == {"numpy", "numba", "scan", "scalar"}
