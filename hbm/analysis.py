@@ -186,7 +186,9 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int):
 
     The eigenvalue problem is solved at every ``stride``-th point, at both ends and
     on both sides of every sign change of ``det J`` (folds, branch points: a real
-    Floquet exponent crosses zero there). Between two such points with the same
+    Floquet exponent crosses zero there); where two of these points have different
+    verdicts, also at every ``stride // 4``-th point of that interval and of its
+    two neighbours (changes cluster). Between two evaluated points with the same
     verdict, and no sign change of ``det J``, the verdict is carried over; where the
     verdicts differ the change is located by bisection (a complex pair crossing,
     which leaves ``det J`` alone); where ``det J`` changes sign every point between
@@ -235,6 +237,18 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int):
     for i in sorted(key):
         evaluate(i)
     keys = sorted(key)
+    fine = max(1, stride // 4)
+    if fine < stride:
+        # near a change of verdict (in that interval and its neighbours) changes
+        # cluster (short islands of instability): evaluate every `fine`-th point there
+        extra = set()
+        for k in range(len(keys) - 1):
+            if stable[keys[k]] != stable[keys[k + 1]]:
+                for kk in range(max(0, k - 1), min(len(keys) - 1, k + 2)):
+                    extra |= set(range(keys[kk], keys[kk + 1], fine))
+        for i in sorted(extra):
+            evaluate(i)
+        keys = sorted(key | extra)
     for a, b in zip(keys[:-1], keys[1:], strict=True):
         if np.all(sign[a:b + 1] == sign[a]):
             bisect(a, b)
