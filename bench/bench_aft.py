@@ -24,7 +24,11 @@ a ratio measured in the same run.
 Timings are process (CPU) time, best of ``--repeat`` batches, so that other processes
 on a shared machine disturb them less; wall times are printed for the CLI runs.
 
-Run: ``python bench/bench_aft.py [--repeat 7] [--skip-cli] [--library-threads]``
+With ``--scaling`` it prints instead how the costs scale with H, N, DOFs and points
+(the tables of docs/performance.md).
+
+Run: ``python bench/bench_aft.py [--repeat 7] [--skip-cli] [--library-threads]
+[--scaling]``
 """
 
 from __future__ import annotations
@@ -118,6 +122,8 @@ def _parse():
     ap.add_argument("--skip-cli", action="store_true", help="skip item 2")
     ap.add_argument("--library-threads", action="store_true",
                     help="also time the CLI with the libraries' own threading")
+    ap.add_argument("--scaling", action="store_true",
+                    help="only print how the costs scale with H, N, DOFs and points")
     return ap.parse_args()
 
 
@@ -376,6 +382,55 @@ def bench_stability(args, np):
           f"({'met' if share < TARGET_STABILITY_SHARE else 'NOT met'})")
 
 
+def bench_scaling(args, np):
+    """How the AFT, the Hill problem and whole curves scale (docs/performance.md)."""
+    import scipy.linalg
+
+    import hbm
+    from drymount.config import resolve_config
+    from fmu_src.mount_law import AxisParameters, MountParameters
+    from hbm.aft import FourierBasis, aft_forces, default_n_samples
+    from hbm.elements import nonlinear_axes
+    from hbm.systems import sdof
+
+    rep = max(3, min(args.repeat, 5))
+    p = AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True, kf=60000.0,
+                       mu=1.0, n0=20.0)
+    ax = nonlinear_axes(sdof(70.0, MountParameters(axial=p), "force", 40.0))
+    rng = np.random.default_rng(0)
+    print("\nAFT of S1 (default backend), us per call, against H and N; and a batch of "
+          "P frequency points in one call (us per point)")
+    print(f"{'H':>3s} {'N':>5s} {'1 point':>9s} {'P=30, /pt':>10s}")
+    for H in (1, 3, 7, 15):
+        for N in sorted({default_n_samples(H), 256, 1024}):
+            b = FourierBasis(H, N)
+            U = rng.normal(size=(30, 2 * H + 1, 1)) * 1e-3
+            t1 = _cpu(lambda b=b, U=U: aft_forces(U[0], ax, b), 200, rep)
+            t30 = _cpu(lambda b=b, U=U: aft_forces(U, ax, b), 20, rep) / 30
+            print(f"{H:3d} {N:5d} {1e6 * t1:9.1f} {1e6 * t30:10.1f}")
+    print("\nHill eigenvalue problem (dense, 2 n (2H+1) square), ms per point")
+    for n in (1, 2, 6):
+        for H in (1, 3, 5, 7):
+            size = 2 * n * (2 * H + 1)
+            A = rng.normal(size=(size, size))
+            t = _cpu(lambda A=A: scipy.linalg.eigvals(A, check_finite=False), 5, rep)
+            print(f"   n = {n}, H = {H:2d}: size {size:4d}  {1e3 * t:8.2f} ms")
+    print("\nWhole curves (default options), CPU s, points, ms per point")
+    for name, H in (("sdof_halved", 1), ("sdof_halved", 7), ("quarter_car_halved", 7),
+                    ("six_dof_halved", 3), ("six_dof_halved", 5),
+                    ("six_dof_halved", 7)):
+        cfg = resolve_config(name)
+        runs = []
+        for _ in range(max(1, min(args.repeat, 3))):
+            t0 = time.process_time()
+            fr = hbm.frequency_response(cfg.system, cfg.sweep.fmin_hz,
+                                        cfg.sweep.fmax_hz, harmonics=H)
+            runs.append(time.process_time() - t0)
+        t = min(runs)
+        print(f"   {name:20s} H = {H}: {t:6.2f} s, {len(fr.freq_hz):4d} points, "
+              f"{1e3 * t / len(fr.freq_hz):6.2f} ms per point")
+
+
 def main():
     args = _parse()
     # this process: one BLAS thread, as the CLI (set before NumPy loads)
@@ -385,6 +440,9 @@ def main():
     import numpy as np
 
     print(f"python {sys.version.split()[0]}, numpy {np.__version__}, {_load()}")
+    if args.scaling:
+        bench_scaling(args, np)
+        return
     bench_aft(args, np)
     if not args.skip_cli:
         bench_cli(args)
