@@ -6,7 +6,7 @@ a ratio measured in the same run.
    (linear mount 91 870 N/m, Jenkins kf 60 000 N/m, Fs 20 N) at H = 7 for N = 64, 256,
    1024 samples: the march backends of ``hbm.friction_march`` (``numba``, the
    default when installed; ``numpy``, the default without numba: the scalar march
-   below 400 samples x columns, else ``scan``; ``scan``, the pure-NumPy prefix scan),
+   below 192 samples x columns, else ``scan``; ``scan``, the pure-NumPy prefix scan),
    the previous AFT (the per-sample scalar march ``hbm.elements.jenkins_periodic``),
    and a C kernel of the same algorithm compiled here with ``gcc -O3`` and timed
    inside C (a loop of calls, no ctypes overhead; its dot products vectorised by

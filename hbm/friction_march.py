@@ -35,7 +35,7 @@ Backends, all equal to the scalar march bit for bit:
 - ``"scalar"``: the scalar march per column (:func:`hbm.elements.jenkins_periodic`);
 - ``"numpy"``: ``"scalar"`` below :data:`SCAN_FROM` samples x columns, where its few
   microseconds of fixed cost beat the scan's ~100 us (about 60 NumPy calls), else
-  ``"scan"`` (measured crossover ~400 on the 2-core development machine,
+  ``"scan"`` (measured crossover ~170-190 on the 2-core development machine,
   ``bench/bench_aft.py``);
 - ``"numba"``: the scalar algorithm compiled (:mod:`hbm.friction_march_numba`; the
   optional ``fast`` extra), the fastest at every size.
@@ -60,7 +60,7 @@ __all__ = ["BACKENDS", "JenkinsMarch", "jenkins_march", "jenkins_jacobian",
 #: Names of the march implementations.
 BACKENDS = ("numpy", "numba", "scan", "scalar")
 #: Samples x columns from which the ``"numpy"`` backend scans instead of looping.
-SCAN_FROM = 400
+SCAN_FROM = 192
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 
 
