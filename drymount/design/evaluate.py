@@ -163,7 +163,12 @@ def evaluate_design(doc: dict, space: DesignSpace, index: int, values, *,
     except (ConfigError, PathError) as exc:
         msg = "; ".join(exc.problems) if isinstance(exc, ConfigError) else str(exc)
         return DesignResult(index, values, nan_o, nan_c, DesignStatus.INVALID, msg)
-    fr = hbm.frequency_response(cfg.system, *space.band_hz, harmonics=space.harmonics)
+    try:
+        fr = hbm.frequency_response(cfg.system, *space.band_hz,
+                                    harmonics=space.harmonics)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        return DesignResult(index, values, nan_o, nan_c, DesignStatus.FAILED,
+                            f"harmonic balance raised {type(exc).__name__}: {exc}")
     objectives = tuple(metric_value(o, fr, cfg.system) for o in space.objectives)
     margins = tuple(_box_margin(c, new) if isinstance(c, BoxConstraint)
                     else c.limit - metric_value(c, fr, cfg.system)

@@ -39,7 +39,8 @@ class ExploreResult:
     resumed : int
         Designs read back from an existing table.
     seconds : float
-        Wall time of this run.
+        Wall time of this run's designs, from the moment the backend was up (process
+        pool or cluster start-up excluded).
     files : tuple of Path
     """
 
@@ -79,17 +80,17 @@ def explore(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = None
     X = sample(space)
     todo = [(i, tuple(x)) for i, x in enumerate(X) if i not in have]
     table = ResultsTable(table_path, space, cfg.source, fp, done)
-    t0 = time.perf_counter()
     try:
         with Runner(backend) as runner, _bar(len(X), len(done), progress) as bar:
+            t0 = time.perf_counter()  # after the pool / cluster started
             tasks = chunks(space, cfg.data, cfg.source, cfg.name, todo)
             for results in runner.as_completed(evaluate_chunk, tasks):
                 table.add(results)
                 bar.update(len(results))
     finally:
         table.close()
-    results: list[DesignResult] = table.finish()
     seconds = time.perf_counter() - t0
+    results: list[DesignResult] = table.finish()
     res = ExploreResult(results, len(done), seconds, ())
     plot = out / PLOT_NAME
     plot_front(space, results, plot, f"{cfg.name}: {len(results)} designs, "

@@ -100,7 +100,8 @@ def summary_markdown(space: DesignSpace, results: list[DesignResult], info: dict
              f"{len(results)} designs (seed {space.seed}); HBM with H = "
              f"{space.harmonics} over {space.band_hz[0]:g}-{space.band_hz[1]:g} Hz per "
              f"design; backend: {info['backend']}; {info['seconds']:.1f} s "
-             f"({info['rate']:.3g} designs/s this run).", "",
+             f"({info['rate']:.3g} designs/s this run, after the backend's "
+             f"start-up).", "",
              "Variables: " + "; ".join(
                  f"`{v.name}` in " + (str(list(v.values)) if v.is_list
                                       else f"[{v.lower:g}, {v.upper:g}]")

@@ -15,7 +15,7 @@ import numpy as np
 
 from drymount.design.space import ROTATIONS, apply_values
 
-__all__ = ["write_report", "compare_designs"]
+__all__ = ["write_report", "compare_designs", "reproduce_options"]
 
 
 def compare_designs(cfg, space, values):
@@ -81,6 +81,24 @@ def _plot_convergence(res, j_sign, path, title: str, unit: str) -> None:
     save_figure(fig, path)
 
 
+def reproduce_options(doc: dict, space, values) -> str:
+    """``--set`` options giving the design ``values`` (a rotation variable as the
+    turned ``orientation`` rows, rounded to 9 digits)."""
+    from drymount.paths import expand, format_parts, get_value
+
+    new = apply_values(doc, space.variables, values)
+    opts = {}
+    for v, x in zip(space.variables, values, strict=True):
+        for parts in expand(new, v.path):
+            if v.rotate_about is None:
+                opts[format_parts(parts)] = f"{x:.9g}"
+            else:
+                rows = np.round(np.asarray(get_value(new, parts)), 9) + 0.0
+                opts[format_parts(parts)] = "[" + ", ".join(
+                    "[" + ", ".join(f"{a:.9g}" for a in r) + "]" for r in rows) + "]"
+    return " ".join(f"--set '{k}={val}'" for k, val in opts.items())
+
+
 def _dof_scale(system) -> tuple[float, str]:
     """Divisor and label making amplitudes transmissibilities: the base amplitude
     (m) for a base input; 1 otherwise (amplitudes in m or rad)."""
@@ -132,9 +150,7 @@ def write_report(cfg, space, res, out, backend) -> None:
     _plot_response(before, after, out / "response.png",
                    f"{cfg.name}: fundamental amplitude per DOF, as written vs "
                    f"optimum (HBM, H = {space.harmonics})")
-    sets = " ".join(f"--set '{v.path}={x:.6g}'" for v, x in
-                    zip(space.variables, res.best.values, strict=True)
-                    if v.rotate_about is None)
+    sets = reproduce_options(cfg.data, space, res.best.values)
     lines = [f"# Optimisation: {cfg.name}", "",
              f"Minimised `{o.name}` ({o.sense}, {o.quantity.value}, {o.measure.value}"
              f" over {o.band_hz[0]:g}-{o.band_hz[1]:g} Hz) by differential evolution "
@@ -147,8 +163,8 @@ def write_report(cfg, space, res, out, backend) -> None:
     lines += _table_before_after(space, base, res.best) + [""]
     lines += _table_dofs(before, after, cfg.system)
     if sets:
-        lines += ["", "Reproduce (the variables set by path; rotations are not a "
-                      "single field):", "", f"    drymount hbm {cfg.source} {sets}"]
+        lines += ["", "Reproduce (a turned mount's orientation as its three rows):", "",
+                  f"    drymount hbm {cfg.source} {sets}"]
     lines += ["", "![convergence](convergence.png)", "",
               "![response](response.png)", ""]
     atomic_write_text(out / "summary.md", "\n".join(lines))
