@@ -28,7 +28,8 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 __all__ = ["WILDCARD", "FieldPath", "PathError", "parse_path", "expand", "get_value",
-           "set_value", "format_parts", "parse_assignment", "apply_overrides", "load_with_overrides"]
+           "set_value", "format_parts", "parse_assignment", "apply_overrides",
+           "load_with_overrides"]
 
 #: The ``[*]`` part of a path: every item of an array.
 WILDCARD = "*"
