@@ -138,6 +138,33 @@ quantity = "force"
         design_space(load_config(text))
 
 
+@pytest.mark.parametrize("name, n_variables", [("sdof_n0.toml", 2),
+                                               ("six_dof_layout.toml", 12)])
+def test_the_shipped_examples_check(name, n_variables):
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "design" / name
+    space = design_space(load_config(path))
+    assert len(space.variables) == n_variables
+
+
+@pytest.mark.slow
+def test_six_dof_layout_optimisation_runs_from_the_cli(tmp_path, capsys):
+    """A small 6-DOF layout run (48 designs, ~1 min): the CLI path of results.md."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "examples" / "design" / \
+        "six_dof_layout.toml"
+    code = cli.main(["optimize", str(path), "--popsize", "2", "--maxiter", "1",
+                     "--polish", "0", "--seed", "1", "-q", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert code in (0, 1) and "best peak_T" in out
+    summary = (tmp_path / "summary.md").read_text()
+    for dof in ("x", "y", "z", "alpha", "beta", "gamma"):
+        assert f"| {dof} |" in summary
+    assert "margin `alpha_max`" in summary
+
+
 def test_a_config_without_design_says_so():
     with pytest.raises(ConfigError, match="`design` must be a table"):
         design_space(load_config(preset_text("sdof_halved")))
