@@ -329,13 +329,13 @@ def test_dask_missing_says_how_to_install(monkeypatch, tmp_path, capsys):
 def _study_optimum() -> tuple[float, float]:
     """The optimize-n0 study's minimiser (halved mount, peak objective, H = 1) with
     its bounded search tightened to 0.01 N."""
-    from drymount import studies
+    from drymount.studies import load_system, optimize_n0, with_friction_of
 
-    halved = studies.load_system("sdof_halved")
-    system = studies.with_friction_of(halved, halved)
-    obj = studies._Objective(system, "peak", 1, [])
-    grid = np.linspace(*studies.OPT_N0_BOUNDS, studies.OPT_GRID_POINTS)
-    return studies._minimise(obj, grid, 0.01)
+    halved = load_system("sdof_halved")
+    obj = optimize_n0._Objective(with_friction_of(halved, halved), "peak", 1, [])
+    grid = np.linspace(*optimize_n0.OPT_N0_BOUNDS, optimize_n0.OPT_GRID_POINTS)
+    best = optimize_n0._minimise(obj, grid, 0.01)
+    return best.n0, best.value
 
 
 def test_optimizer_recovers_the_study_n0_optimum(tmp_path):

@@ -14,7 +14,8 @@ from __future__ import annotations
 import difflib
 import math
 
-from drymount.config import MAX_HARMONICS, Config, ConfigError, config_from_dict
+from drymount.config import Config, ConfigError, config_from_dict
+from drymount.config.schema import MAX_HARMONICS
 from drymount.design.space import (
     AXES,
     DEFAULT_CHUNK,

@@ -225,7 +225,7 @@ def apply_values(doc: dict, variables, values) -> dict:
     vectors in body axes) by the angle about the body axis: ``O' = O R^T``, starting
     from the file's orientation or the model's default (axial = z).
     """
-    from vehicle.models import DEFAULT_ORIENTATION
+    from hbm.systems import DEFAULT_ORIENTATION
 
     new = copy.deepcopy(doc)
     for var, x in zip(variables, values, strict=True):
