@@ -362,7 +362,12 @@ def _info(msg: str) -> None:
 def _load(spec, overrides=()):
     from drymount.paths import load_with_overrides
 
-    return load_with_overrides(spec, overrides or ())
+    cfg = load_with_overrides(spec, overrides or ())
+    if "design" in cfg.data:  # part of the file: every command checks it
+        from drymount.design import design_space
+
+        design_space(cfg)
+    return cfg
 
 
 def _write_with(path: Path, writer) -> Path:

@@ -378,3 +378,11 @@ def test_cli_optimize_with_constraint_and_unknown_objective(tmp_path, capsys):
     assert code == 0 and "feasible True" in out
     summary = (tmp_path / "o" / "summary.md").read_text()
     assert "margin `x_max`" in summary
+
+
+def test_every_command_checks_the_design_section(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(preset_text("sdof_halved") + DESIGN_SDOF.format(samples=4).replace(
+        'dof = "x"', 'dof = "q"'))
+    assert cli.main(["hbm", str(bad), "-H", "1", "-q"]) == 2
+    assert "`design.constraints[0].dof` must be one of x" in capsys.readouterr().err

@@ -125,12 +125,6 @@ class Runner:
         if self._cluster is not None:
             self._cluster.close()
 
-    @property
-    def n_workers(self) -> int:
-        if self._client is not None:
-            return max(len(self._client.scheduler_info().get("workers", {})), 1)
-        return self.spec.workers
-
     def as_completed(self, fn: Callable, items: Sequence) -> Iterator:
         """``fn(item)`` for every item, yielded as each finishes (any order)."""
         if self._pool is not None:

@@ -80,13 +80,15 @@ def explore(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = None
     X = sample(space)
     todo = [(i, tuple(x)) for i, x in enumerate(X) if i not in have]
     table = ResultsTable(table_path, space, cfg.source, fp, done)
+    t0 = time.perf_counter()
     try:
-        with Runner(backend) as runner, _bar(len(X), len(done), progress) as bar:
-            t0 = time.perf_counter()  # after the pool / cluster started
-            tasks = chunks(space, cfg.data, cfg.source, cfg.name, todo)
-            for results in runner.as_completed(evaluate_chunk, tasks):
-                table.add(results)
-                bar.update(len(results))
+        if todo:  # a complete table needs no pool or cluster
+            with Runner(backend) as runner, _bar(len(X), len(done), progress) as bar:
+                t0 = time.perf_counter()  # after the pool / cluster started
+                tasks = chunks(space, cfg.data, cfg.source, cfg.name, todo)
+                for results in runner.as_completed(evaluate_chunk, tasks):
+                    table.add(results)
+                    bar.update(len(results))
     finally:
         table.close()
     seconds = time.perf_counter() - t0
