@@ -276,6 +276,10 @@ def load_with_overrides(spec, overrides: Sequence = ()):
     data, problems = apply_overrides(cfg.data, overrides)
     source = f"{cfg.source} with --set " + " ".join(
         o if isinstance(o, str) else f"{o[0]}={o[1]!r}" for o in overrides)
+    try:
+        out = config_from_dict(data, source=source, name=cfg.name)
+    except ConfigError as exc:  # every problem at once: the paths' and the values'
+        raise ConfigError(problems + exc.problems, source) from None
     if problems:
         raise ConfigError(problems, source)
-    return config_from_dict(data, source=source, name=cfg.name)
+    return out

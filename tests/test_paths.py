@@ -141,3 +141,12 @@ def test_rotation_variable_turns_the_mount_axes():
     # x -> -z (right-handed rotation), y stays
     np.testing.assert_allclose(rows, [[1, 0, 0], [0, 0, -1], [0, 1, 0]], atol=1e-15)
     assert "orientation" not in doc["mounts"][0]
+
+
+def test_path_and_value_problems_are_listed_together():
+    with pytest.raises(ConfigError) as info:
+        load_with_overrides("six_dof_halved", ["mounts[5].axial.k1=1",
+                                               "rigid_engine.mass=-3"])
+    assert len(info.value.problems) == 2
+    assert "mounts[5]" in info.value.problems[0]
+    assert "rigid_engine.mass" in info.value.problems[1]
