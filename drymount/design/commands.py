@@ -38,6 +38,9 @@ def add_commands(sub, add, config_arg, int_at_least) -> None:
     config_arg(p)
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default: explore-<name>)")
+    p.add_argument("--cosim-check", type=int_at_least(0), default=0, metavar="K",
+                   help="co-simulate the K best feasible designs against their HBM "
+                        "curves (OUT/cosim_check.csv)")
     _backend_args(p, int_at_least)
     p = add(sub, "optimize", "differential evolution on the [design] space",
             """\
@@ -89,7 +92,8 @@ def cmd_explore(args, load, usage_error) -> int:
     print(f"{cfg.name}: {space.size()} designs ({space.method.value}), "
           f"{len(space.variables)} variables, on {backend.describe()}", file=sys.stderr)
     try:
-        res = explore(cfg, space, out, backend, progress=not args.quiet)
+        res = explore(cfg, space, out, backend, progress=not args.quiet,
+                      check_best=args.cosim_check)
     except (BackendError, TableError) as exc:
         raise usage_error(str(exc)) from None
     n_ok = sum(r.status.value == "ok" for r in res.results)

@@ -26,6 +26,7 @@ __all__ = ["ExploreResult", "explore", "TABLE_NAME", "PLOT_NAME", "SUMMARY_NAME"
 TABLE_NAME = "designs.csv"
 PLOT_NAME = "pareto.png"
 SUMMARY_NAME = "summary.md"
+CHECK_NAME = "cosim_check.csv"
 
 
 @dataclass(frozen=True)
@@ -64,12 +65,14 @@ def chunks(space: DesignSpace, doc: dict, source: str, name: str, todo) -> list[
 
 
 def explore(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = None,
-            progress: bool = True) -> ExploreResult:
+            progress: bool = True, check_best: int = 0) -> ExploreResult:
     """Evaluate every design of ``space`` for configuration ``cfg`` (module docstring).
 
     An existing ``designs.csv`` of the same configuration and space is resumed: its
     rows are kept and only the missing designs run. A table of another exploration
     raises :class:`drymount.design.table.TableError` (nothing is overwritten).
+    ``check_best`` > 0 co-simulates that many of the best feasible designs
+    (:mod:`drymount.design.cosim_check`) into ``cosim_check.csv`` and the summary.
     """
     backend = backend or BackendSpec()
     out = Path(out_dir)
@@ -99,12 +102,29 @@ def explore(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = None
                                      f"{space.method.value} sample")
     info = {"name": cfg.name, "source": cfg.source, "backend": backend.describe(),
             "seconds": seconds, "rate": res.rate, "table": TABLE_NAME,
-            "plot": PLOT_NAME}
+            "plot": PLOT_NAME, "checks": []}
+    files = [table_path, plot, out / SUMMARY_NAME]
+    if check_best > 0:
+        info["checks"] = _checks(cfg, space, results, check_best, out, progress)
+        files.append(out / CHECK_NAME)
     from drymount.io import atomic_write_text
 
     atomic_write_text(out / SUMMARY_NAME, summary_markdown(space, results, info))
-    return ExploreResult(results, len(done), seconds,
-                         (table_path, plot, out / SUMMARY_NAME))
+    return ExploreResult(results, len(done), seconds, tuple(files))
+
+
+def _checks(cfg, space, results, k: int, out: Path, progress: bool) -> list:
+    from dataclasses import astuple, fields
+
+    from drymount.design.cosim_check import CheckResult, cosim_check
+    from drymount.io import write_csv
+
+    checks = cosim_check(cfg, space, results, k, progress)
+    write_csv(out / CHECK_NAME, [f.name for f in fields(CheckResult)],
+              [astuple(c) for c in checks],
+              comment="co-simulated check of the best designs: max_error = largest "
+                      "|cosim - HBM| fundamental amplitude / the DOF's HBM peak [-]")
+    return checks
 
 
 def _bar(total: int, initial: int, progress: bool):

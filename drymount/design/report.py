@@ -81,6 +81,21 @@ def _md_table(header, rows) -> str:
     return "\n".join(lines)
 
 
+def _checks_markdown(checks, space: DesignSpace) -> list[str]:
+    if not checks:
+        return []
+    o = space.objectives[0]
+    rows = [[c.index, c.objective, 100 * c.max_error, c.worst, c.converged,
+             c.seconds] for c in checks]
+    return ["", f"## Co-simulated check of the {len(checks)} best designs", "",
+            f"Stepped-sine sweep (in-process mount law) over {o.band_hz[0]:g}-"
+            f"{o.band_hz[1]:g} Hz against the HBM solution of the same branch (H = "
+            f"{space.harmonics}); error = |co-simulated - HBM| fundamental amplitude "
+            f"over the DOF's HBM peak, on stable points.", "",
+            _md_table(["design", f"{o.name} [{o.unit}]", "max error [%]", "where",
+                       "converged", "seconds"], rows)]
+
+
 def summary_markdown(space: DesignSpace, results: list[DesignResult], info: dict
                      ) -> str:
     """The Markdown summary: the space, counts by status, best design per objective
@@ -118,6 +133,7 @@ def summary_markdown(space: DesignSpace, results: list[DesignResult], info: dict
                          f"{unit} at design {pick.index}: " + ", ".join(
                              f"{n} = {v:.5g}" for n, v in
                              zip(names["variables"], pick.values, strict=True)))
+    lines += _checks_markdown(info.get("checks", []), space)
     shown = [r for r, m in zip(results, front, strict=True) if m][:SUMMARY_ROWS]
     lines += ["", f"## Pareto front ({int(front.sum())} designs)", "",
               _md_table(head, [row(r) for r in shown]), "",
