@@ -33,7 +33,7 @@ from drymount.design.table import TableError
 RTOL_N0_OPTIMUM = 0.01
 #: H = 1 against co-simulation for the best designs of the test space: the single
 #: harmonic misses the higher harmonics of stick-slip (the validation with H = 1 shows
-#: a few % on lightly damped friction systems). Measured 0.24 % and 0.30 % of peak.
+#: a few % on lightly damped friction systems). Measured 0.24 % of peak.
 RTOL_H1_COSIM = 0.02
 #: The trapezoid RMS of a straight line on the RMS grid against the exact integral:
 #: the error of the trapezoid rule on f^2 with 400 intervals is ~1e-6 relative.
@@ -397,16 +397,16 @@ def test_cosim_check_of_the_best_designs(tmp_path):
     amplitude of the same branch agrees with the time-domain steady state within
     RTOL_H1_COSIM of the peak."""
     cfg = sdof_config(samples=8)
-    res = explore(cfg, design_space(cfg), tmp_path, progress=False, check_best=2)
+    res = explore(cfg, design_space(cfg), tmp_path, progress=False, check_best=1)
     import csv
 
     with open(tmp_path / "cosim_check.csv") as fh:
         rows = list(csv.DictReader(ln for ln in fh if not ln.startswith("#")))
-    assert len(rows) == 2
+    assert len(rows) == 1
     for row in rows:
         assert row["converged"] == "1"
         assert 0 < float(row["max_error"]) < RTOL_H1_COSIM, row
-    assert "Co-simulated check of the 2 best designs" in (
+    assert "Co-simulated check of the 1 best designs" in (
         tmp_path / "summary.md").read_text()
     best = sorted((r for r in res.results if r.feasible), key=lambda r: r.objectives[0])
-    assert [int(r["index"]) for r in rows] == [r.index for r in best[:2]]
+    assert [int(r["index"]) for r in rows] == [r.index for r in best[:1]]

@@ -6,7 +6,8 @@ into their lists (``integrality``). Constraints enter as a penalty that puts eve
 infeasible design behind every feasible one (Deb's feasibility rule, as a scalar):
 
     f(x) = objective                          (status ok, every margin >= 0)
-    f(x) = PENALTY + sum(max(0, -margin_k) / scale_k)   (violated constraints)
+    f(x) = PENALTY + sum(max(0, -margin_k) / scale_k)   (violated constraints;
+                                            scale = |max|, 1 mm for a box)
     f(x) = 2 PENALTY                          (invalid configuration, failed curve)
 
 so that :func:`scipy.optimize.differential_evolution` can evaluate a whole generation
