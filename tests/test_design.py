@@ -358,9 +358,8 @@ name = "peak_T"
 quantity = "transmissibility"
 """
     cfg = sdof_config(design=text)
-    res = optimize(cfg, design_space(cfg), tmp_path,
-                   settings=OptimizeSettings(popsize=6, maxiter=12,
-                                             polish_maxfev=40),
+    settings = OptimizeSettings(popsize=6, maxiter=12, polish_maxfev=40)
+    res = optimize(cfg, design_space(cfg), tmp_path, settings=settings,
                    progress=False)
     n0_ref, value_ref = _study_optimum()
     assert res.best.values[0] == pytest.approx(n0_ref, rel=RTOL_N0_OPTIMUM)
@@ -369,6 +368,10 @@ quantity = "transmissibility"
     assert len(history) == 2 + res.n_evaluations
     assert {ln.split(",")[0] for ln in history[2:]} == {"de", "polish"}
     assert "Reproduce" in (tmp_path / "summary.md").read_text()
+    # the same seed on 2 local processes: the same history, row for row
+    optimize(cfg, design_space(cfg), tmp_path / "w2", parse_backend(2),
+             settings=settings, progress=False)
+    assert (tmp_path / "w2" / "history.csv").read_text() == "\n".join(history) + "\n"
 
 
 def test_cli_optimize_with_constraint_and_unknown_objective(tmp_path, capsys):

@@ -103,11 +103,13 @@ class _Problem:
         self.phase = "de"
         self.scale = [max(abs(getattr(c, "limit", 0.0)), 1e-12) if math.isfinite(
             getattr(c, "limit", math.nan)) else 1e-3 for c in space.constraints]
+        self.path = path
+        self._head = (f"# drymount optimize of {cfg.source}: every evaluation; "
+                      f"objective {space.objectives[j].name} "
+                      f"({space.objectives[j].sense}); design = evaluation number\n")
         self._fh = open(path, "w", encoding="utf-8", newline="")
         self._w = csv.writer(self._fh, lineterminator="\n")
-        self._fh.write(f"# drymount optimize of {cfg.source}: every evaluation; "
-                       f"objective {space.objectives[j].name} "
-                       f"({space.objectives[j].sense}); design = evaluation number\n")
+        self._fh.write(self._head)
         self._w.writerow(["phase", *columns(space)])
         from tqdm import tqdm
 
@@ -151,7 +153,20 @@ class _Problem:
         return self.evaluate(list(xs))
 
     def close(self) -> None:
+        """Close the history and rewrite it ordered by evaluation number (rows of a
+        generation arrive in any order from parallel workers)."""
+        import io
+
+        from drymount.io import atomic_write_text
+
         self._fh.close()
+        buf = io.StringIO()
+        buf.write(self._head)
+        w = csv.writer(buf, lineterminator="\n")
+        w.writerow(["phase", *columns(self.space)])
+        for phase, r in self.history:
+            w.writerow([phase, *table_row(r)])
+        atomic_write_text(self.path, buf.getvalue())
         self.bar.close()
 
 
