@@ -413,3 +413,34 @@ def test_cosim_check_of_the_best_designs(tmp_path):
         tmp_path / "summary.md").read_text()
     best = sorted((r for r in res.results if r.feasible), key=lambda r: r.objectives[0])
     assert [int(r["index"]) for r in rows] == [r.index for r in best[:1]]
+
+
+def test_stiffness_scale_variable_multiplies_the_file_values():
+    """mode = "scale" over k1 and k2: 0.5 turns the original mount into the halved
+    one of the thesis (Sec. 4.2; preset sdof_halved has k1, k2 = 91870/2, 513800/2)."""
+    from drymount.config import config_from_dict, load_preset
+    from drymount.design.space import apply_values, current_values
+
+    text = preset_text("sdof_original") + """
+[design]
+[[design.variables]]
+path = ["mount.k1", "mount.k2"]
+mode = "scale"
+bounds = [0.4, 1.2]
+[[design.objectives]]
+quantity = "transmissibility"
+"""
+    cfg = load_config(text)
+    space = design_space(cfg)
+    var = space.variables[0]
+    assert var.scale and var.name == "mount.k1+mount.k2*scale"
+    assert current_values(cfg.data, space.variables) == (1.0,)
+    halved = config_from_dict(apply_values(cfg.data, space.variables, [0.5]))
+    ref = load_preset("sdof_halved").system.elements[0].params.axial
+    got = halved.system.elements[0].params.axial
+    assert (got.k1, got.k2, got.delta) == (ref.k1, ref.k2, ref.delta)
+    bad = text.replace('path = ["mount.k1", "mount.k2"]', 'path = ["mount.kc"]')
+    with pytest.raises(ConfigError, match="`mount.kc` is not in the file"):
+        design_space(load_config(bad))
+    with pytest.raises(ConfigError, match="`design.variables\\[0\\].mode` must be"):
+        design_space(load_config(text.replace('"scale"', '"times"')))

@@ -133,7 +133,7 @@ def test_cli_bad_set_exit_2(capsys):
 
 def test_rotation_variable_turns_the_mount_axes():
     doc = load_preset("six_dof_halved").data
-    var = Variable("t", parse_path("mounts[0].orientation"), -90.0, 90.0,
+    var = Variable("t", (parse_path("mounts[0].orientation"),), -90.0, 90.0,
                    rotate_about="y")
     new = apply_values(doc, [var], [90.0])
     rows = np.array(new["mounts"][0]["orientation"])

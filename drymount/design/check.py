@@ -32,7 +32,7 @@ from drymount.design.space import (
     Variable,
     apply_values,
 )
-from drymount.paths import PathError, expand, get_value, parse_path
+from drymount.paths import PathError, expand, format_parts, get_value, parse_path
 
 __all__ = ["design_space"]
 
@@ -140,29 +140,9 @@ def _variable(problems, t: dict, i: int, cfg: Config) -> Variable | None:
     rot = t.get("rotate_about")
     if rot is not None and rot not in AXES:
         r.add("rotate_about", rot, 'one of "x", "y", "z" (a body axis)')
-    try:
-        path = parse_path(t.get("path"))
-        matches = expand(cfg.data, path)
-    except PathError as exc:
-        problems.append(f"`{p}.path`: {exc}")
+    paths = _paths(problems, t, p, cfg, rot, t.get("mode", "set"))
+    if paths is None:
         return None
-    if rot is not None:
-        if cfg.model != "rigid_engine" or path.parts[-1] != "orientation":
-            problems.append(f"`{p}.rotate_about` turns a mount: `{p}.path` must be "
-                            f"`mounts[i].orientation` of model \"rigid_engine\", got "
-                            f"`{path}` of model \"{cfg.model}\"")
-    else:
-        for parts in matches:
-            try:
-                v = get_value(cfg.data, parts)
-            except PathError:
-                continue  # a new key: the configuration check judges it
-            if _num(v) is None:
-                problems.append(f"`{p}.path` = `{path}` must address numbers, but "
-                                f"it reaches {_show(v)}; address one item, e.g. "
-                                f"`{path}[0]`" if isinstance(v, list) else
-                                f"`{p}.path` = `{path}` must address numbers, got "
-                                f"{_show(v)}")
     has_b, has_v = "bounds" in t, "values" in t
     if has_b == has_v:
         problems.append(f"`{p}` needs exactly one of `bounds = [lower, upper]` or "
@@ -180,11 +160,52 @@ def _variable(problems, t: dict, i: int, cfg: Config) -> Variable | None:
     points = r.integer("points", DEFAULT_GRID_POINTS, 2)
     if len(problems) > n0:
         return None
-    name = t.get("name") or (str(path) if rot is None else f"{path}.rot_{rot}_deg")
+    text = "+".join(str(q) for q in paths)
+    scale = t.get("mode") == "scale"
+    name = t.get("name") or (f"{text}.rot_{rot}_deg" if rot else
+                             f"{text}*scale" if scale else text)
     if not isinstance(name, str):
         r.add("name", name, "a string")
         return None
-    return Variable(name, path, lower, upper, tuple(values), points, rot)
+    return Variable(name, paths, lower, upper, tuple(values), points, rot, scale)
+
+
+def _paths(problems, t: dict, p: str, cfg: Config, rot, mode) -> tuple | None:
+    """The checked ``path`` (a path or an array of paths) of a variable."""
+    if mode not in ("set", "scale"):
+        problems.append(f"`{p}.mode` must be \"set\" (the value replaces the "
+                        f"fields) or \"scale\" (it multiplies them), got {_show(mode)}")
+        return None
+    raw = t.get("path")
+    texts = raw if isinstance(raw, list) and raw else [raw]
+    try:
+        paths = tuple(parse_path(x) for x in texts)
+        matches = [m for q in paths for m in expand(cfg.data, q)]
+    except PathError as exc:
+        problems.append(f"`{p}.path`: {exc}")
+        return None
+    if rot is not None:
+        if (cfg.model != "rigid_engine" or len(paths) != 1 or mode != "set"
+                or paths[0].parts[-1] != "orientation"):
+            problems.append(f"`{p}.rotate_about` turns a mount: `{p}.path` must be one "
+                            f"`mounts[i].orientation` of model \"rigid_engine\" "
+                            f"(mode \"set\"), got {_show(raw)} of model "
+                            f"\"{cfg.model}\"")
+        return paths
+    for parts in matches:
+        try:
+            v = get_value(cfg.data, parts)
+        except PathError:
+            if mode == "scale":
+                problems.append(f"`{p}.path`: `{format_parts(parts)}` is not in the "
+                                f"file; mode \"scale\" multiplies the file's value")
+            continue  # a new key: the configuration check judges it
+        if _num(v) is None:
+            hint = (f"; address one item, e.g. `{format_parts(parts)}[0]`"
+                    if isinstance(v, list) else "")
+            problems.append(f"`{p}.path` must address numbers, but "
+                            f"`{format_parts(parts)}` is {_show(v)}{hint}")
+    return paths
 
 
 def _metric(problems, t: dict, i: int, kind: str, band, cfg: Config) -> Metric | None:

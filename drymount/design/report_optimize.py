@@ -88,10 +88,10 @@ def reproduce_options(doc: dict, space, values) -> str:
 
     new = apply_values(doc, space.variables, values)
     opts = {}
-    for v, x in zip(space.variables, values, strict=True):
-        for parts in expand(new, v.path):
+    for v in space.variables:
+        for parts in (p for path in v.paths for p in expand(new, path)):
             if v.rotate_about is None:
-                opts[format_parts(parts)] = f"{x:.9g}"
+                opts[format_parts(parts)] = f"{float(get_value(new, parts)):.9g}"
             else:
                 rows = np.round(np.asarray(get_value(new, parts)), 9) + 0.0
                 opts[format_parts(parts)] = "[" + ", ".join(

@@ -79,7 +79,8 @@ DEFAULT_CHUNK = 8
 DESIGN_KEYS = {
     "design": ("method", "samples", "seed", "harmonics", "band_hz", "chunk",
                "variables", "objectives", "constraints"),
-    "variables[]": ("path", "name", "bounds", "values", "points", "rotate_about"),
+    "variables[]": ("path", "name", "bounds", "values", "points", "rotate_about",
+                    "mode"),
     "objectives[]": ("name", "quantity", "measure", "band_hz", "dof", "sense"),
     "constraints[]": ("name", "kind", "quantity", "measure", "band_hz", "dof", "max",
                       "path", "min"),
@@ -94,7 +95,7 @@ class Variable:
     ----------
     name : str
         Column name in the tables (default: the path, or ``<path>.rot_<axis>_deg``).
-    path : FieldPath
+    paths : tuple of FieldPath
         The field(s) it sets; with ``[*]`` every match gets the same value.
     lower, upper : float
         Bounds (continuous variable); NaN for a list variable.
@@ -105,15 +106,24 @@ class Variable:
     rotate_about : str or None
         ``"x"``, ``"y"`` or ``"z"``: the value is an angle in degrees turning the
         mount's orientation about that body axis.
+    scale : bool
+        The value multiplies the file's values of the fields (a stiffness scale:
+        ``paths`` = every k1 and k2) instead of replacing them.
     """
 
     name: str
-    path: FieldPath
+    paths: tuple
     lower: float = math.nan
     upper: float = math.nan
     values: tuple = ()
     points: int = DEFAULT_GRID_POINTS
     rotate_about: str | None = None
+    scale: bool = False
+
+    @property
+    def path(self) -> FieldPath:
+        """The first of ``paths``."""
+        return self.paths[0]
 
     @property
     def is_list(self) -> bool:
@@ -208,8 +218,8 @@ def current_values(doc: dict, variables) -> tuple:
     first match of a ``[*]`` path; NaN where the field is absent)."""
     out = []
     for var in variables:
-        if var.rotate_about is not None:
-            out.append(0.0)
+        if var.rotate_about is not None or var.scale:
+            out.append(0.0 if var.rotate_about is not None else 1.0)
             continue
         try:
             out.append(float(get_value(doc, expand(doc, var.path)[0])))
@@ -221,15 +231,19 @@ def current_values(doc: dict, variables) -> tuple:
 def apply_values(doc: dict, variables, values) -> dict:
     """A copy of ``doc`` with each variable set to its value.
 
-    A rotation variable turns the orientation rows (axial, radial1, radial2 unit
-    vectors in body axes) by the angle about the body axis: ``O' = O R^T``, starting
-    from the file's orientation or the model's default (axial = z).
+    A scale variable multiplies the values ``doc`` gives its fields. A rotation
+    variable turns the orientation rows (axial, radial1, radial2 unit vectors in body
+    axes) by the angle about the body axis: ``O' = O R^T``, starting from the file's
+    orientation or the model's default (axial = z).
     """
     from hbm.systems import DEFAULT_ORIENTATION
 
     new = copy.deepcopy(doc)
     for var, x in zip(variables, values, strict=True):
-        for parts in expand(new, var.path):
+        for parts in (p for path in var.paths for p in expand(new, path)):
+            if var.scale:
+                set_value(new, parts, float(get_value(doc, parts)) * float(x))
+                continue
             if var.rotate_about is None:
                 set_value(new, parts, float(x))
                 continue
