@@ -10,6 +10,8 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
     validate  co-simulation against harmonic balance, with a report
     study     the thesis's design studies
     demo      the first-hour demo: FMU, HBM and co-simulation of a quarter car
+    explore   sample a configuration's [design] space (grid, LHS, Sobol)
+    optimize  differential evolution on a configuration's [design] space
 
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
@@ -57,10 +59,15 @@ def _info(msg: str) -> None:
     print(msg, file=sys.stderr)
 
 
-def _load(spec):
-    from drymount.config import resolve_config
+def _load(spec, overrides=()):
+    from drymount.paths import load_with_overrides
 
-    return resolve_config(spec)
+    cfg = load_with_overrides(spec, overrides or ())
+    if "design" in cfg.data:  # part of the file: every command checks it
+        from drymount.design import design_space
+
+        design_space(cfg)
+    return cfg
 
 
 def _write_with(path: Path, writer) -> Path:
@@ -128,7 +135,7 @@ def cmd_build_fmu(args) -> int:
 
 
 def cmd_hbm(args) -> int:
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
     n_samples = args.n_samples if args.n_samples is not None else cfg.hbm.n_samples
@@ -166,7 +173,7 @@ def cmd_hbm(args) -> int:
 
 
 def cmd_cosim(args) -> int:
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     freq = args.freq if args.freq is not None else cfg.cosim.freq_hz
     if freq is None:
         raise UsageError(f"give --freq (the configuration {cfg.source} has no "
@@ -265,7 +272,7 @@ def cmd_sweep(args) -> int:
 
     from drymount.config import SweepSettings
 
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     s = SweepSettings(fmin, fmax, args.points or cfg.sweep.points,
                       args.direction or cfg.sweep.direction,
@@ -327,6 +334,18 @@ def cmd_demo(args) -> int:
     return _lead_module("demo").main(args)
 
 
+def cmd_explore(args) -> int:
+    from drymount.design.commands import cmd_explore as run
+
+    return run(args, _load, UsageError)
+
+
+def cmd_optimize(args) -> int:
+    from drymount.design.commands import cmd_optimize as run
+
+    return run(args, _load, UsageError)
+
+
 COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
@@ -336,6 +355,8 @@ COMMANDS = {
     "validate": cmd_validate,
     "study": cmd_study,
     "demo": cmd_demo,
+    "explore": cmd_explore,
+    "optimize": cmd_optimize,
 }
 
 

@@ -88,6 +88,11 @@ def _config_arg(p):
     p.add_argument("config", metavar="CONFIG",
                    help="TOML configuration file (docs/config.md) or preset name "
                         "(drymount presets list)")
+    p.add_argument("--set", action="append", default=None, metavar="PATH=VALUE",
+                   dest="overrides",
+                   help="override a field of CONFIG, checked like the file; "
+                        "repeatable, e.g. --set mount.friction.n0=12 --set "
+                        "'mounts[*].axial.c=200'")
 
 
 def _version() -> str:
@@ -298,4 +303,9 @@ def build_parser() -> argparse.ArgumentParser:
              ["drymount demo", "drymount demo --out /tmp/demo"])
     p.add_argument("--out", type=Path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
+
+    # explore, optimize (drymount.design) ------------------------------------------
+    from drymount.design.commands import add_commands
+
+    add_commands(sub, _add, _config_arg, _int_at_least)
     return parser

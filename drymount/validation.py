@@ -46,7 +46,7 @@ from fmu_src.mount_law import AxisParameters, MountParameters
 from hbm.aft import default_n_samples
 
 __all__ = ["Case", "CASES", "CaseResult", "run_case", "run_validation", "main",
-           "TOL_REL_PEAK"]
+           "TOL_REL_PEAK", "hbm_matching", "compared_dofs"]
 
 #: Pass/fail tolerance on the largest amplitude error relative to the peak amplitude
 #: (issue 5 target: 1 % of peak with H >= 7 on stable branches).
@@ -250,6 +250,11 @@ def _hbm_matching(system, freqs: np.ndarray, sweep, harmonics: int,
     if missing:
         notes.append(f"{missing} frequencies without an HBM solution")
     return amp, stable, "; ".join(notes)
+
+
+#: Public names of the matching used by ``drymount explore --cosim-check``.
+hbm_matching = _hbm_matching
+compared_dofs = _compared_dofs
 
 
 def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
