@@ -47,12 +47,14 @@ GLUE = {2: ("fmi2_api.h", "fmi2_glue.c"), 3: ("fmi3_api.h", "fmi3_glue.c")}
 #: Compiler flags of every binary (the issue's warning set; -fPIC only on ELF).
 CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", "-shared",
           "-fvisibility=hidden")
+#: A PE header carries a link time unless told not to (reproducible DLLs).
+_PE_FLAGS = ("-Wl,--no-insert-timestamp",)
 #: Platform folder -> (compiler, extra flags, library suffix), per FMI version.
 PLATFORMS = {
     2: {"linux64": ("gcc", ("-fPIC",), ".so"),
-        "win64": ("x86_64-w64-mingw32-gcc", (), ".dll")},
+        "win64": ("x86_64-w64-mingw32-gcc", _PE_FLAGS, ".dll")},
     3: {"x86_64-linux": ("gcc", ("-fPIC",), ".so"),
-        "x86_64-windows": ("x86_64-w64-mingw32-gcc", (), ".dll")},
+        "x86_64-windows": ("x86_64-w64-mingw32-gcc", _PE_FLAGS, ".dll")},
 }
 #: One-line compile commands for platforms built elsewhere ({id}: model identifier),
 #: run in the unzipped FMU's folder.
@@ -355,9 +357,11 @@ def _compile(target: NativeTarget, folder: Path, platform: str) -> Path | None:
                                    "(apt-get install gcc)")
         return None
     out = folder / (target.model_identifier + suffix)
-    c_files = [str(folder / n) for n in _source_names(target) if n.endswith(".c")]
-    cmd = [compiler, *CFLAGS, *extra, "-o", str(out), *c_files, "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    # relative names in the build folder: no temporary path ends up in the binary
+    c_files = [n for n in _source_names(target) if n.endswith(".c")]
+    cmd = [compiler, *CFLAGS, *extra, "-o", out.name, *c_files, "-lm"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=False,
+                          cwd=folder)
     if proc.returncode != 0:
         raise NativeBuildError(f"{' '.join(cmd)} failed:\n{proc.stderr}")
     return out

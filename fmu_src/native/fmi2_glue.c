@@ -17,8 +17,19 @@ static void log_bridge(void *env, const char *instance, md_status status,
                        const char *category, const char *message)
 {
     const fmi2_env *e = (const fmi2_env *)env;
-    if (e->logger != NULL)
-        e->logger(e->env, instance, (fmi2Status)status, category, "%s", message);
+    char text[4200];
+    size_t i = 0;
+    if (e->logger == NULL)
+        return;
+    /* The message is the logger's format string (importers that do not format it
+     * show it as is): a literal '%' is written as "%%". */
+    for (; *message && i + 2 < sizeof text; ++message) {
+        if (*message == '%')
+            text[i++] = '%';
+        text[i++] = *message;
+    }
+    text[i] = '\0';
+    e->logger(e->env, instance, (fmi2Status)status, category, text);
 }
 
 #define M(c) (((fmi2_env *)(c))->m)
@@ -72,11 +83,12 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType,
     if (fmuType != fmi2CoSimulation || fmuGUID == NULL
         || strcmp(fmuGUID, md_instantiation_token()) != 0) {
         if (logger != NULL)
-            logger(env, name, fmi2Error, "logStatusError", "fmi2Instantiate: %s",
+            logger(env, name, fmi2Error, "logStatusError",
                    fmuType != fmi2CoSimulation
-                       ? "this FMU supports Co-Simulation only (fmuType 1)"
-                       : "the GUID does not match the modelDescription.xml of "
-                         "this FMU");
+                       ? "fmi2Instantiate: this FMU supports Co-Simulation only "
+                         "(fmuType 1)"
+                       : "fmi2Instantiate: the GUID does not match the "
+                         "modelDescription.xml of this FMU");
         return NULL;
     }
     if (alloc == NULL || free_fn == NULL) {
