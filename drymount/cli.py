@@ -194,10 +194,18 @@ def build_parser() -> argparse.ArgumentParser:
              Build FrictionMount.fmu, the mount law as an FMI 2.0 co-simulation FMU
              (pythonfmu). The importer needs a Python 3 with the pythonfmu runtime on
              the host; docs/fmu.md describes its variables.""",
-             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu"])
+             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu",
+              "drymount build-fmu --native --fmi 3  # dist/FrictionMountNative3.fmu"])
     p.add_argument("--out", type=Path, default=None,
                    help="FMU file to write (default: dist/FrictionMount.fmu under the "
-                        "current folder)")
+                        "current folder; with --native dist/FrictionMountNative.fmu or "
+                        "dist/FrictionMountNative3.fmu)")
+    p.add_argument("--native", action="store_true",
+                   help="the native build (C, no Python needed by the importer; "
+                        "docs/fmu.md, 'Which FMU')")
+    p.add_argument("--fmi", type=int, choices=(2, 3), default=None,
+                   help="FMI version of the native build (default 2; the PythonFMU "
+                        "build is FMI 2.0 only)")
 
     # hbm ----------------------------------------------------------------------
     p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
@@ -292,6 +300,9 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
     p.add_argument("--quick", action="store_true",
                    help="fewer frequencies (still real runs), for CI")
+    p.add_argument("--fmu", type=Path, default=None,
+                   help="FMU to validate (default: dist/FrictionMount.fmu, built if "
+                        "missing; any build, e.g. dist/FrictionMountNative.fmu)")
     p.add_argument("--out", type=Path, default=Path("validation"),
                    help="report folder")
     p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
@@ -399,6 +410,18 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
+    if args.native:
+        from fmu_build.native import build_native_fmu
+
+        build = build_native_fmu(args.out, fmi=args.fmi or 2)
+        _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
+              f"{', '.join(build.missing_platforms)} (sources and the compile command "
+              f"are in the FMU)")
+        print(build.path)
+        return EXIT_OK
+    if args.fmi not in (None, 2):
+        raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
+                         f"FMI 2.0 only")
     from drymount.fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
@@ -476,7 +499,10 @@ def cmd_cosim(args) -> int:
 
 def _fmu_path(path):
     from drymount.fmu_build import ensure_fmu
+    from fmu_build.native import is_native_fmu
 
+    if path is not None and is_native_fmu(path):
+        return Path(path).resolve()  # a native build: used as is, never rebuilt
     return ensure_fmu(path)
 
 

@@ -37,7 +37,8 @@ from fmu_src import interface
 from fmu_src.mount_law import AXES, LAWS
 
 __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget",
-           "build_native_fmu", "default_native_path", "variables_header"]
+           "build_native_fmu", "default_native_path", "is_native_fmu",
+           "variables_header"]
 
 SOURCE_DIR = Path(__file__).resolve().parent.parent / "fmu_src" / "native"
 DIST = Path(__file__).resolve().parent.parent / "dist"
@@ -124,6 +125,25 @@ class NativeBuild:
 def default_native_path(fmi: int = 2) -> Path:
     """``dist/FrictionMountNative.fmu`` (FMI 2.0) or ``dist/FrictionMountNative3.fmu``."""
     return DIST / NativeTarget(fmi).file_name
+
+
+def is_native_fmu(path) -> bool:
+    """Whether ``path`` is an existing FMU built by this module (its model identifier
+    is one of :class:`NativeTarget`'s). Callers use it so that a native FMU passed as
+    ``--fmu`` is used as is, never rebuilt by the PythonFMU builder."""
+    import re
+
+    path = Path(path)
+    if not path.is_file() or not zipfile.is_zipfile(path):
+        return False
+    with zipfile.ZipFile(path) as zf:
+        try:
+            text = zf.read("modelDescription.xml").decode("utf-8", "replace")
+        except KeyError:
+            return False
+    idents = {NativeTarget(f, n).model_identifier for f in GLUE for n in (False, True)}
+    found = re.search(r'<CoSimulation[^>]*modelIdentifier="([^"]+)"', text)
+    return found is not None and found.group(1) in idents
 
 
 # ---------------------------------------------------------------------- variables
