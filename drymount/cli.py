@@ -111,7 +111,8 @@ def _harness_args(p, kind: str) -> None:
                         "steps_per_period, else the harness default)")
     p.add_argument("--fmu", type=Path, default=None,
                    help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing)")
+                        "missing; or a native build, dist/FrictionMountNative.fmu or "
+                        "dist/FrictionMountNative3.fmu)")
     p.add_argument("--out", type=Path, default=None,
                    help=f"CSV file to write (default: <name>_{kind}.csv)")
     p.add_argument("--plot", type=Path, default=None, help="plot file to write")
