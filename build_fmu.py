@@ -1,7 +1,7 @@
 """Build the FrictionMount FMU: ``python build_fmu.py [dest] [--native [--fmi 2|3]]``.
 
 Default: dist/FrictionMount.fmu (FMI 2.0, PythonFMU), a thin wrapper around
-:func:`drymount.fmu_build.build_fmu`. ``--native``: the C build,
+:func:`fmu_build.build_fmu`. ``--native``: the C build,
 dist/FrictionMountNative.fmu (FMI 2.0) or with ``--fmi 3`` dist/FrictionMountNative3.fmu
 (:func:`fmu_build.native.build_native_fmu`). See docs/fmu.md, "Which FMU".
 """
@@ -23,6 +23,6 @@ if __name__ == "__main__":
     elif args.fmi not in (None, 2):
         sys.exit("--fmi 3 needs --native: the PythonFMU build is FMI 2.0 only")
     else:
-        from drymount.fmu_build import build_fmu
+        from fmu_build import build_fmu
 
         print(build_fmu(*([args.dest] if args.dest else [])))

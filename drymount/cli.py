@@ -423,7 +423,7 @@ def cmd_build_fmu(args) -> int:
     if args.fmi not in (None, 2):
         raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
                          f"FMI 2.0 only")
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
@@ -499,7 +499,7 @@ def cmd_cosim(args) -> int:
 
 
 def _fmu_path(path):
-    from drymount.fmu_build import ensure_fmu
+    from fmu_build import ensure_fmu
     from fmu_build.native import is_native_fmu
 
     if path is not None and is_native_fmu(path):

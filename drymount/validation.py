@@ -384,13 +384,14 @@ def write_report(results: list[CaseResult], out: Path, quick: bool,
 
 
 def run_validation(*, quick: bool = False, out="validation", inject: str | None = None,
-                   cases=None, progress: bool = True, fmu_path=None) -> list[CaseResult]:
+                   cases=None, progress: bool = True,
+                   fmu_path=None) -> list[CaseResult]:
     """Run the cases (default :data:`CASES`), write the report, return the results.
 
     ``fmu_path``: the FMU to co-simulate (any build with the FrictionMount variables,
     e.g. the native FrictionMountNative.fmu); default dist/FrictionMount.fmu, built if
     missing."""
-    from drymount.fmu_build import ensure_fmu
+    from fmu_build import ensure_fmu
     from fmu_build.native import is_native_fmu
 
     cases = CASES if cases is None else cases

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AXES, LAWS, AxisParameters, axis_force
+from fmu_src.mount_law import AXES, LAWS, AxisParameters, axis_force, law_code
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Output columns compared, per axis, then the total energy.
@@ -84,16 +84,13 @@ def reference_run(axes: tuple[AxisParameters, ...], traj: Trajectory) -> Outputs
     out = {name: np.zeros((steps, 3)) for name in AXIS_OUTPUTS}
     committed, dissipated = np.zeros((steps, 3)), np.zeros((steps, 3))
     for j, p in enumerate(axes):
-        kf = p.kf if p.friction else 0.0
         mu = p.mu if p.friction else 0.0
-        law, k1, kc, k2, d, dn, c = (p.law_code, p.k1, p.kc, p.k2, p.delta,
-                                     p.delta_neg, p.c)
         w = e = 0.0
         F, Ffr, kt, slip, E = (out[name][:, j] for name in AXIS_OUTPUTS)
         for k, (u, v, n) in enumerate(zip(traj.u[:, j].tolist(), traj.v[:, j].tolist(),
                                           traj.n[:, j].tolist())):
-            fs = mu * n if n > 0.0 else 0.0
-            r = axis_force(u, v, w, law, k1, kc, k2, d, dn, c, kf, fs)
+            fs = mu * n if n > 0.0 else 0.0  # as fmu_src/friction_mount.py
+            r = axis_force(u, v, w, p, fs)
             F[k], Ffr[k], kt[k], slip[k], E[k] = r[0], r[1], r[3], r[4], e + r[5]
             committed[k, j], dissipated[k, j] = e, r[5]
             w = r[2]
@@ -126,7 +123,7 @@ def parameter_values(axes: tuple[AxisParameters, ...]) -> dict[str, object]:
     out = {}
     for axis, p in zip(AXES, axes, strict=True):
         for name, value in p.to_dict().items():
-            out[f"{axis}_{name}"] = p.law_code if name == "law" else value
+            out[f"{axis}_{name}"] = law_code(p.law) if name == "law" else value
     return out
 
 

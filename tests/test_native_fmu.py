@@ -105,7 +105,8 @@ class Driver:
             if typ in ("Real", "Float64"):
                 (f.setReal if self.fmi == 2 else f.setFloat64)(self.vr([name]), [value])
             elif typ in ("Integer", "Int32"):
-                (f.setInteger if self.fmi == 2 else f.setInt32)(self.vr([name]), [value])
+                set_int = f.setInteger if self.fmi == 2 else f.setInt32
+                set_int(self.vr([name]), [value])
             else:
                 f.setBoolean(self.vr([name]), [bool(value)])
 
@@ -150,7 +151,8 @@ def _drive_fmpy(path, fmi, axes, traj) -> Outputs:
         d.set(parameter_values(axes))
         d.init()
         ins = [f"{q}_{a}" for a in AXES for q in ("u", "v", "n")]
-        reals = [f"{q}_{a}" for q in ("F", "Ffr", "kt", "E_fr") for a in AXES] + ["E_fr"]
+        reals = [f"{q}_{a}" for q in ("F", "Ffr", "kt", "E_fr") for a in AXES]
+        reals.append("E_fr")
         slips = [f"slip_{a}" for a in AXES]
         f = d.fmu
         set_real = f.setReal if fmi == 2 else f.setFloat64
@@ -191,8 +193,8 @@ def test_fmpy_equals_python_law(native, layout):
 def c_host(tmp_path_factory):
     exe = tmp_path_factory.mktemp("host") / "native_host"
     proc = run(["gcc", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-Wall", "-Wextra",
-                "-Werror", "-O2", "-o", exe, ROOT / "tests" / "c_host" / "native_host.c",
-                "-ldl"])
+                "-Werror", "-O2", "-o", exe,
+                ROOT / "tests" / "c_host" / "native_host.c", "-ldl"])
     assert proc.returncode == 0, proc.stderr
     return exe
 
@@ -210,7 +212,8 @@ def _host_config(folder, md, instances) -> str:
     for i, (axes, traj) in enumerate(instances):
         x = np.stack([traj.u, traj.v, traj.n], axis=2).reshape(HOST_STEPS, 9)
         x.astype("<f8").tofile(folder / f"in{i}.bin")
-        lines.append(f"instance mount{i} {folder / f'in{i}.bin'} {folder / f'out{i}.bin'}")
+        src, dst = folder / f"in{i}.bin", folder / f"out{i}.bin"
+        lines.append(f"instance mount{i} {src} {dst}")
         for name, value in parameter_values(axes).items():
             kind = {"Real": "real", "Integer": "integer", "Boolean": "boolean"}[
                 types[name]]
@@ -228,8 +231,8 @@ def test_c_host_empty_environment_two_instances(native2, c_host, tmp_path, pair)
     md = read_model_description(str(native2))
     unzip = extract(str(native2), str(tmp_path / "fmu"))
     rng = np.random.default_rng(200 + pair[0])
-    instances = [(random_instance(rng, LAW_LAYOUT[i]), random_trajectory(rng, HOST_STEPS))
-                 for i in pair]
+    instances = [(random_instance(rng, LAW_LAYOUT[i]),
+                  random_trajectory(rng, HOST_STEPS)) for i in pair]
     cfg = tmp_path / "host.cfg"
     cfg.write_text(_host_config(tmp_path, md, instances))
     lib = f"{unzip}/binaries/linux64/{md.coSimulation.modelIdentifier}.so"
@@ -298,7 +301,8 @@ def test_archive_layout_sources_and_binaries(native):
     fmi, path = native
     names = set(zipfile.ZipFile(path).namelist())
     ident = "FrictionMountNative" if fmi == 2 else "FrictionMountNative3"
-    linux, win = ("linux64", "win64") if fmi == 2 else ("x86_64-linux", "x86_64-windows")
+    linux, win = (("linux64", "win64") if fmi == 2
+                  else ("x86_64-linux", "x86_64-windows"))
     assert f"binaries/{linux}/{ident}.so" in names
     glue = f"fmi{fmi}_glue.c"
     for src in ("mount_law.c", "mount_law.h", "model.c", "model.h",

@@ -18,7 +18,7 @@ from native_helpers import ROOT, build
 
 from fmu_src.mount_law import AxisParameters, MountParameters
 from vehicle.master import Master
-from vehicle.models import rigid_engine
+from hbm.systems import rigid_engine
 from vehicle.steady import run_steady
 
 pytest.importorskip("fmpy", reason="pip install -e .[fmu] installs fmpy")

@@ -25,7 +25,7 @@ class FMU3Adapter:
     unzip_dir : str
         Folder of the extracted FMU.
     instance_name : str
-    logger : callable(env, instance: bytes, status: int, category: bytes, message: bytes)
+    logger : callable(env, instance, status, category, message)
         The harness's FMI 2.0-style logger; FMI 3.0 messages are forwarded to it with
         this instance's name.
     """
