@@ -552,3 +552,56 @@ def test_wrong_guid_is_refused(native, tmp_path):
     with pytest.raises(Exception, match="instantiat|Failed"):
         fmu.instantiate()
     fmu.freeLibrary()
+
+
+# ---------------------------------------------------------------------- PythonFMU
+
+
+@pytest.fixture(scope="module")
+def python_fmu(tmp_path_factory):
+    from fmu_build import build_fmu
+
+    return build_fmu(tmp_path_factory.mktemp("pythonfmu") / "FrictionMount.fmu")
+
+
+def _start(var):
+    if var.start is None:
+        return None
+    if var.type in ("Real", "Float64"):
+        return float(var.start)
+    if var.type in ("Integer", "Int32"):
+        return int(var.start)
+    return str(var.start).lower() in ("true", "1")
+
+
+def test_same_interface_as_the_pythonfmu_build(native, python_fmu):
+    """Names, value references, causality, variability, initial, units, descriptions,
+    start values, ranges, unit definitions and default experiment equal the PythonFMU
+    build's (both are generated from fmu_src/interface.py)."""
+    from fmpy import read_model_description
+
+    fmi, path = native
+    ours, theirs = (read_model_description(str(p)) for p in (path, python_fmu))
+    mine = {v.name: v for v in ours.modelVariables}
+    assert len(theirs.modelVariables) == len(interface.VARIABLES)
+    for var in theirs.modelVariables:
+        got = mine[var.name]
+        for attr in ("valueReference", "causality", "variability", "initial",
+                     "description", "unit", "min", "max"):
+            assert getattr(got, attr) == getattr(var, attr), (var.name, attr)
+        assert _start(got) == _start(var), var.name
+    def exps(unit):
+        return tuple(getattr(unit.baseUnit, k, None)
+                     for k in ("kg", "m", "s", "A", "K", "mol", "cd", "rad"))
+
+    units = {u.name: exps(u) for u in theirs.unitDefinitions}
+    assert units == {u.name: exps(u) for u in ours.unitDefinitions
+                     if u.name in units}
+    assert len(units) == len(interface.BASE_UNITS)
+    for attr in ("startTime", "stopTime", "stepSize"):
+        a, b = (getattr(md.defaultExperiment, attr) for md in (ours, theirs))
+        assert float(a) == float(b)
+    # the PythonFMU build writes no tolerance (pythonfmu's DefaultExperiment); the
+    # native builds write the table's
+    tol = ours.defaultExperiment.tolerance
+    assert float(tol) == interface.DEFAULT_EXPERIMENT["tolerance"]
