@@ -4,6 +4,7 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
 
     presets   list | show NAME | export NAME PATH
     build-fmu build the FrictionMount FMU
+    export-ssp SSP 1.0 archive of a configuration's mount FMU instances
     hbm       harmonic-balance frequency response of a configuration
     cosim     time history co-simulated through the mount FMU (or in-process)
     sweep     stepped-sine sweep of co-simulated steady states
@@ -207,6 +208,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fmi", type=int, choices=(2, 3), default=None,
                    help="FMI version of the native build (default 2; the PythonFMU "
                         "build is FMI 2.0 only)")
+
+    # export-ssp ---------------------------------------------------------------
+    p = _add(sub, "export-ssp", "SSP 1.0 archive of a configuration's mount FMUs",
+             """\
+             Write an SSP 1.0 archive: SystemStructure.ssd with one FMU component per
+             mount of the configuration (connectors u, v, n in; F, Ffr, E_fr out), one
+             parameter set per mount (resources/<mount>.ssv, the configuration's values
+             and units) and documentation/README.txt saying what the host connects (the
+             vehicle body is not an FMU).""",
+             ["drymount export-ssp six_dof_halved --out six_dof.ssp --native"])
+    _config_arg(p)
+    p.add_argument("--out", type=Path, required=True, help="SSP file to write")
+    p.add_argument("--native", action="store_true",
+                   help="pack the native FMU (FrictionMountNative.fmu, FMI 2.0) "
+                        "instead of the PythonFMU build")
+    p.add_argument("--fmu", type=Path, default=None, help="pack this FMU instead")
 
     # hbm ----------------------------------------------------------------------
     p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
@@ -430,6 +447,19 @@ def cmd_build_fmu(args) -> int:
     return EXIT_OK
 
 
+def cmd_export_ssp(args) -> int:
+    from drymount.ssp import export_ssp
+
+    cfg = _load(args.config)
+    if args.fmu is not None and not args.fmu.is_file():
+        raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
+    _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
+          f"({', '.join(exp.mounts)}) of {exp.fmu}, "
+          f"parameter set {exp.parameter_set!r}")
+    return EXIT_OK
+
+
 def cmd_hbm(args) -> int:
     cfg = _load(args.config)
     fmin, fmax = _band(args, cfg)
@@ -641,6 +671,7 @@ def cmd_demo(args) -> int:
 COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
+    "export-ssp": cmd_export_ssp,
     "hbm": cmd_hbm,
     "cosim": cmd_cosim,
     "sweep": cmd_sweep,

@@ -42,7 +42,6 @@ __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget
            "variables_header"]
 
 SOURCE_DIR = Path(__file__).resolve().parent.parent / "fmu_src" / "native"
-DIST = Path(__file__).resolve().parent.parent / "dist"
 #: Sources shared by both FMI versions, then the glue of each.
 COMMON_SOURCES = ("mount_law.h", "mount_law.c", "model.h", "model.c")
 GLUE = {2: ("fmi2_api.h", "fmi2_glue.c"), 3: ("fmi3_api.h", "fmi3_glue.c")}
@@ -125,8 +124,8 @@ class NativeBuild:
 
 def default_native_path(fmi: int = 2) -> Path:
     """``dist/FrictionMountNative.fmu`` (FMI 2.0) or ``dist/FrictionMountNative3.fmu``
-    (FMI 3.0)."""
-    return DIST / NativeTarget(fmi).file_name
+    (FMI 3.0) under the current directory (as the PythonFMU build's default)."""
+    return Path("dist") / NativeTarget(fmi).file_name
 
 
 def is_native_fmu(path) -> bool:
@@ -451,7 +450,7 @@ def build_native_fmu(dest=None, *, fmi: int = 2, null: bool = False) -> NativeBu
     ``dist/<model identifier>.fmu``) and return what was written."""
     target = NativeTarget(fmi, null)
     _check_laws()
-    path = Path(dest) if dest is not None else DIST / target.file_name
+    path = Path(dest) if dest is not None else Path("dist") / target.file_name
     token = _token(target)
     sources = _sources(target, token)
     files = {"modelDescription.xml": model_description(target, token)}
