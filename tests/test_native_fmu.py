@@ -605,3 +605,23 @@ def test_same_interface_as_the_pythonfmu_build(native, python_fmu):
     # native builds write the table's
     tol = ours.defaultExperiment.tolerance
     assert float(tol) == interface.DEFAULT_EXPERIMENT["tolerance"]
+
+
+def test_fmi3_build_description_is_schema_valid(tmp_path):
+    """sources/buildDescription.xml against the FMI 3.0 schema fmpy ships; it lists
+    exactly the C files of sources/."""
+    import os
+
+    from lxml import etree
+
+    path = build(tmp_path, 3)
+    schema_dir = os.path.join(os.path.dirname(fmpy.__file__), "schema", "fmi3")
+    schema = etree.XMLSchema(etree.parse(os.path.join(schema_dir,
+                                                      "fmi3BuildDescription.xsd")))
+    zf = zipfile.ZipFile(path)
+    doc = etree.fromstring(zf.read("sources/buildDescription.xml"))
+    assert schema.validate(doc), schema.error_log
+    listed = {e.get("name") for e in doc.iter("SourceFile")}
+    present = {n.removeprefix("sources/") for n in zf.namelist()
+               if n.startswith("sources/") and n.endswith(".c")}
+    assert listed == present
