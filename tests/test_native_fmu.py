@@ -625,3 +625,22 @@ def test_fmi3_build_description_is_schema_valid(tmp_path):
     present = {n.removeprefix("sources/") for n in zf.namelist()
                if n.startswith("sources/") and n.endswith(".c")}
     assert listed == present
+
+
+def test_windows_dll_needs_only_the_c_runtime(native, tmp_path):
+    """The cross-compiled DLL imports only KERNEL32 and the C runtime and exports the
+    FMI functions (skipped without the MinGW cross tools)."""
+    import shutil
+
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    if objdump is None or shutil.which("x86_64-w64-mingw32-gcc") is None:
+        pytest.skip("apt-get install gcc-mingw-w64-x86-64 cross-compiles the DLL")
+    fmi, path = native
+    win = "win64" if fmi == 2 else "x86_64-windows"
+    ident = "FrictionMountNative" if fmi == 2 else "FrictionMountNative3"
+    dll = zipfile.ZipFile(path).extract(f"binaries/{win}/{ident}.dll", tmp_path)
+    text = run([objdump, "-p", dll]).stdout
+    imports = {line.split(":")[1].strip().lower() for line in text.splitlines()
+               if "DLL Name:" in line}
+    assert imports <= {"kernel32.dll", "msvcrt.dll"}, imports
+    assert f"] fmi{fmi}DoStep" in text and "python" not in text.lower()
