@@ -23,7 +23,6 @@ applies ``-F`` to the engine side and ``+F`` to the chassis side of each axis
 
 from __future__ import annotations
 
-import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from xml.etree.ElementTree import (
@@ -34,6 +33,7 @@ from xml.etree.ElementTree import (
     tostring,
 )
 
+from fmu_build.native import write_zip
 from fmu_src import interface
 from fmu_src.mount_law import AXES, law_code
 
@@ -199,15 +199,6 @@ def export_ssp(cfg, out, *, native: bool = False, fmu_path=None) -> SspExport:
              "documentation/README.txt": _readme(cfg, fmu.name, set_name)}
     for el in cfg.system.elements:
         files[f"resources/{el.name}.ssv"] = parameter_set(el, set_name)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(out.name + ".partial")
-    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-        for name in ["SystemStructure.ssd", *sorted(n for n in files
-                                                    if n != "SystemStructure.ssd")]:
-            info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
-            info.external_attr = 0o644 << 16
-            info.compress_type = zipfile.ZIP_DEFLATED
-            zf.writestr(info, files[name])
-    tmp.replace(out)
+    write_zip(out, files, first="SystemStructure.ssd")
     return SspExport(out, f"resources/{fmu.name}",
                      tuple(el.name for el in cfg.system.elements), set_name)

@@ -39,7 +39,7 @@ from fmu_src.mount_law import AXES, LAWS
 
 __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget",
            "build_native_fmu", "default_native_path", "is_native_fmu",
-           "variables_header"]
+           "variables_header", "write_zip"]
 
 SOURCE_DIR = Path(__file__).resolve().parent.parent / "fmu_src" / "native"
 #: Sources shared by both FMI versions, then the glue of each.
@@ -429,11 +429,11 @@ and zip the folder again.</p>
 """.encode()
 
 
-def _write_zip(path: Path, files: dict[str, bytes]) -> None:
-    """Reproducible archive: modelDescription.xml first, the rest sorted, fixed
-    timestamps and permissions."""
-    names = ["modelDescription.xml"] + sorted(n for n in files
-                                              if n != "modelDescription.xml")
+def write_zip(path: Path, files: dict[str, bytes],
+              first: str = "modelDescription.xml") -> None:
+    """Reproducible archive (FMU, SSP): ``first`` first, the rest sorted, fixed
+    timestamps and permissions; written to a temporary name and moved."""
+    names = [first] + sorted(n for n in files if n != first)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".partial")
     with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
@@ -470,5 +470,5 @@ def build_native_fmu(dest=None, *, fmi: int = 2, null: bool = False) -> NativeBu
             built.append(platform)
     missing.append("darwin")
     files["documentation/index.html"] = _documentation(target, missing)
-    _write_zip(path, files)
+    write_zip(path, files)
     return NativeBuild(path, target, token, tuple(built), tuple(missing))
