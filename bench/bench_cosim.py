@@ -24,7 +24,9 @@ The native (C) FMUs (``fmu_build/native.py``, FMI 2.0), measured in the same run
 - ``raw native``: the bare loop over FrictionMountNative instances;
 - ``raw null native``: the bare loop over NullMountNative instances (the same C
   interface and bookkeeping, no law);
-- ``harness native``: the harness driving FrictionMountNative.
+- ``harness native``: the harness driving FrictionMountNative;
+- ``raw native3``: the bare loop over FrictionMountNative3 (FMI 3.0) instances, through
+  fmpy's FMU3Slave behind ``vehicle/fmi3_adapter.py`` (one extra Python frame per call).
 
 Ratios: ``raw native / raw fmu`` is the native FMU's cost over the PythonFMU FMU's
 through fmpy (target <= 0.5); ``raw native / raw null native`` its cost over the null
@@ -125,12 +127,13 @@ def part1(real_fmu: Path, null_fmu: Path, periods: int, repeat: int,
     for label, system in systems():
         res = {k: [] for k in ("raw null", "raw fmu", "harness null", "harness fmu",
                                "native", "raw native", "raw null native",
-                               "harness native")}
+                               "harness native", "raw native3")}
         for _ in range(repeat):
             res["raw null"].append(raw_loop(system, null_fmu, steps))
             res["raw fmu"].append(raw_loop(system, real_fmu, steps))
             res["raw native"].append(raw_loop(system, native_fmus["native"], steps))
             res["raw null native"].append(raw_loop(system, native_fmus["null"], steps))
+            res["raw native3"].append(raw_loop(system, native_fmus["native3"], steps))
             res["harness null"].append(harness_loop(system, "fmu", null_fmu, periods))
             res["harness fmu"].append(harness_loop(system, "fmu", real_fmu, periods))
             res["harness native"].append(harness_loop(system, "fmu",
@@ -156,12 +159,12 @@ def print_native(rows: list[dict]) -> None:
     """The native FMU's row: cost per mount-step and the issue's ratios."""
     print("\nnative (C) FMU, FMI 2.0, us per mount-step (same run)")
     head = ("system", "raw native", "raw null nat.", "harness native",
-            "nat./pythonfmu", "nat./null nat.", "nat./raw null")
+            "nat./pythonfmu", "nat./null nat.", "nat./raw null", "raw native3")
     print("  ".join(f"{h:>15}" if i else f"{h:<26}" for i, h in enumerate(head)))
     for r in rows:
         vals = [r["raw native"], r["raw null native"], r["harness native"],
                 r["raw native"] / r["raw fmu"], r["raw native"] / r["raw null native"],
-                r["raw native"] / r["raw null"]]
+                r["raw native"] / r["raw null"], r["raw native3"]]
         print(f"{r['label']:<26}  " + "  ".join(f"{v:15.2f}" for v in vals))
     worst_py = max(r["raw native"] / r["raw fmu"] for r in rows)
     worst_null = max(r["raw native"] / r["raw null native"] for r in rows)
@@ -213,7 +216,9 @@ def main(argv=None) -> int:
         real = build_fmu(tmp / "FrictionMount.fmu")
         null = build_null_fmu(tmp)
         native = {"native": build_native_fmu(tmp / "FrictionMountNative.fmu").path,
-                  "null": build_native_fmu(tmp / "NullMountNative.fmu", null=True).path}
+                  "null": build_native_fmu(tmp / "NullMountNative.fmu", null=True).path,
+                  "native3": build_native_fmu(tmp / "FrictionMountNative3.fmu",
+                                              fmi=3).path}
         print(f"python {sys.version.split()[0]}, FMUs built in {tmp}")
         part1(real, null, args.periods, args.repeat, native)
         if not args.skip_presets:
