@@ -73,6 +73,17 @@ def _write_with(path: Path, writer) -> Path:
     return path
 
 
+def _peak_text(name: str, freq_hz, transmissibility) -> str:
+    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value)."""
+    import numpy as np
+
+    t = np.asarray(transmissibility, dtype=float)
+    if not np.any(np.isfinite(t)):
+        return ""
+    i = int(np.nanargmax(t))
+    return f"{name}: peak transmissibility {t[i]:.4g} at {freq_hz[i]:.4g} Hz"
+
+
 def _band(args, cfg) -> tuple[float, float]:
     fmin = args.fmin if args.fmin is not None else cfg.sweep.fmin_hz
     fmax = args.fmax if args.fmax is not None else cfg.sweep.fmax_hz
@@ -163,11 +174,9 @@ def cmd_hbm(args) -> int:
     if len(fr.freq_hz):
         import numpy as np
 
-        t = np.asarray(fr.transmissibility, dtype=float)
-        if np.any(np.isfinite(t)):
-            i = int(np.nanargmax(t))
-            print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
-                  f"{fr.freq_hz[i]:.4g} Hz; {len(fr.turning_points)} turning point(s); "
+        peak = _peak_text(cfg.name, fr.freq_hz, fr.transmissibility)
+        if peak:
+            print(f"{peak}; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
             for direction in ("up", "down"):
                 events = [f"jumps at {f:.4g} Hz" if k >= 0 else
@@ -311,12 +320,9 @@ def cmd_sweep(args) -> int:
         _write_with(args.plot, lambda p: res.plot(path=p, hbm=overlay))
         _info(f"wrote {args.plot}")
     conv = np.asarray(res.converged, dtype=bool)
-    t = np.asarray(res.transmissibility, dtype=float)
-    if np.any(np.isfinite(t)):
-        i = int(np.nanargmax(t))
-        print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
-              f"{res.freq_hz[i]:.4g} Hz ({int(conv.sum())}/{len(conv)} frequencies "
-              f"converged)")
+    peak = _peak_text(cfg.name, res.freq_hz, res.transmissibility)
+    if peak:
+        print(f"{peak} ({int(conv.sum())}/{len(conv)} frequencies converged)")
     if not np.all(conv):
         bad = ", ".join(f"{f:g}" for f in np.asarray(res.freq_hz)[~conv])
         _err(f"no steady state reached at {bad} Hz (those rows have converged = 0 in "

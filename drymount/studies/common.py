@@ -5,7 +5,7 @@ System edits return new systems (``hbm.system.System`` is immutable):
 :func:`with_normal_force`, :func:`with_friction_of`, :func:`with_stiffness_factor`,
 :func:`relocate_mount`, :func:`engine_excited`. Metrics: :func:`peak`,
 :func:`value_at`, :func:`band_rms`, :func:`friction_energy`. Curves:
-:func:`hbm_curve` (a :class:`Curve`: design, system, HBM response, wall time).
+:func:`hbm_curve` (a :class:`DesignResult`: design, system, HBM response, wall time).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ __all__ = [
     "friction_template", "with_stiffness_factor", "mount_position", "relocate_mount",
     "engine_excited", "engine_unbalance", "ENGINE_EXCITATION", "friction_axes",
     "friction_energy", "FrictionWork", "Peak", "peak", "value_at", "ratio",
-    "band_rms", "bands", "Curve", "hbm_curve", "PLOT_DS_MAX", "RESTART_FACTOR",
+    "band_rms", "bands", "DesignResult", "hbm_curve", "PLOT_DS_MAX", "RESTART_FACTOR",
     "MAX_RESTARTS",
 ]
 
@@ -360,8 +360,10 @@ def bands(f, mask) -> list[tuple[float, float]]:
 
 
 @dataclass
-class Curve:
-    """One HBM curve of a study with the design it belongs to.
+class DesignResult:
+    """One design of a study and its HBM curve (the curve itself is the one
+    ``hbm.FrequencyResponse`` type; this record adds the design, wall time and extra
+    per-point columns).
 
     Attributes
     ----------
@@ -400,7 +402,7 @@ MAX_RESTARTS = 8
 
 def hbm_curve(system: System, band, harmonics: int, case: dict,
               failures: list, notes: list | None = None,
-              ds_max: float | None = PLOT_DS_MAX) -> Curve:
+              ds_max: float | None = PLOT_DS_MAX) -> DesignResult:
     """An HBM curve over ``band`` (Hz), restarted past points where it stalls.
 
     A curve that does not reach ``band[1]`` is a failure (appended to ``failures``);
@@ -417,4 +419,4 @@ def hbm_curve(system: System, band, harmonics: int, case: dict,
         failures.append(f"{case}: {fr.message}")
     elif fr.restarts and notes is not None:
         notes.append(f"{case}: {fr.message}")
-    return Curve(dict(case), system, fr, dt)
+    return DesignResult(dict(case), system, fr, dt)
