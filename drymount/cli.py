@@ -4,6 +4,7 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
 
     presets   list | show NAME | export NAME PATH
     build-fmu build the FrictionMount FMU
+    export-ssp SSP 1.0 archive of a configuration's mount FMU instances
     hbm       harmonic-balance frequency response of a configuration
     cosim     time history co-simulated through the mount FMU (or in-process)
     sweep     stepped-sine sweep of co-simulated steady states
@@ -127,10 +128,35 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
+    if args.native:
+        from fmu_build.native import build_native_fmu
+
+        build = build_native_fmu(args.out, fmi=args.fmi or 2)
+        _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
+              f"{', '.join(build.missing_platforms)} (sources and the compile command "
+              f"are in the FMU)")
+        print(build.path)
+        return EXIT_OK
+    if args.fmi not in (None, 2):
+        raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
+                         f"FMI 2.0 only")
     from fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
+    return EXIT_OK
+
+
+def cmd_export_ssp(args) -> int:
+    from drymount.ssp import export_ssp
+
+    cfg = _load(args.config)
+    if args.fmu is not None and not args.fmu.is_file():
+        raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
+    _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
+          f"({', '.join(exp.mounts)}) of {exp.fmu}, "
+          f"parameter set {exp.parameter_set!r}")
     return EXIT_OK
 
 
@@ -202,7 +228,10 @@ def cmd_cosim(args) -> int:
 
 def _fmu_path(path):
     from fmu_build import ensure_fmu
+    from fmu_build.native import is_native_fmu
 
+    if path is not None and is_native_fmu(path):
+        return Path(path).resolve()  # a native build: used as is, never rebuilt
     return ensure_fmu(path)
 
 
@@ -349,6 +378,7 @@ def cmd_optimize(args) -> int:
 COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
+    "export-ssp": cmd_export_ssp,
     "hbm": cmd_hbm,
     "cosim": cmd_cosim,
     "sweep": cmd_sweep,

@@ -389,12 +389,19 @@ def write_report(results: list[CaseResult], out: Path, quick: bool,
 
 
 def run_validation(*, quick: bool = False, out="validation", inject: str | None = None,
-                   cases=None, progress: bool = True) -> list[CaseResult]:
-    """Run the cases (default :data:`CASES`), write the report, return the results."""
+                   cases=None, progress: bool = True,
+                   fmu_path=None) -> list[CaseResult]:
+    """Run the cases (default :data:`CASES`), write the report, return the results.
+
+    ``fmu_path``: the FMU to co-simulate (any build with the FrictionMount variables,
+    e.g. the native FrictionMountNative.fmu); default dist/FrictionMount.fmu, built if
+    missing."""
     from fmu_build import ensure_fmu
+    from fmu_build.native import is_native_fmu
 
     cases = CASES if cases is None else cases
-    fmu_path = ensure_fmu()
+    if fmu_path is None or not is_native_fmu(fmu_path):  # native: used as is
+        fmu_path = ensure_fmu(fmu_path)
     results = []
     for case in cases:
         if progress:
@@ -421,7 +428,8 @@ def main(args: argparse.Namespace) -> int:
         if getattr(args, "inject", None):
             parse_inject(args.inject)
         results = run_validation(quick=args.quick, out=args.out,
-                                 inject=getattr(args, "inject", None), cases=cases)
+                                 inject=getattr(args, "inject", None), cases=cases,
+                                 fmu_path=getattr(args, "fmu", None))
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
