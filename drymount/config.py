@@ -72,6 +72,7 @@ __all__ = [
     "preset_text",
     "resolve_config",
     "ALLOWED_KEYS",
+    "mount_from_table",
 ]
 
 #: Values of the top-level ``model`` key.
@@ -1023,3 +1024,16 @@ def resolve_config(spec) -> Config:
     hint = f"; did you mean preset `{close[0]}`?" if close else ""
     raise ConfigError([f"`{spec}` is neither a file nor a preset{hint} (presets: "
                        f"{', '.join(names)})"], spec)
+
+
+def mount_from_table(table, source: str = "<dict>") -> AxisParameters:
+    """The law of one ``[mount]`` table (law fields and optional ``friction``).
+
+    Checked exactly as a configuration's ``[mount]``; :class:`ConfigError` lists every
+    problem. Used by ``drymount fit`` to read a fitted or hand-written mount.
+    """
+    ck = _Checker()
+    axis = _axis(ck, table, "mount")
+    if ck.problems or axis is None:
+        raise ConfigError(ck.problems or ["invalid [mount] table"], source)
+    return axis
