@@ -468,7 +468,7 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
@@ -544,7 +544,7 @@ def cmd_cosim(args) -> int:
 
 
 def _fmu_path(path):
-    from drymount.fmu_build import ensure_fmu
+    from fmu_build import ensure_fmu
 
     return ensure_fmu(path)
 
