@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import save_figure, write_csv
-from fmu_src.mount_law import AXES, AxisParameters
+from fmu_src.mount_law import AXES, AxisParameters, law_code
 from hbm.characterise import DynamicStiffnessMap, dynamic_stiffness, time_domain_stiffness
 
 __all__ = ["AxisMap", "CrossCheck", "CROSSCHECK_RTOL", "mount_axes", "characterise",
@@ -121,7 +121,7 @@ def fmu_stiffness(fmu_path, axis: AxisParameters, freq_hz: float, X: float,
                  for f in ("k1", "kc", "k2", "delta", "delta_neg", "c", "kf", "mu",
                            "n0")}
         fmu.setReal([vr[n] for n in reals], list(reals.values()))
-        fmu.setInteger([vr[_fmu_names(names, "axial", "law")]], [axis.law_code])
+        fmu.setInteger([vr[_fmu_names(names, "axial", "law")]], [law_code(axis.law)])
         fmu.setBoolean([vr[_fmu_names(names, "axial", "friction")]], [axis.friction])
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
@@ -218,7 +218,7 @@ def _check_method(args) -> tuple[str, Path | None]:
         if args.check == "fmu":
             raise
         return "law", None
-    from drymount.fmu_build import ensure_fmu
+    from fmu_build import ensure_fmu
 
     return "fmu", ensure_fmu(args.fmu)
 

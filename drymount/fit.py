@@ -31,7 +31,7 @@ else:  # Python 3.10
 
 from drymount.io import atomic_write_text, save_figure, write_csv
 from fmu_src.mount_law import AxisParameters
-from hbm.identify import (ELASTIC_LAWS, UNITS, DataError, FitStatus, compare_elastic,
+from hbm.identify import (FIT_LAWS, UNITS, DataError, FitStatus, compare_elastic,
                           fit_dynamic_stiffness, fit_loops, law_force, loop_model)
 
 __all__ = ["main", "mount_toml", "resolve_mount"]
@@ -266,4 +266,4 @@ def main(args) -> int:
     return 0
 
 
-__all__ += ["KINDS", "ELASTIC_LAWS"]
+__all__ += ["KINDS", "FIT_LAWS"]

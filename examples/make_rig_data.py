@@ -15,7 +15,7 @@ Files (every one starts with comment lines stating its generating parameters and
   k2 = 256 900 N/m, delta = 12.25 mm, c = 150 N s/m, kf = 60 000 N/m, Fs = 10 N):
   amplitudes 0.5, 1 and 2 mm at 5 Hz and 1 mm at 15 Hz, 3 steady-state periods each
   (after 2 periods of run-in from rest), 400 samples per period; the force is the law
-  marched in time (``fmu_src.mount_law.axis_force_p``) with Gaussian noise of
+  marched in time (``fmu_src.mount_law.axis_force``) with Gaussian noise of
   standard deviation 1 % of the test's force amplitude, the deflection with 0.1 % of its
   amplitude (a displacement transducer is the more precise channel).
 - ``rig_dynamic_stiffness.csv``: |K*| and loss angle of the same mount at amplitudes
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fmu_src.mount_law import AxisParameters, axis_force_p
+from fmu_src.mount_law import AxisParameters, axis_force
 from hbm.characterise import dynamic_stiffness
 from hbm.identify import law_force
 
@@ -80,8 +80,8 @@ def loops(path: Path, rng, samples: int = 400, run_in: int = 2, periods: int = 3
         w = 0.0
         F = np.empty(t.size)
         for k, tk in enumerate(t):
-            F[k], _, w, *_ = axis_force_p(X * math.sin(w_ * tk),
-                                          X * w_ * math.cos(w_ * tk), w, HALVED)
+            r = axis_force(X * math.sin(w_ * tk), X * w_ * math.cos(w_ * tk), w, HALVED)
+            F[k], w = r.force, r.w_new
         keep = slice(run_in * samples, None)
         u = X * np.sin(w_ * t[keep])
         Fk = F[keep]

@@ -26,7 +26,7 @@ carries the preload. The law is rate independent apart from ``c``, so
 
 For a linear spring and damper ``K* = k1 + i omega c``; for the Jenkins element the
 closed forms of :mod:`hbm.closed_form` (tests). :func:`time_domain_stiffness` is the
-independent route: it marches :func:`fmu_src.mount_law.axis_force_p` through several
+independent route: it marches :func:`fmu_src.mount_law.axis_force` through several
 periods of the imposed motion and takes the fundamental of the last one.
 
 References: thesis Sec. 2.2-2.4 (law), 3.1 (Fourier approximation); ISO 10846 for the
@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from fmu_src.mount_law import AxisParameters, axis_force_p
+from fmu_src.mount_law import AxisParameters, axis_force
 from hbm.aft import FourierBasis, aft_forces
 from hbm.elements import NonlinearAxes
 
@@ -98,11 +98,10 @@ def axis_as_nonlinear(axis: AxisParameters, w_start: float = 0.0) -> NonlinearAx
     one = np.ones((1, 1))
     return NonlinearAxes(
         labels=("axis",), index=((0, 0),), B=one, G=np.zeros((1, 1)),
-        law=np.array([axis.law_code]), k1=np.array([axis.k1]),
+        law=(axis.law,), k1=np.array([axis.k1]),
         kc=np.array([axis.kc]), k2=np.array([axis.k2]),
         delta=np.array([axis.delta]),
-        delta_neg=np.array([axis.delta_neg if axis.law == "piecewise_asym"
-                            else axis.delta]),
+        delta_neg=np.array([axis.delta_neg]),
         kf=np.array([axis.kf if axis.friction else 0.0]),
         fs=np.array([axis.fs]), w_start=np.array([float(w_start)]))
 
@@ -192,7 +191,7 @@ def time_domain_stiffness(axis: AxisParameters, freq_hz: float, X: float,
     """K* from a time march of the law (independent of the AFT), N/m.
 
     The deflection starts at the working point ``U0`` with the slider relaxed there (``w = U0``), then follows ``U0 + X sin(omega t)`` for
-    ``periods`` periods; :func:`fmu_src.mount_law.axis_force_p` is marched sample by
+    ``periods`` periods; :func:`fmu_src.mount_law.axis_force` is marched sample by
     sample (velocity exact) and the fundamental of the last period is taken with the
     rectangle rule.
     """
@@ -205,9 +204,10 @@ def time_domain_stiffness(axis: AxisParameters, freq_hz: float, X: float,
         th = 2.0 * math.pi * (k % n) / n
         u = U0 + X * math.sin(th)
         v = X * omega * math.cos(th)
-        F, _, w, *_ = axis_force_p(u, v, w, axis)
+        r = axis_force(u, v, w, axis)
+        w = r.w_new
         if k >= (periods - 1) * n:
-            last[k % n] = F
+            last[k % n] = r.force
     th = 2.0 * np.pi * np.arange(n) / n
     F_s = 2.0 / n * float(np.dot(last, np.sin(th)))
     F_c = 2.0 / n * float(np.dot(last, np.cos(th)))

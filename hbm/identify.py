@@ -32,16 +32,17 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from fmu_src.mount_law import LAW_CODES, AxisParameters, elastic_force
+from fmu_src.mount_law import AxisParameters, elastic_force
 from hbm.characterise import DEFAULT_SAMPLES, rate_independent_stiffness
 from hbm.elements import jenkins_periodic
 
-__all__ = ["ELASTIC_LAWS", "PARAMETERS", "UNITS", "MIN_POINTS", "DataError",
+__all__ = ["FIT_LAWS", "PARAMETERS", "UNITS", "MIN_POINTS", "DataError",
            "FitStatus", "Fit", "ElasticComparison", "LoopTest", "StiffnessPoint",
            "check_curve", "law_force", "fit_elastic", "compare_elastic",
            "loop_model", "fit_loops", "fit_dynamic_stiffness"]
 
-ELASTIC_LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
+#: The elastic laws a force-deflection curve is fitted with.
+FIT_LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
 #: Fitted parameters of each elastic law, in order.
 PARAMETERS = {"linear": ("k1",), "cubic": ("k1", "kc"),
               "piecewise": ("k1", "k2", "delta"),
@@ -172,21 +173,22 @@ def check_curve(u, F) -> tuple[np.ndarray, np.ndarray]:
 # --------------------------------------------------------------------------------------
 
 
-def _axis(law: str, params: dict) -> dict:
+def _axis(law: str, params: dict) -> AxisParameters:
     k1 = params["k1"]
-    delta = params.get("delta", 1.0)
-    return dict(law=LAW_CODES[law], k1=k1, kc=params.get("kc", 0.0),
-                k2=params.get("k2", k1), delta=delta,
-                delta_neg=params.get("delta_neg", delta))
+    delta = params.get("delta", AxisParameters.delta)
+    return AxisParameters(law=law, k1=k1, kc=params.get("kc", 0.0),
+                          k2=params.get("k2", k1), delta=delta,
+                          delta_neg=params.get("delta_neg", delta), c=0.0)
+
+
+def _elastic(u: np.ndarray, axis: AxisParameters) -> np.ndarray:
+    """:func:`fmu_src.mount_law.elastic_force` sample by sample, N."""
+    return np.array([elastic_force(x, axis)[0] for x in u.tolist()])
 
 
 def law_force(u, law: str, params: dict) -> np.ndarray:
-    """Elastic force (N) of ``law`` with ``params`` at the deflections ``u`` (m).
-
-    Evaluates :func:`fmu_src.mount_law.elastic_force` sample by sample.
-    """
-    kw = _axis(law, params)
-    return np.array([elastic_force(x, **kw)[0] for x in np.asarray(u, float).tolist()])
+    """Elastic force (N) of ``law`` with ``params`` at the deflections ``u`` (m)."""
+    return _elastic(np.asarray(u, dtype=float), _axis(law, params))
 
 
 def _gap(u: np.ndarray, d_pos: float, d_neg: float) -> np.ndarray:
@@ -292,7 +294,7 @@ def fit_elastic(u, F, law: str) -> Fit:
         One of ``ELASTIC_LAWS``.
     """
     if law not in PARAMETERS:
-        raise ValueError(f"`law` must be one of {', '.join(ELASTIC_LAWS)}, got {law!r}")
+        raise ValueError(f"`law` must be one of {', '.join(FIT_LAWS)}, got {law!r}")
     u, F = check_curve(u, F)
     names = PARAMETERS[law]
     x0 = _initial_guess(u, F, law)
@@ -317,7 +319,7 @@ def fit_elastic(u, F, law: str) -> Fit:
     return _summarise(law, names, res, F, scale)
 
 
-def compare_elastic(u, F, laws=ELASTIC_LAWS) -> ElasticComparison:
+def compare_elastic(u, F, laws=FIT_LAWS) -> ElasticComparison:
     """Fit every law of ``laws``; the best is the lowest AIC among converged fits."""
     fits = tuple(fit_elastic(u, F, law) for law in laws)
     ok = [f for f in fits if f.status is FitStatus.CONVERGED] or list(fits)
@@ -407,10 +409,8 @@ def loop_model(test: LoopTest, elastic: AxisParameters, kf: float, fs: float,
     ``F_el(u) + c v + F_fr`` with the friction force from the exact periodic march
     (:func:`hbm.elements.jenkins_periodic`) of the measured deflection.
     """
-    kw = dict(law=elastic.law_code, k1=elastic.k1, kc=elastic.kc, k2=elastic.k2,
-              delta=elastic.delta, delta_neg=elastic.delta_neg)
     u = test.deflection
-    f = np.array([elastic_force(x, **kw)[0] for x in u.tolist()])
+    f = _elastic(u, elastic)
     f += c * test.velocity
     if kf > 0 and fs > 0:
         f += jenkins_periodic(u, kf, fs)[0]

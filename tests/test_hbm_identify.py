@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, axis_force_p
+from fmu_src.mount_law import AxisParameters, axis_force
 from hbm.identify import (PARAMETERS, DataError, FitStatus, LoopTest, StiffnessPoint,
                           _elastic_jacobian, compare_elastic, fit_dynamic_stiffness,
                           fit_elastic, fit_loops, law_force)
@@ -119,9 +119,9 @@ def _loop(X, f, samples=400, periods=3, force_noise=0.0, defl_noise=0.0, rng=Non
     t = np.arange((2 + periods) * samples) / (samples * f)
     w, F = 0.0, []
     for tk in t:
-        Fk, _, w, *_ = axis_force_p(X * math.sin(w_ * tk), X * w_ * math.cos(w_ * tk),
-                                    w, MOUNT)
-        F.append(Fk)
+        r = axis_force(X * math.sin(w_ * tk), X * w_ * math.cos(w_ * tk), w, MOUNT)
+        w = r.w_new
+        F.append(r.force)
     u, F = X * np.sin(w_ * t[2 * samples:]), np.array(F[2 * samples:])
     if rng is not None:
         u = u + rng.normal(0, defl_noise * X, u.size)
