@@ -12,6 +12,7 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
     demo      the first-hour demo: FMU, HBM and co-simulation of a quarter car
     fit       mount-law parameters from rig data (elastic law, friction, damping)
     characterise  dynamic stiffness and loss angle of the mounts (datasheet maps)
+    static    static working point under the engine's weight (knee warnings)
 
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
@@ -390,6 +391,27 @@ def build_parser() -> argparse.ArgumentParser:
                    help="output folder (default: <name>_characterise)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
+    # static -------------------------------------------------------------------
+    p = _add(sub, "static", "static working point under the engine's weight",
+             """\
+             Equilibrium of the configuration under gravity (and --load) with the
+             nonlinear elastic laws, friction sliders relaxed. Prints and writes the
+             static deflection and force of every mount axis (CSV) and warns when an
+             axis works past a knee of its law or beyond --travel-mm. HBM and
+             co-simulation still run about the unloaded point.""",
+             ["drymount static sdof_halved",
+              "drymount static six_dof_halved --load beta=40 --travel-mm 15"])
+    _config_arg(p)
+    p.add_argument("--g", type=_positive_float, default=9.81,
+                   help="gravitational acceleration, m/s^2")
+    p.add_argument("--no-gravity", action="store_true", help="only the --load terms")
+    p.add_argument("--load", action="append", default=None, metavar="DOF=VALUE",
+                   help="static generalised load on a DOF, N or N m (repeatable)")
+    p.add_argument("--travel-mm", type=_positive_float, default=None,
+                   help="warn when a mount axis deflects more than this, mm")
+    p.add_argument("--out", type=Path, default=None,
+                   help="CSV file (default: <name>_static.csv)")
+
     # demo ---------------------------------------------------------------------
     p = _add(sub, "demo", "the first-hour demo: FMU, HBM, co-simulation, report",
              """\
@@ -684,6 +706,10 @@ def cmd_fit(args) -> int:
     return _lead_module("fit").main(args)
 
 
+def cmd_static(args) -> int:
+    return _lead_module("static").main(args)
+
+
 def cmd_characterise(args) -> int:
     if args.fmin is not None and args.fmax is not None and not args.fmax > args.fmin:
         raise UsageError(f"the frequency range must satisfy fmin < fmax, got fmin = "
@@ -702,6 +728,7 @@ COMMANDS = {
     "demo": cmd_demo,
     "fit": cmd_fit,
     "characterise": cmd_characterise,
+    "static": cmd_static,
 }
 
 
@@ -738,4 +765,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # run the package's module, not this __main__ copy: the command modules raise
+    # drymount.cli.UsageError, which must be the class main() catches
+    from drymount.cli import main as _main
+
+    sys.exit(_main())

@@ -165,3 +165,23 @@ def test_characterise_crosschecks_through_the_fmu(tmp_path, capsys):
     assert "cross-check against the FMU" in capsys.readouterr().out
     np.testing.assert_array_less(0, [float(c["mean_deflection_m"]) for c in checks
                                      if float(c["preload_N"]) > 0])
+
+
+def test_static_writes_the_working_point_and_warns_past_the_knee(tmp_path, capsys):
+    out = tmp_path / "static.csv"
+    assert main(["static", "sdof_halved", "--out", str(out), "--travel-mm", "12"]) == 0
+    text = capsys.readouterr().out
+    assert "past the knee at -12.250 mm" in text and "exceeds the travel" in text
+    rows = _read_csv(out)
+    assert len(rows) == 1 and rows[0]["past_knee"] == "1"
+    # hand: 686.7 N on k1 up to the knee (562.7 N), the rest on k2 (the CSV keeps 10
+    # significant digits)
+    assert float(rows[0]["deflection_m"]) == pytest.approx(
+        -(0.01225 + (70 * 9.81 - 45935 * 0.01225) / 256900), rel=1e-9)
+    assert float(rows[0]["force_N"]) == pytest.approx(-70 * 9.81, rel=1e-9)
+    # no gravity, only a torque: the 6-DOF engine rolls, nothing past a knee
+    assert main(["static", "six_dof_original", "--no-gravity", "--load", "beta=40",
+                 "--out", str(tmp_path / "s6.csv")]) == 0
+    assert "warning" not in capsys.readouterr().out
+    assert main(["static", "sdof_halved", "--load", "q=3"]) == 2
+    assert "--load must be DOF=VALUE" in capsys.readouterr().err
