@@ -24,33 +24,61 @@ the reason; it never raises once the work has started.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-
-import math
+from enum import Enum
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["ContinuationSettings", "Branch", "newton", "continue_branch"]
+__all__ = ["ContinuationSettings", "Branch", "Status", "NewtonResult", "newton",
+           "continue_branch"]
+
+
+class Status(Enum):
+    """How a continuation or a set of Newton solves ended (``Branch.status``,
+    ``FrequencyResponse.status``)."""
+
+    DONE = "done"                           # reached the end / solved everywhere
+    STEP_TOO_SMALL = "step_too_small"       # step size fell below ds_min
+    TOO_MANY_STEPS = "too_many_steps"       # max_steps reached
+    TURNED_BACK = "turned_back"             # left the range below its start
+    EVALUATION_FAILED = "evaluation_failed"  # non-finite residual, no tangent
+    NO_START = "no_start"                   # no solution at the first frequency
+    RETRACED = "retraced"                   # the branch turned back onto itself
+    NO_CONVERGENCE = "no_convergence"       # Newton failed at a given frequency
 
 
 @dataclass(frozen=True)
 class ContinuationSettings:
-    """Settings in scaled units (see :class:`hbm.options.HBMOptions`)."""
+    """Settings in scaled units. The user-facing defaults are those of
+    :class:`hbm.options.HBMOptions` (the one source; it builds these); the last three
+    are internal to the corrector."""
 
-    ds_initial: float = 0.02
-    ds_min: float = 1e-6
-    ds_max: float = 0.15
-    n_norm: int = 4
-    max_newton: int = 12
-    tol_residual: float = 1e-10
-    tol_step: float = 1e-6
-    max_steps: int = 20000
-    max_growth: float = 2.0
-    max_angle: float = 0.15
+    ds_initial: float
+    ds_min: float
+    ds_max: float
+    n_norm: int
+    max_newton: int
+    tol_residual: float
+    tol_step: float
+    max_steps: int
+    max_growth: float
+    max_angle: float
     min_damping: float = 1.0 / 64
     corner_ds: float = 1e-3
     max_correction: float = 1.0
+
+
+class NewtonResult(NamedTuple):
+    """Result of :func:`newton`: the last iterate, whether it converged, the
+    iterations used and why it did not converge (empty when it did)."""
+
+    y: np.ndarray
+    converged: bool
+    n_iter: int
+    message: str
 
 
 @dataclass
@@ -68,9 +96,7 @@ class Branch:
     turning_points : list of int
         Indices ``i`` such that ``d lam / ds`` changes sign between points i-1 and i.
     success, status, message, n_newton, n_steps
-        ``status``: 0 reached the end, 1 step size below ``ds_min``, 2 too many steps,
-        3 left the parameter range backwards, 4 the evaluation failed (non-finite),
-        7 the branch turned back onto itself (retraced points are dropped).
+        ``status``: a :class:`Status` (``RETRACED``: retraced points are dropped).
     """
 
     y: list = field(default_factory=list)
@@ -79,7 +105,7 @@ class Branch:
     n_iter: list = field(default_factory=list)
     turning_points: list = field(default_factory=list)
     success: bool = False
-    status: int = 0
+    status: Status = Status.DONE
     message: str = ""
     n_newton: int = 0
     n_steps: int = 0
@@ -99,7 +125,7 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
     ``tangent . (y - y_pred) = 0`` (the linearised form of the thesis's sphere,
     eq. 3.58-3.65) closes the system.
 
-    Returns ``(y, converged, n_iter, message)``.
+    Returns a :class:`NewtonResult` ``(y, converged, n_iter, message)``.
     """
     y = np.array(y0, dtype=float)
     last = np.inf
@@ -127,11 +153,11 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
 
     R, J, msg = evaluate(y)
     if R is None:
-        return y, False, 0, msg
+        return NewtonResult(y, False, 0, msg)
     r = _norm(R)
     for it in range(settings.max_newton + 1):
         if r <= settings.tol_residual and last <= settings.tol_step:
-            return y, True, it, ""
+            return NewtonResult(y, True, it, "")
         if it == settings.max_newton:
             break
         try:
@@ -144,7 +170,7 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
                 b = np.append(-R, -g)
                 step = np.linalg.solve(A, b)
         except np.linalg.LinAlgError:
-            return y, False, it, "singular Jacobian"
+            return NewtonResult(y, False, it, "singular Jacobian")
         # Backtracking on |R|^2 (+ the arc-length equation squared): the residual of
         # the AFT is only piecewise smooth (knees, stick-slip switches at samples), and
         # full Newton steps can cycle between two pieces around a kink.
@@ -157,13 +183,13 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
                                       or alpha <= settings.min_damping):
                 break
             if R_try is None and alpha <= settings.min_damping:
-                return y, False, it + 1, msg
+                return NewtonResult(y, False, it + 1, msg)
             alpha *= 0.5
         y, R, J = y_try, R_try, J_try
         r = _norm(R)
         last = alpha * _norm(step)
-    return y, False, settings.max_newton, (
-        f"no convergence in {settings.max_newton} iterations (residual {r:.3g})")
+    return NewtonResult(y, False, settings.max_newton, (
+        f"no convergence in {settings.max_newton} iterations (residual {r:.3g})"))
 
 
 def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False):
@@ -249,7 +275,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         The last point is corrected onto ``lam = lam_end``.
     settings : ContinuationSettings
     lam_start : float, optional
-        Stop (status 3) if the branch returns below it.
+        Stop (``Status.TURNED_BACK``) if the branch returns below it.
     callback : callable, optional
         ``callback(lam)`` after every accepted point (progress bar).
 
@@ -263,13 +289,15 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
     try:
         R, J = fun(y)
     except Exception as exc:  # noqa: BLE001 - work started: report, never raise
-        br.status, br.message = 4, f"evaluation failed at the start point: {exc}"
+        br.status = Status.EVALUATION_FAILED
+        br.message = f"evaluation failed at the start point: {exc}"
         return br
     e = np.zeros(n + 1)
     e[-1] = 1.0
     t = tangent_at(J, e)
     if t is None:
-        br.status, br.message = 4, "singular Jacobian at the start point"
+        br.status = Status.EVALUATION_FAILED
+        br.message = "singular Jacobian at the start point"
         return br
     br.y.append(y.copy())
     br.tangent.append(t)
@@ -280,7 +308,8 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
     lam_low = (lam_start if lam_start is not None else y[-1]) - 0.05 * lam_span
     while True:
         if br.n_steps >= settings.max_steps:
-            br.status, br.message = 2, f"stopped after max_steps = {settings.max_steps}"
+            br.status = Status.TOO_MANY_STEPS
+            br.message = f"stopped after max_steps = {settings.max_steps}"
             return br
         br.n_steps += 1
         y_pred = y + ds * t
@@ -298,7 +327,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         if not ok:
             ds *= 0.5
             if ds < settings.ds_min:
-                br.status = 1
+                br.status = Status.STEP_TOO_SMALL
                 br.message = (f"step size below ds_min = {settings.ds_min:g} at "
                               f"lam = {y[-1]:.6g} ({msg})")
                 return br
@@ -313,7 +342,8 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         if t_new is None:
             ds *= 0.5
             if ds < settings.ds_min:
-                br.status, br.message = 4, f"tangent failed at lam = {y_new[-1]:.6g}"
+                br.status = Status.EVALUATION_FAILED
+                br.message = f"tangent failed at lam = {y_new[-1]:.6g}"
                 return br
             continue
         if y_new[-1] >= lam_end:
@@ -342,7 +372,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             callback(y_new[-1])
         if y_new[-1] >= lam_end:
             br.success = True
-            br.status, br.message = 0, "reached the end of the range"
+            br.status, br.message = Status.DONE, "reached the end of the range"
             return br
         if br.turning_points and len(br.y) - br.turning_points[-1] <= 400:
             # A branch that turns back onto itself (it can, at a kink of the sampled
@@ -362,13 +392,13 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                 del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
                 del br.n_iter[k + 1:]
                 br.turning_points.pop()
-                br.status = 7
+                br.status = Status.RETRACED
                 br.message = (f"the branch turns back onto itself at lam = {f_tp:.6g} "
                               f"(a dead end of the sampled nonsmooth problem or a "
                               f"branch point; try more samples or harmonics)")
                 return br
         if y_new[-1] < lam_low:
-            br.status = 3
+            br.status = Status.TURNED_BACK
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
             return br
         # eq. 3.66, bounded growth; plus a curvature limit: the angle between
