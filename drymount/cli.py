@@ -765,8 +765,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    # run the package's module, not this __main__ copy: the command modules raise
-    # drymount.cli.UsageError, which must be the class main() catches
-    from drymount.cli import main as _main
-
-    sys.exit(_main())
+    sys.exit(main())

@@ -245,22 +245,24 @@ def _friction(args, out: Path) -> AxisParameters:
     return axis
 
 
+def _usage(message: str) -> int:
+    """Report bad usage or data; the exit status 2 of ``drymount.cli``."""
+    print(f"drymount: error: {message}", file=sys.stderr)
+    return 2
+
+
 def main(args) -> int:
     """Run ``drymount fit`` (see the module docstring); return the exit status."""
     if args.kind in ("loops", "table") and args.mount is None:
-        from drymount.cli import UsageError
-
-        raise UsageError(f"`drymount fit {args.kind}` needs --mount: the elastic law "
-                         f"(the mount.toml of `drymount fit elastic`, a TOML file with "
-                         f"[mount], or a preset such as sdof_halved)")
+        return _usage(f"`drymount fit {args.kind}` needs --mount: the elastic law (the "
+                      f"mount.toml of `drymount fit elastic`, a TOML file with [mount], "
+                      f"or a preset such as sdof_halved)")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     try:
         (_elastic if args.kind == "elastic" else _friction)(args, out)
     except DataError as exc:
-        from drymount.cli import UsageError
-
-        raise UsageError(f"bad data: {exc}") from None
+        return _usage(f"bad data: {exc}")
     print(f"wrote {out / 'fit.csv'}, {out / 'mount.toml'}"
           + (f", {out / 'fit.png'}" if args.plot else ""))
     return 0

@@ -36,8 +36,7 @@ def vertical_dofs(model: str, dof_names) -> np.ndarray:
 
 
 def _loads(specs, dof_names) -> np.ndarray:
-    from drymount.cli import UsageError
-
+    """The generalised load of ``--load DOF=VALUE`` items; ValueError if malformed."""
     f = np.zeros(len(dof_names))
     for spec in specs or ():
         name, _, value = spec.partition("=")
@@ -46,7 +45,7 @@ def _loads(specs, dof_names) -> np.ndarray:
         except ValueError:
             x = None
         if name not in dof_names or x is None or not np.isfinite(x):
-            raise UsageError(f"--load must be DOF=VALUE with DOF one of "
+            raise ValueError(f"--load must be DOF=VALUE with DOF one of "
                              f"{', '.join(dof_names)} and a finite number (N or N m), "
                              f"got {spec!r}")
         f[dof_names.index(name)] += x
@@ -60,7 +59,11 @@ def main(args) -> int:
     cfg = resolve_config(args.config)
     system = cfg.system
     names = list(system.dof_names)
-    load = _loads(args.load, names)
+    try:
+        load = _loads(args.load, names)
+    except ValueError as exc:
+        print(f"drymount: error: {exc}", file=sys.stderr)
+        return 2
     if not args.no_gravity:
         load += gravity_load(system, vertical_dofs(cfg.model, names), args.g)
     travel = args.travel_mm * 1e-3 if args.travel_mm is not None else None
