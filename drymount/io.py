@@ -4,20 +4,7 @@ They live in ``hbm`` (the lowest layer that writes files), so that ``hbm`` and
 ``vehicle`` results write atomically without importing the app.
 """
 
-from hbm.io import (
-    atomic_path,
-    atomic_write_bytes,
-    atomic_write_text,
-    format_value,
-    save_figure,
-    write_csv,
-)
+from hbm import io as _io
+from hbm.io import *  # noqa: F403 - the same API
 
-__all__ = [
-    "atomic_path",
-    "atomic_write_bytes",
-    "atomic_write_text",
-    "write_csv",
-    "save_figure",
-    "format_value",
-]
+__all__ = list(_io.__all__)

@@ -135,6 +135,33 @@ def solve_on_branch(system: System, freqs_hz, curve: FrequencyResponse,
     return postprocess(prob, ys, opts, br, [])
 
 
+def _shaped(value, name: str, shape: tuple, dtype=float):
+    """``value`` as an array of ``shape`` (None stays None); a clear error if not."""
+    if value is None:
+        return None
+    out = np.asarray(value, dtype=dtype)
+    if out.shape != shape:
+        raise ValueError(f"`{name}` must have shape {shape}, got {out.shape}")
+    return out
+
+
+def _start_coefficients(hb, phasor, static, coefficients) -> np.ndarray:
+    """Newton's start (m, n): the fundamental from ``phasor`` (sine convention), the
+    static term from ``static``, or all of ``coefficients`` (n_dof, 2K+1) truncated
+    or zero-padded to H."""
+    X = np.zeros((hb.m, hb.n))
+    X[1] = phasor.imag  # cos1
+    X[2] = phasor.real  # sin1
+    if static is not None:
+        X[0] = static
+    if coefficients is not None:
+        c = np.asarray(coefficients, dtype=float).T  # (2K+1, n_dof)
+        r = min(c.shape[0], hb.m)
+        X[:] = 0.0
+        X[:r] = c[:r]
+    return X
+
+
 def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
                        n_samples: int | None = None, closed_form: bool | None = None,
                        static=None, coefficients=None, sliders=None, options=None
@@ -170,23 +197,11 @@ def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
         the operating point and so the amplitude. Default: zero (HBM convention).
     """
     f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
-    P = np.asarray(phasors, dtype=complex)
-    if P.shape != (f.size, system.n_dof):
-        raise ValueError(f"`phasors` must have shape {(f.size, system.n_dof)}, got "
-                         f"{P.shape}")
+    P = _shaped(phasors, "phasors", (f.size, system.n_dof), complex)
+    static = _shaped(static, "static", (f.size, system.n_dof))
+    sliders = _shaped(sliders, "sliders", (f.size, len(system.elements), 3))
     H, N, opts = resolve_options(options, harmonics, n_samples)
     fmin, fmax = float(f.min()), float(max(f.max(), 1.001 * f.min()))
-    if static is not None:
-        static = np.asarray(static, dtype=float)
-        if static.shape != (f.size, system.n_dof):
-            raise ValueError(f"`static` must have shape {(f.size, system.n_dof)}, "
-                             f"got {static.shape}")
-    if sliders is not None:
-        sliders = np.asarray(sliders, dtype=float)
-        if sliders.shape != (f.size, len(system.elements), 3):
-            raise ValueError(f"`sliders` must have shape "
-                             f"{(f.size, len(system.elements), 3)}, got "
-                             f"{sliders.shape}")
     settings = opts.continuation_settings()
     br = Branch()
     points, failed = [], []
@@ -195,16 +210,8 @@ def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
         if sliders is not None:  # each point marches from its own slider state
             prob = build_problem(system, fmin, fmax, H, N, closed_form, sliders[k])
         hb = prob.hb
-        X = np.zeros((hb.m, hb.n))
-        X[1] = pk.imag  # cos1
-        X[2] = pk.real  # sin1
-        if static is not None:
-            X[0] = static[k]
-        if coefficients is not None:
-            c = np.asarray(coefficients[k], dtype=float).T  # (2K+1, n_dof)
-            r = min(c.shape[0], hb.m)
-            X[:] = 0.0
-            X[:r] = c[:r]
+        X = _start_coefficients(hb, pk, None if static is None else static[k],
+                                None if coefficients is None else coefficients[k])
         y, ok, its, _ = newton(prob, prob.y_of(X.ravel(), 2 * np.pi * fk), settings,
                                fixed=hb.size)
         br.n_newton += its

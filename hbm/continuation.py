@@ -284,25 +284,10 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
     Branch
     """
     br = Branch()
-    n = y0.size - 1
     y = np.array(y0, dtype=float)
-    try:
-        R, J = fun(y)
-    except Exception as exc:  # noqa: BLE001 - work started: report, never raise
-        br.status = Status.EVALUATION_FAILED
-        br.message = f"evaluation failed at the start point: {exc}"
-        return br
-    e = np.zeros(n + 1)
-    e[-1] = 1.0
-    t = tangent_at(J, e)
+    t = _start(fun, y, br)
     if t is None:
-        br.status = Status.EVALUATION_FAILED
-        br.message = "singular Jacobian at the start point"
         return br
-    br.y.append(y.copy())
-    br.tangent.append(t)
-    br.jacobian.append(J)
-    br.n_iter.append(0)
     ds = settings.ds_initial
     lam_span = abs(lam_end - y[-1])
     lam_low = (lam_start if lam_start is not None else y[-1]) - 0.05 * lam_span
@@ -312,56 +297,21 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             br.message = f"stopped after max_steps = {settings.max_steps}"
             return br
         br.n_steps += 1
-        y_pred = y + ds * t
-        y_new, ok, its, msg = newton(fun, y_pred, settings, tangent=t, y_pred=y_pred)
-        br.n_newton += its
-        if ok and _norm(y_new - y_pred) > settings.max_correction * ds:
-            # converged far from the prediction: probably onto another branch
-            ok, msg = False, "corrector jumped away from the prediction"
-        corner = None
-        if not ok and ds <= settings.corner_ds:
-            y_c, its_c, corner = _corner_step(fun, y, t, ds, settings, br.y[-4:])
-            br.n_newton += its_c
-            if corner is not None:
-                y_new, ok, its = y_c, True, its_c
-        if not ok:
+        step = _step(fun, y, t, ds, settings, br)
+        if step.failure is not None:
             ds *= 0.5
             if ds < settings.ds_min:
-                br.status = Status.STEP_TOO_SMALL
+                br.status = step.status
                 br.message = (f"step size below ds_min = {settings.ds_min:g} at "
-                              f"lam = {y[-1]:.6g} ({msg})")
+                              f"lam = {y[-1]:.6g} ({step.failure})"
+                              if step.status is Status.STEP_TOO_SMALL
+                              else step.failure)
                 return br
             continue
-        try:
-            R, J = fun(y_new)
-            # after a corner the new piece's direction gives the orientation
-            t_new = tangent_at(J, t if corner is None else corner)
-        except Exception as exc:  # noqa: BLE001
-            t_new = None
-            msg = str(exc)
-        if t_new is None:
-            ds *= 0.5
-            if ds < settings.ds_min:
-                br.status = Status.EVALUATION_FAILED
-                br.message = f"tangent failed at lam = {y_new[-1]:.6g}"
-                return br
-            continue
+        y_new, t_new, J, its = step.y, step.t, step.J, step.n_iter
         if y_new[-1] >= lam_end:
-            # land exactly on lam_end: natural-parameter Newton from the secant
-            frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
-            y_end = y + frac * (y_new - y)
-            y_end[-1] = lam_end
-            y_c, ok_end, its, _ = newton(fun, y_end, settings, fixed=n)
-            br.n_newton += its
-            if ok_end:
-                y_new = y_c
-                try:
-                    J_end = fun(y_new)[1]
-                    t_end = tangent_at(J_end, t)
-                except Exception:  # noqa: BLE001
-                    t_end = None
-                if t_end is not None:
-                    t_new, J = t_end, J_end
+            y_new, t_new, J, its = _land(fun, y, y_new, t, t_new, J, lam_end,
+                                         settings, br)
         if t_new[-1] * t[-1] < 0.0:
             br.turning_points.append(len(br.y))
         br.y.append(y_new.copy())
@@ -374,39 +324,141 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             br.success = True
             br.status, br.message = Status.DONE, "reached the end of the range"
             return br
-        if br.turning_points and len(br.y) - br.turning_points[-1] <= 400:
-            # A branch that turns back onto itself (it can, at a kink of the sampled
-            # nonsmooth problem or at a branch point of a symmetric system) would
-            # retrace the curve: stop when a point falls back onto the part traced
-            # before the last turning point, and say so.
-            # "onto": within 5 % of the nearest old chord (the chords' own error
-            # from the curvature), away from the fold (arc > 0.2 scaled units)
-            k = br.turning_points[-1]
-            old = br.y[max(0, k - 400):k - 2]
-            retrace = False
-            if len(old) >= 2 and _norm(br.y[-1] - br.y[k]) > 0.2:
-                dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True)
-                retrace = dist < 0.05 * seg + 1e-9
-            if retrace:
-                f_tp = br.y[k][-1]
-                del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
-                del br.n_iter[k + 1:]
-                br.turning_points.pop()
-                br.status = Status.RETRACED
-                br.message = (f"the branch turns back onto itself at lam = {f_tp:.6g} "
-                              f"(a dead end of the sampled nonsmooth problem or a "
-                              f"branch point; try more samples or harmonics)")
-                return br
+        if _retraced(br):
+            return br
         if y_new[-1] < lam_low:
             br.status = Status.TURNED_BACK
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
             return br
-        # eq. 3.66, bounded growth; plus a curvature limit: the angle between
-        # successive tangents should not exceed max_angle (resolves peaks and folds)
-        fac = np.sqrt(settings.n_norm / max(its, 1))
-        angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
-        if angle > 0.0:
-            fac = min(fac, max(settings.max_angle / angle, 0.5))
-        ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
-        ds = max(ds, settings.ds_min)
+        ds = _next_ds(ds, its, t, t_new, settings)
         y, t = y_new, t_new
+
+
+def _start(fun: Callable, y: np.ndarray, br: Branch) -> np.ndarray | None:
+    """Record the start point of the branch; its tangent towards larger lam, or None
+    (``br`` says why)."""
+    n = y.size - 1
+    try:
+        R, J = fun(y)
+    except Exception as exc:  # noqa: BLE001 - work started: report, never raise
+        br.status = Status.EVALUATION_FAILED
+        br.message = f"evaluation failed at the start point: {exc}"
+        return None
+    e = np.zeros(n + 1)
+    e[-1] = 1.0
+    t = tangent_at(J, e)
+    if t is None:
+        br.status = Status.EVALUATION_FAILED
+        br.message = "singular Jacobian at the start point"
+        return None
+    br.y.append(y.copy())
+    br.tangent.append(t)
+    br.jacobian.append(J)
+    br.n_iter.append(0)
+    return t
+
+
+class _Step(NamedTuple):
+    """One predictor-corrector step: the new point, its tangent and Jacobian, or why
+    it failed (``failure`` is not None; ``status`` if the step size runs out)."""
+
+    y: np.ndarray | None
+    t: np.ndarray | None
+    J: np.ndarray | None
+    n_iter: int
+    failure: str | None = None
+    status: Status = Status.STEP_TOO_SMALL
+
+
+def _step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
+          settings: ContinuationSettings, br: Branch) -> _Step:
+    """Tangent predictor of length ``ds``, pseudo-arclength corrector, a corner step
+    when the corrector fails at a small step; the tangent at the new point."""
+    y_pred = y + ds * t
+    y_new, ok, its, msg = newton(fun, y_pred, settings, tangent=t, y_pred=y_pred)
+    br.n_newton += its
+    if ok and _norm(y_new - y_pred) > settings.max_correction * ds:
+        # converged far from the prediction: probably onto another branch
+        ok, msg = False, "corrector jumped away from the prediction"
+    corner = None
+    if not ok and ds <= settings.corner_ds:
+        y_c, its_c, corner = _corner_step(fun, y, t, ds, settings, br.y[-4:])
+        br.n_newton += its_c
+        if corner is not None:
+            y_new, ok, its = y_c, True, its_c
+    if not ok:
+        return _Step(None, None, None, its, msg)
+    try:
+        R, J = fun(y_new)
+        # after a corner the new piece's direction gives the orientation
+        t_new = tangent_at(J, t if corner is None else corner)
+    except Exception:  # noqa: BLE001
+        t_new = None
+    if t_new is None:
+        return _Step(None, None, None, its, f"tangent failed at lam = {y_new[-1]:.6g}",
+                     Status.EVALUATION_FAILED)
+    return _Step(y_new, t_new, J, its)
+
+
+def _land(fun: Callable, y, y_new, t, t_new, J, lam_end: float,
+          settings: ContinuationSettings, br: Branch):
+    """A step past ``lam_end``: land exactly on it by natural-parameter Newton from
+    the secant; ``(y, tangent, J, Newton iterations of the landing)`` (the step's
+    point, tangent and Jacobian if it fails)."""
+    n = y.size - 1
+    frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
+    y_end = y + frac * (y_new - y)
+    y_end[-1] = lam_end
+    y_c, ok_end, its, _ = newton(fun, y_end, settings, fixed=n)
+    br.n_newton += its
+    if ok_end:
+        y_new = y_c
+        try:
+            J_end = fun(y_new)[1]
+            t_end = tangent_at(J_end, t)
+        except Exception:  # noqa: BLE001
+            t_end = None
+        if t_end is not None:
+            t_new, J = t_end, J_end
+    return y_new, t_new, J, its
+
+
+def _retraced(br: Branch) -> bool:
+    """Whether the last point fell back onto the part traced before the last turning
+    point; if so, the retraced points are dropped and ``br`` says so.
+
+    A branch can turn back onto itself at a kink of the sampled nonsmooth problem or
+    at a branch point of a symmetric system. "Onto": within 5 % of the nearest old
+    chord (the chords' own error from the curvature), away from the fold (arc > 0.2
+    scaled units), within 400 points of it.
+    """
+    if not br.turning_points or len(br.y) - br.turning_points[-1] > 400:
+        return False
+    k = br.turning_points[-1]
+    old = br.y[max(0, k - 400):k - 2]
+    if len(old) < 2 or _norm(br.y[-1] - br.y[k]) <= 0.2:
+        return False
+    dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True)
+    if not dist < 0.05 * seg + 1e-9:
+        return False
+    f_tp = br.y[k][-1]
+    del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
+    del br.n_iter[k + 1:]
+    br.turning_points.pop()
+    br.status = Status.RETRACED
+    br.message = (f"the branch turns back onto itself at lam = {f_tp:.6g} "
+                  f"(a dead end of the sampled nonsmooth problem or a "
+                  f"branch point; try more samples or harmonics)")
+    return True
+
+
+def _next_ds(ds: float, its: int, t: np.ndarray, t_new: np.ndarray,
+             settings: ContinuationSettings) -> float:
+    """Eq. 3.66 with bounded growth, plus a curvature limit: the angle between
+    successive tangents should not exceed ``max_angle`` (resolves peaks and folds)."""
+    fac = np.sqrt(settings.n_norm / max(its, 1))
+    angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
+    if angle > 0.0:
+        fac = min(fac, max(settings.max_angle / angle, 0.5))
+    ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
+    return max(ds, settings.ds_min)

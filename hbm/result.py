@@ -12,6 +12,24 @@ from hbm.continuation import Status
 __all__ = ["FrequencyResponse", "Status"]
 
 
+def _landing(f, st, amp, i: int, sgn: float):
+    """``(distance, index)`` of the stable point a sweep in direction ``sgn`` lands
+    on when the solution at ``i`` ends at a fold: on a stable piece of the curve
+    spanning ``f[i]``, the nearest in (scaled) amplitude; None if there is none."""
+    best = None
+    for k in range(len(f) - 1):
+        if k in (i, i - 1) or not (st[k] and st[k + 1]):
+            continue
+        lo, hi = sorted((f[k], f[k + 1]))
+        if not lo <= f[i] <= hi or lo == hi:
+            continue
+        land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
+        dist = float(np.linalg.norm(amp[land] - amp[i]))
+        if land != i and (best is None or dist < best[0]):
+            best = (dist, land)
+    return best
+
+
 @dataclass
 class FrequencyResponse:
     """Steady-state frequency response computed by harmonic balance.
@@ -169,17 +187,7 @@ class FrequencyResponse:
                 jumps.append((float(f[i]), i, -1))
                 break
             # a fold: the solution ends here; land on another stable part
-            best = None
-            for k in range(n - 1):
-                if k in (i, i - 1) or not (st[k] and st[k + 1]):
-                    continue
-                lo, hi = sorted((f[k], f[k + 1]))
-                if not lo <= f[i] <= hi or lo == hi:
-                    continue
-                land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
-                dist = float(np.linalg.norm(amp[land] - amp[i]))
-                if land != i and (best is None or dist < best[0]):
-                    best = (dist, land)
+            best = _landing(f, st, amp, i, sgn)
             if best is None:
                 break
             if best[0] >= min_change:

@@ -36,13 +36,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from .inputs import HarmonicInput
 from .master import DEFAULT_STEPS_PER_PERIOD, Master
 
-__all__ = ["SteadyState", "steady_state", "run_steady", "linear_start",
+__all__ = ["SteadyState", "State", "steady_state", "run_steady", "linear_start",
            "DEFAULT_RTOL", "DEFAULT_MAX_PERIODS", "DEFAULT_MIN_PERIODS"]
 
 #: Default tolerance on the relative period-to-period change of the state (the
@@ -177,7 +178,15 @@ def loop_area(u: np.ndarray, F: np.ndarray) -> np.ndarray:
     return np.sum(Fm * du, axis=0)
 
 
-def linear_start(system, freq_hz: float):
+class State(NamedTuple):
+    """Integrator state: DOFs (m or rad), their rates and accelerations."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+
+
+def linear_start(system, freq_hz: float) -> State:
     """State (q, q', q'') at phase 0 of the steady response of the linearised system
     (mounts at k1 and c, friction sliders free): a good start for slow transients."""
     omega = 2.0 * math.pi * freq_hz
@@ -193,8 +202,8 @@ def linear_start(system, freq_hz: float):
         X = np.linalg.solve(A, rhs)
     except np.linalg.LinAlgError:
         n = system.n_dof
-        return np.zeros(n), np.zeros(n), np.zeros(n)
-    return X.imag.copy(), omega * X.real, -omega ** 2 * X.imag
+        return State(np.zeros(n), np.zeros(n), np.zeros(n))
+    return State(X.imag.copy(), omega * X.real, -omega ** 2 * X.imag)
 
 
 def _transmissibility(system, omega, amp_q, phasor_F_axes, axis_index) -> float:

@@ -174,6 +174,68 @@ def _single_mount(ck: _Checker, data: dict) -> MountParameters | None:
     return MountParameters(axis, radial, radial)
 
 
+def _orientation(ck: _Checker, m: dict, path: str):
+    """``[[mounts]].orientation`` -> a rotation matrix (rows: the local axes in body
+    axes), re-orthonormalised; None after a problem."""
+    o = m["orientation"]
+    rows = o if isinstance(o, list) and len(o) == 3 else None
+    if rows is None:
+        ck.add(f"`{path}.orientation` must be 3 rows of 3 numbers (the axial, "
+               f"radial1 and radial2 unit vectors in body axes), got "
+               f"{_type_name(o)} {_show(o)}")
+        return None
+    R = [ck.vector({"r": r}, "r", f"{path}.orientation[{j}]", 3)
+         for j, r in enumerate(rows)]
+    if not all(r is not None for r in R):
+        return None
+    R = np.array(R)
+    if not np.allclose(R @ R.T, np.eye(3), atol=1e-6):
+        ck.add(f"`{path}.orientation` must be a rotation: orthonormal rows "
+               f"(axial, radial1, radial2 unit vectors), got "
+               f"{R.tolist()}")
+    elif np.linalg.det(R) < 0:
+        ck.add(f"`{path}.orientation` must be a right-handed rotation "
+               f"(determinant +1), got determinant -1: swap radial1 and "
+               f"radial2")
+    else:
+        # re-orthonormalise the rounding of hand-typed values
+        u, _, vt = np.linalg.svd(R)
+        return u @ vt
+    return None
+
+
+def _scaled_radial(ck: _Checker, m: dict, path: str, name_ax: str, axial, lam):
+    """A radial axis of a ``[[mounts]]`` entry with ``lambda``: lambda times the
+    axial law, with only its own friction table allowed; None after a problem."""
+    p = f"{path}.{name_ax}"
+    r = m.get(name_ax, {})
+    if not isinstance(r, dict):
+        ck.add(f"`{p}` must be a table, got {_type_name(r)} {_show(r)}")
+        return None
+    law_keys = [k for k in r if k != "friction"]
+    for k in law_keys:
+        if k in _AXIS_LAW_KEYS:
+            ck.add(f"`{p}.{k}` conflicts with `{path}.lambda`: with lambda "
+                   f"the radial law is lambda times the axial one (thesis "
+                   f"eq. 4.4); "
+                   f"remove `{p}.{k}`, or remove `lambda` and give the whole "
+                   f"[{p}] table")
+        else:
+            ck.keys({k: r[k]}, p, ("friction",))
+    fr = _friction(ck, r, p)
+    if axial is None or lam is None or fr is None:
+        return None
+    base = axial.scaled(lam).to_dict()
+    base.update(friction=False)
+    base.update(fr)
+    ax = _unchecked_axis(**base)
+    probs = _law_problems(ax, p)
+    if probs:
+        ck.problems.extend(probs)
+        return None
+    return AxisParameters(**ax.to_dict())
+
+
 def _rigid_mount(ck: _Checker, m, i: int):
     """One ``[[mounts]]`` entry -> (name, position, orientation, MountParameters)."""
     path = f"mounts[{i}]"
@@ -190,31 +252,7 @@ def _rigid_mount(ck: _Checker, m, i: int):
                     f"[{path}.radial1.friction]"})
     name = ck.string(m, "name", path, default=f"mount{i + 1}")
     position = ck.vector(m, "position", path, 3, unit="m")
-    orientation = None
-    if "orientation" in m:
-        o = m["orientation"]
-        rows = o if isinstance(o, list) and len(o) == 3 else None
-        if rows is None:
-            ck.add(f"`{path}.orientation` must be 3 rows of 3 numbers (the axial, "
-                   f"radial1 and radial2 unit vectors in body axes), got "
-                   f"{_type_name(o)} {_show(o)}")
-        else:
-            R = [ck.vector({"r": r}, "r", f"{path}.orientation[{j}]", 3)
-                 for j, r in enumerate(rows)]
-            if all(r is not None for r in R):
-                R = np.array(R)
-                if not np.allclose(R @ R.T, np.eye(3), atol=1e-6):
-                    ck.add(f"`{path}.orientation` must be a rotation: orthonormal rows "
-                           f"(axial, radial1, radial2 unit vectors), got "
-                           f"{R.tolist()}")
-                elif np.linalg.det(R) < 0:
-                    ck.add(f"`{path}.orientation` must be a right-handed rotation "
-                           f"(determinant +1), got determinant -1: swap radial1 and "
-                           f"radial2")
-                else:
-                    # re-orthonormalise the rounding of hand-typed values
-                    u, _, vt = np.linalg.svd(R)
-                    orientation = u @ vt
+    orientation = _orientation(ck, m, path) if "orientation" in m else None
     lam = None
     if "lambda" in m:
         lam = ck.number(m, "lambda", path, rule=">0", unit="")
@@ -228,31 +266,7 @@ def _rigid_mount(ck: _Checker, m, i: int):
     for name_ax in ("radial1", "radial2"):
         p = f"{path}.{name_ax}"
         if "lambda" in m:
-            r = m.get(name_ax, {})
-            if not isinstance(r, dict):
-                ck.add(f"`{p}` must be a table, got {_type_name(r)} {_show(r)}")
-                continue
-            law_keys = [k for k in r if k != "friction"]
-            for k in law_keys:
-                if k in _AXIS_LAW_KEYS:
-                    ck.add(f"`{p}.{k}` conflicts with `{path}.lambda`: with lambda "
-                           f"the radial law is lambda times the axial one (thesis "
-                           f"eq. 4.4); "
-                           f"remove `{p}.{k}`, or remove `lambda` and give the whole "
-                           f"[{p}] table")
-                else:
-                    ck.keys({k: r[k]}, p, ("friction",))
-            fr = _friction(ck, r, p)
-            if axial is not None and lam is not None and fr is not None:
-                base = axial.scaled(lam).to_dict()
-                base.update(friction=False)
-                base.update(fr)
-                ax = _unchecked_axis(**base)
-                probs = _law_problems(ax, p)
-                if probs:
-                    ck.problems.extend(probs)
-                else:
-                    axes[name_ax] = AxisParameters(**ax.to_dict())
+            axes[name_ax] = _scaled_radial(ck, m, path, name_ax, axial, lam)
         elif name_ax not in m:
             ck.add(f"`{p}` is missing: give the [{p}] table, or `lambda` in "
                    f"[[mounts]] to derive it from the axial law (radial = lambda * "
