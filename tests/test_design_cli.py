@@ -185,3 +185,18 @@ def test_static_writes_the_working_point_and_warns_past_the_knee(tmp_path, capsy
     assert "warning" not in capsys.readouterr().out
     assert main(["static", "sdof_halved", "--load", "q=3"]) == 2
     assert "--load must be DOF=VALUE" in capsys.readouterr().err
+
+
+def test_units_in_the_header_are_converted(tmp_path):
+    """The same curve in mm and kN fits to the same law as in m and N."""
+    rows = [line.split(",") for line in (DATA / "rig_piecewise.csv").read_text()
+            .splitlines() if line and not line.startswith("#")][1:]
+    text = "deflection [mm],force [kN]\n" + "".join(
+        f"{float(u) * 1e3!r},{float(F) / 1e3!r}\n" for u, F in rows)
+    (tmp_path / "mm.csv").write_text(text)
+    for name, src in (("si", DATA / "rig_piecewise.csv"), ("mm", tmp_path / "mm.csv")):
+        assert main(["fit", "elastic", str(src), "--out", str(tmp_path / name),
+                     "--no-plot"]) == 0
+    a, b = _mount(tmp_path / "si"), _mount(tmp_path / "mm")
+    for k in ("k1", "k2", "delta"):
+        assert getattr(b, k) == pytest.approx(getattr(a, k), rel=1e-9)
