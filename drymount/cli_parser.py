@@ -358,16 +358,18 @@ def build_parser() -> argparse.ArgumentParser:
     # static -------------------------------------------------------------------
     p = _add(sub, "static", "static working point under the engine's weight",
              """\
-             Equilibrium of the configuration under gravity (and --load) with the
-             nonlinear elastic laws, friction sliders relaxed. Prints and writes the
-             static deflection and force of every mount axis (CSV) and warns when an
-             axis works past a knee of its law or beyond --travel-mm. HBM and
-             co-simulation still run about the unloaded point.""",
+             Equilibrium of the configuration under gravity (and the [static]
+             loads and --load) with the nonlinear elastic laws, friction sliders
+             relaxed. Prints and writes the static deflection and force of every
+             mount axis (CSV) and warns when an axis works past a knee of its law
+             or beyond --travel-mm. With [static] gravity = true in the
+             configuration, hbm, cosim and sweep run about this point.""",
              ["drymount static sdof_halved",
               "drymount static six_dof_halved --load beta=40 --travel-mm 15"])
     _config_arg(p)
-    p.add_argument("--g", type=_positive_float, default=9.81,
-                   help="gravitational acceleration, m/s^2")
+    p.add_argument("--g", type=_positive_float, default=None,
+                   help="gravitational acceleration, m/s^2 (default: [static] g, "
+                        "else 9.81)")
     p.add_argument("--no-gravity", action="store_true", help="only the --load terms")
     p.add_argument("--load", action="append", default=None, metavar="DOF=VALUE",
                    help="static generalised load on a DOF, N or N m (repeatable)")

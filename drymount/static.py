@@ -1,14 +1,15 @@
 """``drymount static CONFIG``: the static working point under the engine's weight.
 
 Gravity acts on every body (downwards: ``-g`` along the vertical translation DOFs of the
-model, :data:`VERTICAL`), plus any static generalised loads given with ``--load``
-(e.g. the engine's drive torque). :func:`hbm.static.static_equilibrium` solves the
+model, :data:`drymount.config.static.VERTICAL`), plus the static loads of the
+configuration's ``[static]`` table and of ``--load`` (e.g. the engine's drive torque). :func:`hbm.static.static_equilibrium` solves the
 equilibrium with the nonlinear elastic laws, friction sliders relaxed (the module
 docstring says why). Writes the static deflection and force of every mount axis to CSV
 and warns when an axis works past a knee of its law or beyond ``--travel-mm``.
 
-The HBM and co-simulation commands still run about the unloaded point; this command
-tells whether that is where the mounts work.
+With ``[static] gravity = true`` in the configuration, ``drymount hbm``, ``cosim`` and
+``sweep`` run about this working point; without it they run about the unloaded point,
+and this command tells whether that is where the mounts work.
 """
 
 from __future__ import annotations
@@ -22,17 +23,7 @@ from drymount.io import write_csv
 from fmu_src.mount_law import AXES, ELASTIC_LAWS
 from hbm.static import StaticStatus, gravity_load, knee_warnings, static_equilibrium
 
-__all__ = ["VERTICAL", "vertical_dofs", "main"]
-
-#: The DOFs a unit upward translation of every body moves, per model.
-VERTICAL = {"sdof": ("x",), "quarter_car": ("engine", "sprung", "unsprung"),
-            "rigid_engine": ("z",)}
-
-
-def vertical_dofs(model: str, dof_names) -> np.ndarray:
-    """1 on the vertical translation DOFs of ``model``, 0 elsewhere."""
-    up = VERTICAL[model]
-    return np.array([1.0 if n in up else 0.0 for n in dof_names])
+__all__ = ["main"]
 
 
 def _loads(specs, dof_names) -> np.ndarray:
@@ -55,20 +46,24 @@ def _loads(specs, dof_names) -> np.ndarray:
 def main(args) -> int:
     """Run ``drymount static`` (CLI arguments in ``args``); the exit status."""
     from drymount.config import resolve_config
+    from drymount.config.static import vertical_dofs
 
     cfg = resolve_config(args.config)
-    system = cfg.system
+    system, st = cfg.system, cfg.static
     names = list(system.dof_names)
     try:
         load = _loads(args.load, names)
     except ValueError as exc:
         print(f"drymount: error: {exc}", file=sys.stderr)
         return 2
+    for name, x in st.loads.items():  # the configuration's [static] loads
+        load[names.index(name)] += x
+    g = st.g if args.g is None else args.g
     if not args.no_gravity:
-        load += gravity_load(system, vertical_dofs(cfg.model, names), args.g)
-    travel = args.travel_mm * 1e-3 if args.travel_mm is not None else None
+        load += gravity_load(system, vertical_dofs(cfg.model, names), g)
+    travel = st.travel if args.travel_mm is None else args.travel_mm * 1e-3
     point = static_equilibrium(system, load)
-    what = "no gravity" if args.no_gravity else f"g = {args.g:g} m/s^2"
+    what = "no gravity" if args.no_gravity else f"g = {g:g} m/s^2"
     if args.load:
         what += ", loads " + ", ".join(args.load)
     print(f"{cfg.name}: static working point ({what}): {point.status.value} in "

@@ -31,7 +31,7 @@ from fmu_src.mount_law import AXES, ELASTIC_LAWS, elastic_force
 from hbm.system import System
 
 __all__ = ["StaticStatus", "StaticPoint", "gravity_load", "static_equilibrium",
-           "knee_warnings"]
+           "working_point", "knee_warnings"]
 
 #: Newton stops when |R| <= RTOL * (|f_static| + the largest elastic force).
 RTOL = 1e-12
@@ -152,6 +152,22 @@ def static_equilibrium(system: System, load, q0=None, max_iter: int = MAX_ITER
             step *= 0.5
         q, u, F, Kt, R = qn, un, Fn, Ktn, Rn
     return StaticPoint(q, u, F, f, status, it, float(np.max(np.abs(R))))
+
+
+def working_point(system: System) -> StaticPoint | None:
+    """The working point of ``system`` under its ``static_load`` (None without one).
+
+    Raises ValueError if the equilibrium is not found (HBM and co-simulation cannot
+    run about a point that does not exist).
+    """
+    if not system.has_static_load:
+        return None
+    point = static_equilibrium(system, system.static_load)
+    if point.status is not StaticStatus.CONVERGED:
+        raise ValueError(f"the static working point under `static_load` "
+                         f"{system.static_load.tolist()} {point.status.value} "
+                         f"(largest residual {point.residual:.3g})")
+    return point
 
 
 def knee_warnings(system: System, point: StaticPoint, travel: float | None = None
