@@ -23,7 +23,11 @@ import numpy as np
 
 from drymount.io import save_figure, write_csv
 from fmu_src.mount_law import AXES, AxisParameters, law_code
-from hbm.characterise import DynamicStiffnessMap, dynamic_stiffness, time_domain_stiffness
+from hbm.characterise import (
+    DynamicStiffnessMap,
+    dynamic_stiffness,
+    time_domain_stiffness,
+)
 
 __all__ = ["AxisMap", "CrossCheck", "CROSSCHECK_RTOL", "mount_axes", "characterise",
            "cross_check", "fmu_stiffness", "main"]
@@ -142,7 +146,8 @@ def fmu_stiffness(fmu_path, axis: AxisParameters, freq_hz: float, X: float,
     finally:
         fmu.freeInstance()
     th = 2 * np.pi * np.arange(n) / n
-    return complex(2 / n * float(last @ np.sin(th)), 2 / n * float(last @ np.cos(th))) / X
+    F_s, F_c = 2 / n * float(last @ np.sin(th)), 2 / n * float(last @ np.cos(th))
+    return complex(F_s, F_c) / X
 
 
 def cross_check(maps, method: str = "law", fmu_path=None) -> list[CrossCheck]:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 __all__ = ["build_parser", "STUDY_NAMES"]
 
-STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump")
+STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump", "laws")
 
 
 # ======================================================================================
@@ -278,6 +278,8 @@ def build_parser() -> argparse.ArgumentParser:
              six-dof       6-DOF responses, lambda 1 and 1.2, relocated mount
                            (Figs. 4.11-4.44)
              jump          cubic single DOF: unstable branch and the jump (Fig. 3.7)
+             laws          single DOF with the thesis's linear, cubic and piecewise
+                           fits at one excitation (Fig. 4.5)
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])

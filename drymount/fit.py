@@ -255,8 +255,8 @@ def main(args) -> int:
     """Run ``drymount fit`` (see the module docstring); return the exit status."""
     if args.kind in ("loops", "table") and args.mount is None:
         return _usage(f"`drymount fit {args.kind}` needs --mount: the elastic law (the "
-                      f"mount.toml of `drymount fit elastic`, a TOML file with [mount], "
-                      f"or a preset such as sdof_halved)")
+                      f"mount.toml of `drymount fit elastic`, a TOML file with "
+                      f"[mount], or a preset such as sdof_halved)")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     try:

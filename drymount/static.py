@@ -2,10 +2,11 @@
 
 Gravity acts on every body (downwards: ``-g`` along the vertical translation DOFs of the
 model, :data:`drymount.config.static.VERTICAL`), plus the static loads of the
-configuration's ``[static]`` table and of ``--load`` (e.g. the engine's drive torque). :func:`hbm.static.static_equilibrium` solves the
-equilibrium with the nonlinear elastic laws, friction sliders relaxed (the module
-docstring says why). Writes the static deflection and force of every mount axis to CSV
-and warns when an axis works past a knee of its law or beyond ``--travel-mm``.
+configuration's ``[static]`` table and of ``--load`` (e.g. the engine's drive
+torque). :func:`hbm.static.static_equilibrium` solves the equilibrium with the
+nonlinear elastic laws, friction sliders relaxed (its module docstring says why).
+Writes the static deflection and force of every mount axis to CSV and warns when an
+axis works past a knee of its law or beyond ``--travel-mm``.
 
 With ``[static] gravity = true`` in the configuration, ``drymount hbm``, ``cosim`` and
 ``sweep`` run about this working point; without it they run about the unloaded point,
@@ -68,7 +69,8 @@ def main(args) -> int:
         what += ", loads " + ", ".join(args.load)
     print(f"{cfg.name}: static working point ({what}): {point.status.value} in "
           f"{point.iterations} Newton steps")
-    print("  " + ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, point.q, strict=True)))
+    print("  " + ", ".join(f"{n} = {v:.6g}"
+                           for n, v in zip(names, point.q, strict=True)))
     rows = []
     for ie, e in enumerate(system.elements):
         for j in e.active_axes:

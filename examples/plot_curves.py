@@ -1,4 +1,4 @@
-"""Overlay transmissibility curves written by ``drymount hbm`` (docs/design-your-own-mount.md).
+"""Overlay transmissibility curves of ``drymount hbm`` (docs/design-your-own-mount.md).
 
     python examples/plot_curves.py OUT.png CURVE.csv=LABEL [CURVE.csv=LABEL ...]
 

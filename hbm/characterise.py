@@ -190,7 +190,8 @@ def time_domain_stiffness(axis: AxisParameters, freq_hz: float, X: float,
                           steps_per_period: int = 2048) -> complex:
     """K* from a time march of the law (independent of the AFT), N/m.
 
-    The deflection starts at the working point ``U0`` with the slider relaxed there (``w = U0``), then follows ``U0 + X sin(omega t)`` for
+    The deflection starts at the working point ``U0`` with the slider relaxed there
+    (``w = U0``), then follows ``U0 + X sin(omega t)`` for
     ``periods`` periods; :func:`fmu_src.mount_law.axis_force` is marched sample by
     sample (velocity exact) and the fundamental of the last period is taken with the
     rectangle rule.

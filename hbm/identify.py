@@ -374,7 +374,8 @@ class LoopTest:
             dt = np.diff(t)
             if np.any(dt <= 0) or np.ptp(dt) > 1e-6 * dt.mean():
                 problems.append(f"{where}`time` must increase in equal steps "
-                                f"(steps from {float(dt.min())!r} to {float(dt.max())!r} s)")
+                                f"(steps from {float(dt.min())!r} to "
+                                f"{float(dt.max())!r} s)")
         if problems:
             raise DataError(problems)
         object.__setattr__(self, "time", t)

@@ -1,4 +1,4 @@
-"""Static working point of a system under constant loads (the engine's weight, a torque).
+"""Static working point of a system under constant loads (engine weight, torques).
 
 Equilibrium of the structure and the mounts' elastic laws with the base at rest:
 

@@ -17,10 +17,11 @@ from hbm.characterise import (DynamicStiffnessMap, dynamic_stiffness,
                               working_deflection)
 from hbm.closed_form import gap_coefficients, jenkins_coefficients
 
-#: Linear spring + damper vs k + i omega c: the issue's bound; measured 0 (exact in floating point).
+#: Linear spring + damper vs k + i omega c: the issue's bound; measured 0 (exact in
+#: floating point).
 RTOL_LINEAR = 1e-9
-#: Jenkins (and gap) vs the closed forms: the issue's bound; measured 5.6e-8 (Jenkins), 3.5e-8
-#: (gap), N = 4096 samples.
+#: Jenkins (and gap) vs the closed forms: the issue's bound; measured 5.6e-8
+#: (Jenkins), 3.5e-8 (gap), N = 4096 samples.
 RTOL_CLOSED = 1e-6
 #: AFT vs time march of the law (2048 steps per period, rectangle rule in both);
 #: measured 7.6e-8 relative.

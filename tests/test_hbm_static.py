@@ -25,7 +25,8 @@ def test_sdof_halved_sags_past_the_knee():
     W = 70.0 * G
     point = static_equilibrium(system, gravity_load(system, [1.0], G))
     assert point.status is StaticStatus.CONVERGED
-    hand = -(DELTA + (W - K1 * DELTA) / K2)  # -12.733 mm: past the knee (k1 delta = 563 N)
+    # -12.733 mm: past the knee (k1 delta = 563 N)
+    hand = -(DELTA + (W - K1 * DELTA) / K2)
     assert abs(point.q[0] - hand) / abs(hand) < RTOL
     assert point.deflection[0, 0] == point.q[0]
     assert abs(point.force[0, 0] + W) / W < RTOL  # compression carries the weight

@@ -14,6 +14,7 @@ command                   function                      thesis
 ``quarter-car``           :func:`run_quarter_car`       Figs. 4.6-4.9
 ``six-dof``               :func:`run_six_dof`           Figs. 4.11-4.44
 ``jump``                  :func:`run_jump`              Figs. 3.5, 3.7
+``laws``                  :func:`run_laws`              Fig. 4.5
 ========================  ============================  ===========================
 
 The normal force ``n0`` of a study is applied to every friction element of the system;
@@ -53,6 +54,7 @@ from drymount.studies.common import (
     with_stiffness_factor,
 )
 from drymount.studies.jump import run_jump
+from drymount.studies.laws import run_laws
 from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import OPT_PEAK_BAND_HZ, run_optimize_n0
 from drymount.studies.quarter_car import run_quarter_car
@@ -69,6 +71,7 @@ __all__ = [
     "run_quarter_car",
     "run_six_dof",
     "run_jump",
+    "run_laws",
     "load_system",
     "with_normal_force",
     "with_stiffness_factor",
