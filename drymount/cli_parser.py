@@ -10,7 +10,8 @@ from pathlib import Path
 
 __all__ = ["build_parser", "STUDY_NAMES"]
 
-STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump", "laws")
+STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump", "laws",
+               "six-dof-75")
 
 
 # ======================================================================================
@@ -280,6 +281,8 @@ def build_parser() -> argparse.ArgumentParser:
              jump          cubic single DOF: unstable branch and the jump (Fig. 3.7)
              laws          single DOF with the thesis's linear, cubic and piecewise
                            fits at one excitation (Fig. 4.5)
+             six-dof-75    6-DOF original mounts at 75 % with friction
+                           (Figs. 4.45-4.50)
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])

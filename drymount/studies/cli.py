@@ -16,6 +16,7 @@ from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import run_optimize_n0
 from drymount.studies.quarter_car import run_quarter_car
 from drymount.studies.six_dof import run_six_dof
+from drymount.studies.six_dof_75 import run_six_dof_75
 
 STUDIES: dict[str, Callable[..., dict]] = {
     "normal-force": run_normal_force,
@@ -24,6 +25,7 @@ STUDIES: dict[str, Callable[..., dict]] = {
     "six-dof": run_six_dof,
     "jump": run_jump,
     "laws": run_laws,
+    "six-dof-75": run_six_dof_75,
 }
 
 
