@@ -125,8 +125,8 @@ def _summary(r, dofs) -> str:
     lines = ["# Study six-dof-75: original mounts at 75 % with friction "
              "(Figs. 4.45-4.50)", "",
              f"Table 4.1 layout, lambda = 1, chassis moved {BASE_AMPLITUDE} m "
-             f"(x, y, z) in phase, friction x on mount 1, y on mount 2, z on mount 3; HBM "
-             f"H = {r['harmonics']}.", "",
+             f"(x, y, z) in phase, friction x on mount 1, y on mount 2, z on mount "
+             f"3; HBM H = {r['harmonics']}.", "",
              "Peak over the original mounts without friction:", "",
              md_table(head, [[k, *v.values()] for k, v in r["peak_ratio"].items()]), "",
              f"Amplitude at {HIGH_HZ:g} Hz over the original mounts without friction:",
