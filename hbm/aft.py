@@ -141,17 +141,21 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
             if f is None:
                 f = np.zeros_like(u)
             f[..., fr] += ff
+    if f is None:  # no remainder at all (e.g. a linear axis without friction)
+        f = np.zeros_like(u)
     F = P @ f
     if not jacobian:
         return F, None
+    fr = plan.friction
     if kt is not None:
         # dF[a] = P diag(kt[:, a]) E, plus the Jenkins part
         dF = (P * np.swapaxes(kt, -1, -2)[..., None, :]) @ E
         if dF_fr is not None:
             dF[..., fr, :, :] += dF_fr
-    elif plan.all_friction:
+    elif plan.all_friction and dF_fr is not None:
         dF = dF_fr
     else:
         dF = np.zeros((*U.shape[:-2], ax.n, *P.shape[:1], E.shape[1]))
-        dF[..., fr, :, :] = dF_fr
+        if dF_fr is not None:
+            dF[..., fr, :, :] = dF_fr
     return F, dF

@@ -128,6 +128,22 @@ def test_aft_batch_equals_one_at_a_time():
         assert np.array_equal(F[i], Fi) and np.array_equal(dF[i], dFi)
 
 
+def test_aft_of_an_axis_without_remainder_is_zero():
+    """A linear axis without friction handed to the AFT (hbm.characterise does):
+    zero forces and Jacobian, single and batched."""
+    sysm = sdof(70.0, MountParameters(axial=AxisParameters(law="linear", friction=True,
+                                                           n0=20.0)), "force", 1.0)
+    ax = nonlinear_axes(sysm)
+    ax0 = type(ax)(**{**{k: getattr(ax, k) for k in (
+        "labels", "index", "B", "G", "law", "k1", "kc", "k2", "delta", "delta_neg",
+        "fs", "w_start")}, "kf": np.zeros(1)})
+    b = FourierBasis(3, 16)
+    for U in (np.ones((7, 1)), np.ones((2, 7, 1))):
+        F, dF = aft_forces(U, ax0, b)
+        assert F.shape == U.shape and not F.any()
+        assert dF.shape == (*U.shape[:-2], 1, 7, 7) and not dF.any()
+
+
 @pytest.mark.skipif(not HAVE_NUMBA, reason="numba not installed")
 def test_numba_backend_equals_numpy_backend_in_the_aft():
     rng = np.random.default_rng(11)
