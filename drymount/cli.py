@@ -122,9 +122,26 @@ def cmd_presets(args) -> int:
         return EXIT_OK
     if args.path.exists() and not args.force:
         raise UsageError(f"{args.path} exists; use --force to overwrite it")
-    atomic_write_text(args.path, text)
-    _info(f"wrote {args.path} (preset {args.name})")
+    name = args.as_name if args.as_name is not None else args.path.stem
+    atomic_write_text(args.path, _with_name(text, name))
+    _info(f"wrote {args.path} (preset {args.name}, named {name!r})")
     return EXIT_OK
+
+
+def _with_name(text: str, name: str) -> str:
+    """``text`` (a preset's TOML) with its top-level ``name = ...`` set to ``name``."""
+    import json
+    import re
+
+    if not name.strip():
+        raise UsageError(f"`--name` must be a non-empty name, got {name!r}")
+    line = f"name = {json.dumps(name)}"  # a JSON string is a TOML basic string
+    head, sep, tables = text.partition("\n[")  # the top level ends at the first table
+    if re.search(r"(?m)^name\s*=.*$", head):
+        head = re.sub(r"(?m)^name\s*=.*$", lambda _: line, head, count=1)
+    else:
+        head = head.rstrip("\n") + "\n" + line + "\n"
+    return head + sep + tables
 
 
 def cmd_build_fmu(args) -> int:

@@ -159,6 +159,9 @@ def build_parser() -> argparse.ArgumentParser:
                         formatter_class=_Formatter)
     q.add_argument("name", metavar="NAME", help="preset name")
     q.add_argument("path", metavar="PATH", type=Path, help="file to write")
+    q.add_argument("--name", dest="as_name", default=None,
+                   help="the configuration's `name` (output files start with it); "
+                        "default: the stem of PATH")
     q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
 
     # build-fmu ----------------------------------------------------------------
