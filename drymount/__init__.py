@@ -4,7 +4,7 @@ The public API (documented in :mod:`drymount.api`, units SI)::
 
     import drymount
 
-    model = drymount.load("sdof_original")              # preset name or TOML file
+    model = drymount.load("sdof_halved")                # preset name or TOML file
     model = model.replace("mount.friction.n0", 40.0)    # N
     curve = drymount.hbm(model, 1.0, 30.0)              # Hz
     print(curve.peak())                                 # peak transmissibility

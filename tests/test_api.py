@@ -157,3 +157,17 @@ def test_replace_and_with_go_through_the_config_check():
         m.replace("mounts[2].axial.friction.n0", -1.0)
     with pytest.raises(ConfigError, match=r"mounts\[9\]"):
         m.replace("mounts[9].axial.friction.n0", 1.0)
+
+
+def test_api_reference_builds_offline_with_every_public_name(tmp_path):
+    """``docs/build_api.py`` (pdoc, the ``docs`` extra) documents every public name."""
+    pytest.importorskip("pdoc", reason="the `docs` extra installs pdoc")
+    proc = subprocess.run([sys.executable, str(REPO / "docs" / "build_api.py"),
+                           str(tmp_path / "api")], cwd=REPO, capture_output=True,
+                          text=True, check=True)
+    assert "wrote" in proc.stdout
+    page = (tmp_path / "api" / "drymount.html").read_text(encoding="utf-8")
+    for name in PUBLIC:
+        assert f'id="{name}"' in page, name
+    committed = REPO / "docs" / "api" / "drymount.html"
+    assert committed.is_file(), "docs/api/ is committed: run python docs/build_api.py"
