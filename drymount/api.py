@@ -151,8 +151,8 @@ class Curve:
             y, quantity, unit = self.transmissibility, "transmissibility", ""
         else:
             if dof not in self.dof_names:
-                raise ValueError(f"`dof` must be one of {list(self.dof_names)} or None, "
-                                 f"got {dof!r}")
+                raise ValueError(f"`dof` must be one of {list(self.dof_names)} or "
+                                 f"None, got {dof!r}")
             y = np.asarray(self.result.peak)[:, self.dof_names.index(dof)]
             quantity, unit = f"{dof} peak", _dof_unit(dof)
         if not np.any(np.isfinite(y)):
@@ -342,12 +342,18 @@ def sweep(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
 
 
 def _inputs(m: Model, freq, road, speed, engine, units):
-    """The input of a run: measured road/engine inputs plus the harmonic excitation
-    at ``freq`` (if given); None means the harmonic excitation alone."""
+    """The input of a run: measured road/engine inputs (given, else the
+    configuration's ``[cosim.input]``) plus the harmonic excitation at ``freq`` (if
+    given); None means the harmonic excitation alone."""
     import vehicle
 
-    from drymount.measured import engine_input, road_input
+    from drymount.measured import configured_inputs, engine_input, road_input
 
+    conf = configured_inputs(m.config)
+    road = road if road is not None else conf.road
+    engine = engine if engine is not None else conf.engine
+    speed = speed if speed is not None else conf.speed
+    units = {**conf.units, **(units or {})}
     parts = []
     if road is not None:
         parts.append(road_input(m.system, road, speed=speed, units=units))
@@ -358,6 +364,15 @@ def _inputs(m: Model, freq, road, speed, engine, units):
     if freq is not None:
         parts.append(vehicle.HarmonicInput(m.system, freq))
     return parts
+
+
+def _check_span(part, duration: float) -> None:
+    from drymount.measured import MeasuredInputError
+
+    try:
+        part.check_span(duration)
+    except ValueError as exc:
+        raise MeasuredInputError(f"{exc} (give a shorter `duration`)") from None
 
 
 def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
@@ -385,7 +400,8 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
         Step, s (wins over ``steps_per_period``; default: the harness's choice).
     road : path-like, optional
         Measured road profile or base displacement CSV
-        (:func:`drymount.measured.road_input`).
+        (:func:`drymount.measured.road_input`). ``road``, ``speed``, ``engine`` and
+        ``units`` default to the configuration's ``[cosim.input]``.
     speed : float, optional
         Vehicle speed, m/s, for a road profile over distance.
     engine : path-like, optional
@@ -411,7 +427,7 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
         duration = c.duration if c.duration is not None else 1.0
     for p in parts or ():
         if hasattr(p, "check_span"):
-            p.check_span(duration)
+            _check_span(p, duration)
     spp = steps_per_period or c.steps_per_period
     if dt is None and spp is not None and freq is not None:
         dt = 1.0 / (freq * spp)

@@ -23,6 +23,9 @@ Signals
     ``a`` of the engine DOFs become the forces ``M a`` (the structural mass matrix
     of the system; the forces that give the free engine this acceleration).
 
+A configuration names them in ``[cosim.input]`` (``road``, ``speed``, ``engine``,
+``units``; file names relative to the configuration file): :func:`configured_inputs`.
+
 Both are resampled to the co-simulation step by a cubic spline through the samples
 (:mod:`vehicle.sampled` states the method).
 """
@@ -37,7 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["UNITS", "MeasuredTable", "read_measured", "road_input", "engine_input"]
+__all__ = ["UNITS", "MeasuredInputError", "MeasuredTable", "MeasuredInputs",
+           "read_measured", "road_input", "engine_input", "configured_inputs"]
 
 #: unit -> (dimension, factor to SI).
 UNITS = {
@@ -53,6 +57,13 @@ UNITS = {
     "m/s": ("speed", 1.0), "km/h": ("speed", 1.0 / 3.6),
     "rad": ("angle", 1.0),
 }
+
+
+
+class MeasuredInputError(ValueError):
+    """A measured input file that cannot be used: names the file, the column or row,
+    and what is allowed."""
+
 
 _HEADER = re.compile(r"^\s*([^\[\]]+?)\s*(?:\[([^\]]*)\])?\s*$")
 
@@ -80,24 +91,25 @@ class MeasuredTable:
     def column(self, name: str, dimension: str) -> np.ndarray:
         """Values of column ``name`` (must have ``dimension``), SI."""
         if name not in self.columns:
-            raise ValueError(f"{self.path}: no column `{name}` (columns: "
-                             f"{', '.join(self.columns)})")
+            raise MeasuredInputError(f"{self.path}: no column `{name}` (columns: "
+                                     f"{', '.join(self.columns)})")
         if self.dimensions[name] != dimension:
-            raise ValueError(f"{self.path}: column `{name}` is in "
-                             f"{self.units[name]!r}, a {self.dimensions[name]}; it "
-                             f"must be a {dimension}")
+            raise MeasuredInputError(
+                f"{self.path}: column `{name}` is in {self.units[name]!r}, a "
+                f"{self.dimensions[name]}; it must be a {dimension}")
         return self.columns[name]
 
 
 def _unit(path, name, unit, units) -> tuple[str, str, float]:
     unit = unit if unit else (units or {}).get(name)
     if not unit:
-        raise ValueError(f"{path}: column `{name}` has no unit: write it in the header "
-                         f"(`{name} [m]`) or give units = {{{name!r}: ...}}")
+        raise MeasuredInputError(
+            f"{path}: column `{name}` has no unit: write it in the header "
+            f"(`{name} [m]`) or give units = {{{name!r}: ...}}")
     unit = " ".join(unit.split())
     if unit not in UNITS:
-        raise ValueError(f"{path}: column `{name}` has unit {unit!r}; allowed: "
-                         f"{', '.join(UNITS)}")
+        raise MeasuredInputError(f"{path}: column `{name}` has unit {unit!r}; allowed: "
+                                 f"{', '.join(UNITS)}")
     return (unit,) + UNITS[unit]
 
 
@@ -116,21 +128,22 @@ def read_measured(path, units=None) -> MeasuredTable:
             rows = [r for r in csv.reader(ln for ln in fh if not ln.startswith("#"))
                     if r]
     except OSError as exc:
-        raise ValueError(f"cannot read the measured input {path}: {exc}") from None
+        raise MeasuredInputError(
+            f"cannot read the measured input {path}: {exc}") from None
     if len(rows) < 2:
-        raise ValueError(f"{path}: needs a header row and data rows")
+        raise MeasuredInputError(f"{path}: needs a header row and data rows")
     cols, unit_of, dim_of = {}, {}, {}
     try:
         data = np.array([[float(v) for v in r] for r in rows[1:]], dtype=float)
     except ValueError as exc:
-        raise ValueError(f"{path}: a data row is not numbers: {exc}") from None
+        raise MeasuredInputError(f"{path}: a data row is not numbers: {exc}") from None
     if data.shape[1] != len(rows[0]):
-        raise ValueError(f"{path}: {data.shape[1]} values per row for "
-                         f"{len(rows[0])} header columns")
+        raise MeasuredInputError(f"{path}: {data.shape[1]} values per row for "
+                                 f"{len(rows[0])} header columns")
     for j, head in enumerate(rows[0]):
         m = _HEADER.match(head)
         if m is None:
-            raise ValueError(f"{path}: header {head!r} must read `name [unit]`")
+            raise MeasuredInputError(f"{path}: header {head!r} must read `name [unit]`")
         name = m.group(1)
         unit, dim, factor = _unit(path, name, m.group(2), units)
         cols[name], unit_of[name], dim_of[name] = data[:, j] * factor, unit, dim
@@ -140,13 +153,15 @@ def read_measured(path, units=None) -> MeasuredTable:
 def _road_time(table: MeasuredTable, speed) -> np.ndarray:
     if "distance" in table.columns:
         if speed is None or not (math.isfinite(speed) and speed > 0):
-            raise ValueError(f"{table.path}: a profile over distance needs the vehicle "
-                             f"`speed` in m/s (> 0), got {speed!r}")
+            raise MeasuredInputError(
+                f"{table.path}: a profile over distance needs the vehicle "
+                f"`speed` in m/s (> 0), got {speed!r}")
         return table.column("distance", "length") / speed
     if "time" in table.columns:
         return table.column("time", "time")
-    raise ValueError(f"{table.path}: a road profile needs a `distance` or a `time` "
-                     f"column (columns: {', '.join(table.columns)})")
+    raise MeasuredInputError(
+        f"{table.path}: a road profile needs a `distance` or a `time` "
+        f"column (columns: {', '.join(table.columns)})")
 
 
 def road_input(system, path, *, speed: float | None = None, units=None,
@@ -177,10 +192,14 @@ def road_input(system, path, *, speed: float | None = None, units=None,
     t = _road_time(table, speed)
     name = next((n for n in ("elevation", "displacement") if n in table.columns), None)
     if name is None:
-        raise ValueError(f"{table.path}: a road profile needs an `elevation` or "
-                         f"`displacement` column (columns: {', '.join(table.columns)})")
-    return SampledBase(system, t - t[0], table.column(name, "length"),
-                       direction=direction)
+        raise MeasuredInputError(
+            f"{table.path}: a road profile needs an `elevation` or "
+            f"`displacement` column (columns: {', '.join(table.columns)})")
+    try:
+        return SampledBase(system, t - t[0], table.column(name, "length"),
+                           direction=direction)
+    except ValueError as exc:
+        raise MeasuredInputError(f"{table.path}: {exc}") from None
 
 
 def engine_input(system, path, *, units=None):
@@ -213,13 +232,52 @@ def engine_input(system, path, *, units=None):
         names = list(system.dof_names)
         bad = [n for n in driven if n not in names]
         if bad:
-            raise ValueError(f"{table.path}: columns {bad} are not DOFs of "
-                             f"{system.name!r} (its DOFs: {names})")
+            raise MeasuredInputError(f"{table.path}: columns {bad} are not DOFs of "
+                                     f"{system.name!r} (its DOFs: {names})")
         a = np.column_stack([table.columns[n] for n in driven])
         f = a @ np.asarray(system.M)[:, [names.index(n) for n in driven]].T
         forces = {d: f[:, i] for i, d in enumerate(names) if np.any(f[:, i])}
     else:
-        raise ValueError(f"{table.path}: the DOF columns {driven} must all be forces "
-                         f"and moments or all accelerations, got units "
-                         f"{[table.units[n] for n in driven]}")
-    return SampledForce(system, t - t[0], forces)
+        raise MeasuredInputError(
+            f"{table.path}: the DOF columns {driven} must all be forces "
+            f"and moments or all accelerations, got units "
+            f"{[table.units[n] for n in driven]}")
+    try:
+        return SampledForce(system, t - t[0], forces)
+    except ValueError as exc:
+        raise MeasuredInputError(f"{table.path}: {exc}") from None
+
+
+@dataclass(frozen=True)
+class MeasuredInputs:
+    """The measured inputs a configuration's ``[cosim.input]`` names.
+
+    Attributes
+    ----------
+    road, engine : pathlib.Path or None
+        CSV files (resolved against the configuration file's folder).
+    speed : float or None
+        Vehicle speed, m/s, for a road profile over distance.
+    units : dict
+        Column -> unit for columns whose header has none.
+    """
+
+    road: Path | None = None
+    engine: Path | None = None
+    speed: float | None = None
+    units: dict = field(default_factory=dict)
+
+
+def configured_inputs(cfg) -> MeasuredInputs:
+    """The ``[cosim.input]`` of a checked :class:`drymount.config.Config` (empty if
+    it has none). Relative file names are taken from the configuration file's folder
+    (the current folder for presets and text)."""
+    inp = (cfg.data.get("cosim") or {}).get("input") or {}
+    src = Path(str(cfg.source).split(" with --set ")[0])
+    base = src.parent if src.is_file() else Path.cwd()
+
+    def where(key):
+        return (base / inp[key]) if inp.get(key) else None
+
+    return MeasuredInputs(where("road"), where("engine"), inp.get("speed"),
+                          dict(inp.get("units") or {}))

@@ -1,4 +1,4 @@
-"""Power spectral densities of a co-simulation: transmitted forces, engine accelerations.
+"""Power spectral densities of a co-simulation: mount forces, engine accelerations.
 
 Welch's method (``scipy.signal.welch``: Hann window, 50 % overlap, mean of the
 periodograms, one-sided density) on the time histories of
@@ -59,9 +59,10 @@ class Spectra:
         units."""
         from vehicle.results import write_csv
 
-        units = ", ".join(f"{d}_acc_psd [({_acc_unit(d)})^2/Hz]" for d in self.dof_names)
-        comment = (f"drymount spectra (Welch, Hann, segments {self.segment_s:.6g} s) of "
-                   f"{self.title}; units: freq_hz [Hz], F_*_psd [N^2/Hz], {units}")
+        units = ", ".join(f"{d}_acc_psd [({_acc_unit(d)})^2/Hz]"
+                          for d in self.dof_names)
+        comment = (f"drymount spectra (Welch, Hann, segments {self.segment_s:.6g} s) "
+                   f"of {self.title}; units: freq_hz [Hz], F_*_psd [N^2/Hz], {units}")
         header = (["freq_hz"] + [f"F_{n}_psd" for n in self.force_names]
                   + [f"{d}_acc_psd" for d in self.dof_names])
         cols = ([self.freq_hz] + list(self.force_psd.T) + list(self.acceleration_psd.T))

@@ -174,3 +174,51 @@ def test_spectra_parseval_and_files(tmp_path):
     assert fig.axes[1].get_xlabel() == "frequency [Hz]"
     with pytest.raises(ValueError, match="`skip`"):
         spectra(th, skip=5.0)
+
+
+def _road_csv(path, system, T=1.0, dt=1e-3):
+    road = vehicle.RandomRoad(system, "C", speed=20.0, seed=3)
+    ts = np.arange(round(T / dt) + 5) * dt
+    return _write(path, ["distance [m]", "elevation"],
+                  [20.0 * ts, 1e3 * road.base(ts)[:, 0]]), road
+
+
+def test_config_cosim_input_and_the_cli(tmp_path, capsys):
+    """``[cosim.input]`` (file relative to the configuration, units from the file)
+    and ``drymount cosim --road`` give the API's run; spectra are written."""
+    from drymount.cli import main
+    from drymount.config import load_config, preset_text
+
+    m = load("quarter_car_halved")
+    (tmp_path / "data").mkdir()
+    _road_csv(tmp_path / "data" / "road.csv", m.system)
+    text = preset_text("quarter_car_halved") + (
+        '\n[cosim.input]\nroad = "data/road.csv"\nspeed = 20.0\n'
+        '[cosim.input.units]\nelevation = "mm"\n')
+    (tmp_path / "qc.toml").write_text(text)
+    ref = cosim(load(tmp_path / "qc.toml"), backend="native", dt=1e-3)
+    direct = cosim(m, road=tmp_path / "data" / "road.csv", speed=20.0,
+                   units={"elevation": "mm"}, backend="native", dt=1e-3)
+    assert np.array_equal(ref.q, direct.q)
+    out, psd = tmp_path / "run.csv", tmp_path / "psd.csv"
+    code = main(["cosim", str(tmp_path / "qc.toml"), "--backend", "native",
+                 "--out", str(out), "--spectra", str(psd), "--spectra-plot",
+                 str(tmp_path / "psd.png"), "--skip", "0.2"])
+    assert code == 0
+    rows = out.read_text().splitlines()
+    assert len(rows) == 2 + len(ref.t)
+    assert "N^2/Hz" in psd.read_text().splitlines()[0]
+    # a unit that does not exist is a configuration problem with its field path
+    bad = text.replace('elevation = "mm"', 'elevation = "furlong"')
+    (tmp_path / "bad.toml").write_text(bad)
+    from drymount.config import ConfigError
+
+    with pytest.raises(ConfigError, match=r"`cosim.input.units.elevation` must be "
+                                          r"one of m, mm"):
+        load_config(tmp_path / "bad.toml")
+    # a file problem exits with 2 and names the file
+    capsys.readouterr()
+    code = main(["cosim", "quarter_car_halved", "--road",
+                 str(tmp_path / "data" / "road.csv"), "--backend", "native"])
+    assert code == 2
+    assert "column `elevation` has no unit" in capsys.readouterr().err

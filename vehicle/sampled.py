@@ -56,8 +56,9 @@ class _Sampled:
     def check_span(self, t_end: float) -> None:
         """ValueError if a run to ``t_end`` s would leave the sampled span."""
         if self.t_first > 0 or t_end > self.t_last * (1 + 1e-12):
-            raise ValueError(f"`{self.name}` covers {self.t_first:g}-{self.t_last:g} s; "
-                             f"a run over 0-{t_end:g} s needs samples over all of it")
+            raise ValueError(f"`{self.name}` covers {self.t_first:g}-{self.t_last:g} "
+                             f"s; a run over 0-{t_end:g} s needs samples over all "
+                             f"of it")
 
     def values(self, t, nu: int = 0) -> np.ndarray:
         tc = np.clip(t, self.t_first, self.t_last)
