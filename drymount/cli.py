@@ -342,7 +342,7 @@ def cmd_sweep(args) -> int:
                       args.direction or cfg.sweep.direction,
                       args.spacing or cfg.sweep.spacing)
     freqs = s.freqs_hz()
-    backend = args.backend or cfg.cosim.backend
+    backend = args.backend or ("native" if args.batch else cfg.cosim.backend)
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
     out = args.out or Path(f"{cfg.name}_sweep.csv")
     kw = {}
@@ -354,7 +354,8 @@ def cmd_sweep(args) -> int:
     import vehicle
 
     res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
-                        workers=args.workers, progress=not args.quiet, **kw)
+                        workers=args.workers, progress=not args.quiet,
+                        batch=args.batch, **kw)
     _write_with(out, res.to_csv)
     _info(f"wrote {out} ({len(res.freq_hz)} frequencies, {s.direction}, backend "
           f"{backend})")

@@ -294,6 +294,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="default: [cosim] backend")
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
+    p.add_argument("--batch", action="store_true",
+                   help="native backend: step all frequencies at once as one array "
+                        "computation (each from the linearised response, not from "
+                        "the previous frequency; docs/performance.md)")
     _harness_args(p, "sweep")
     p.add_argument("--hbm", type=Path, default=None, metavar="CURVE_CSV",
                    help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")

@@ -233,7 +233,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
           steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
           min_periods: int = DEFAULT_MIN_PERIODS,
           max_periods: int = DEFAULT_MAX_PERIODS,
-          warmup: int = DEFAULT_WARMUP) -> SweepResult:
+          warmup: int = DEFAULT_WARMUP, batch: bool = False) -> SweepResult:
     """Stepped-sine sweep of ``system`` under its harmonic excitation.
 
     Parameters
@@ -255,6 +255,10 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         Steady-state options (:func:`vehicle.steady.steady_state`).
     warmup : int
         Warm-up frequencies of each parallel chunk after the first.
+    batch : bool
+        Step all frequencies at once as one array computation
+        (:mod:`vehicle.batch`; ``native`` backend, one process): each frequency
+        starts from the linearised response instead of the previous steady state.
 
     Returns
     -------
@@ -272,6 +276,10 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         raise ValueError(f"`workers` must be an integer >= 1, got {workers!r}")
     if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
         raise ValueError(f"`warmup` must be an integer >= 0, got {warmup!r}")
+    if batch and (backend != "native" or workers != 1):
+        raise ValueError(f"`batch` steps the native law in one process: it needs "
+                         f"backend 'native' and workers 1, got backend {backend!r}, "
+                         f"workers {workers!r}")
     f = np.sort(f) if direction == "up" else np.sort(f)[::-1]
     options = dict(steps_per_period=steps_per_period, rtol=rtol,
                    min_periods=min_periods, max_periods=max_periods)
@@ -285,7 +293,11 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     bar = tqdm(total=f.size, desc=f"sweep {direction} ({backend})", unit="freq",
                file=sys.stderr, disable=not progress, leave=False)
     try:
-        if workers == 1:
+        if batch:
+            from .batch import steady_states
+            points = [SweepPoint.of(ss) for ss in steady_states(
+                system, f, progress=bar, **options)]
+        elif workers == 1:
             points = _run_chunk(system, f.tolist(), [], backend, fmu_path, options,
                                 bar=bar)
         else:
@@ -295,7 +307,8 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         bar.close()
     return _result(system, points, direction, backend, _time.perf_counter() - t0,
                    workers, notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
-                                   "steps_per_period": steps_per_period})
+                                   "steps_per_period": steps_per_period,
+                                   "batch": bool(batch)})
 
 
 def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar):
