@@ -355,7 +355,7 @@ def cmd_sweep(args) -> int:
 
     res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
                         workers=args.workers, progress=not args.quiet,
-                        batch=args.batch, **kw)
+                        batch=args.batch, refine=args.refine, hbm=overlay, **kw)
     _write_with(out, res.to_csv)
     _info(f"wrote {out} ({len(res.freq_hz)} frequencies, {s.direction}, backend "
           f"{backend})")

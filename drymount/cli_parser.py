@@ -298,9 +298,14 @@ def build_parser() -> argparse.ArgumentParser:
                    help="native backend: step all frequencies at once as one array "
                         "computation (each from the linearised response, not from "
                         "the previous frequency; docs/performance.md)")
+    p.add_argument("--refine", type=_int_at_least(0), default=0, metavar="N",
+                   help="add N frequencies where they matter: at the peak and where "
+                        "the response changes fastest, first at the peak and folds "
+                        "of the --hbm curve if given (default 0)")
     _harness_args(p, "sweep")
     p.add_argument("--hbm", type=Path, default=None, metavar="CURVE_CSV",
-                   help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
+                   help="HBM curve (CSV of `drymount hbm`) to overlay on the plot "
+                        "(and to guide --refine)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
     # validate -----------------------------------------------------------------
