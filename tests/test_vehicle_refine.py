@@ -13,7 +13,7 @@ from drymount import api
 from vehicle.refine import hbm_targets, refine_targets
 
 #: The issue's bar: a 30-point sweep with refinement reads the HBM peak within 1 %.
-#: Measured: +0.16 % with 8 extra points, +0.03 % with 8 guided by the HBM curve
+#: Measured: +0.15 % with 8 extra points, -0.04 % with 4 guided by the HBM curve
 #: (the sweep's discretisation, 256 steps per period, and HBM's 7 harmonics differ
 #: at that level); the plain 30-point grid reads it 11.7 % low.
 PEAK_RTOL = 0.01

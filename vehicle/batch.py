@@ -54,27 +54,27 @@ __all__ = ["VectorLaw", "LawStep", "steady_states", "BATCH_SIZE"]
 BATCH_SIZE = 64
 
 
-def _linear(u, a, idx):
-    return a["k1"][idx] * u
+def _linear(u, a):
+    return a["k1"] * u
 
 
-def _cubic(u, a, idx):
-    return a["k1"][idx] * u + a["kc"][idx] * u * u * u
+def _cubic(u, a):
+    return a["k1"] * u + a["kc"] * u * u * u
 
 
-def _knees(u, a, idx, dneg):
+def _knees(u, a, dneg):
     # u - clip(u, -dneg, d) is exactly u - d above the knee, u + dneg below and 0
     # between, so this is the scalar law's k1 u + (k2 - k1)(u -+ delta) or k1 u
-    excess = u - np.clip(u, -dneg, a["delta"][idx])
-    return a["k1"][idx] * u + a["dk"][idx] * excess
+    excess = u - np.clip(u, -dneg, a["delta"])
+    return a["k1"] * u + a["dk"] * excess
 
 
-def _piecewise(u, a, idx):
-    return _knees(u, a, idx, a["delta"][idx])
+def _piecewise(u, a):
+    return _knees(u, a, a["delta"])
 
 
-def _piecewise_asym(u, a, idx):
-    return _knees(u, a, idx, a["delta_neg"][idx])
+def _piecewise_asym(u, a):
+    return _knees(u, a, a["delta_neg"])
 
 
 #: Vectorised elastic forces, by law name (the scalar ones: fmu_src.mount_law).
@@ -129,23 +129,32 @@ class VectorLaw:
         laws = defaultdict(list)
         for i, p in enumerate(axes):
             laws[p.law].append(i)
-        if len(laws) == 1:  # one law: whole arrays, no gather/scatter
-            self._groups = [(VECTOR_ELASTIC[next(iter(laws))], slice(None))]
-        else:
-            self._groups = [(VECTOR_ELASTIC[n], np.array(i)) for n, i in laws.items()]
+        # per law: its function, its columns and their parameters (taken once)
+        self._groups = [(VECTOR_ELASTIC[n], np.array(i),
+                         {k: a[np.array(i)] for k, a in arr.items()})
+                        for n, i in laws.items()]
 
     def elastic(self, u: np.ndarray) -> np.ndarray:
         """Elastic forces, shape of ``u`` (B, m), N."""
-        if len(self._groups) == 1:
-            f, idx = self._groups[0]
-            return f(u, self._arr, idx)
+        if len(self._groups) == 1:  # one law: whole arrays, no gather/scatter
+            f, _idx, a = self._groups[0]
+            return f(u, a)
         out = np.empty_like(u)
-        for f, idx in self._groups:
-            out[:, idx] = f(u[:, idx], self._arr, idx)
+        for f, idx, a in self._groups:
+            out[:, idx] = f(u[:, idx], a)
         return out
 
     def step(self, u: np.ndarray, v: np.ndarray, w: np.ndarray) -> LawStep:
         """Forces of a trial motion (nothing committed); see the class docstring."""
+        force, f_fr, w_new = self.forces(u, v, w)
+        return LawStep(force, f_fr, w_new, self.dissipated(w_new, w))
+
+    def dissipated(self, w_new: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """Energy the sliders dissipate from ``w`` to ``w_new``, J (Fs |dw|)."""
+        return self._fs * np.abs(w_new - w)
+
+    def forces(self, u: np.ndarray, v: np.ndarray, w: np.ndarray):
+        """``(force, friction_force, w_new)`` of :meth:`step`."""
         f_el = self.elastic(u)
         fs = self._fs
         trial = self._kf * (u - w)
@@ -154,8 +163,7 @@ class VectorLaw:
         f_fr = np.clip(trial, -fs, fs)
         slip = np.abs(trial) > fs
         w_new = np.where(slip, u - np.copysign(self._eps, trial), w)
-        force = f_el + self._c * v + f_fr
-        return LawStep(force, f_fr, w_new, fs * np.abs(w_new - w))
+        return f_el + self._c * v + f_fr, f_fr, w_new
 
 
 def _slice_or_index(cols: np.ndarray):
@@ -202,32 +210,50 @@ class _Batch:
             self.rebind()
 
     def run_rows(self, rows: int) -> None:
-        """Step every master through rows 0..rows-1 (as NativeBackend.run)."""
+        """Step every master through rows 0..rows-1 (as NativeBackend.run).
+
+        The sliders of every step are kept; the friction energy (an output only)
+        follows after the loop as the running sum of ``Fs |w_k - w_(k-1)|``, the
+        scalar backend's additions in its order."""
         L, law, rec, W = self.layout, self.law, self.rec, self.W
         backends = [m.backend for m in self.masters]
-        w = np.array([be._w for be in backends], dtype=float).reshape(-1, L.m)
-        E = np.array([be._E for be in backends], dtype=float).reshape(-1, L.n_mounts)
-        cu, cv, cF, cFr, cE = self._u, self._v, self._F, self._Ffr, self._E
-        mount, ox, nn, matmul = self._mount, L.o_x, L.n_next, np.matmul
+        B = len(backends)
+        w0 = np.array([be._w for be in backends], dtype=float).reshape(B, L.m)
+        E0 = np.array([be._E for be in backends], dtype=float).reshape(B, L.n_mounts)
+        cu, cv, cF, cFr = self._u, self._v, self._F, self._Ffr
+        ox, nn, matmul = L.o_x, L.n_next, np.matmul
+        wh = np.empty((rows + 1, B, L.m))
+        wh[0] = w0
+        nxt = np.empty((B, nn, 1))
         t0 = _time.perf_counter()
         for k in range(rows):
             row = rec[:, k]
             if L.m:
-                s = law.step(row[:, cu], row[:, cv], w)
-                w = s.w_new
-                E = E + (s.dissipated if mount is None else s.dissipated @ mount)
-                row[:, cF] = s.force
-                row[:, cFr] = s.friction_force
-                row[:, cE] = E
-            rec[:, k + 1, :nn] = matmul(W, row[:, ox:, None])[:, :, 0]
-        wall = (_time.perf_counter() - t0) / len(backends)
+                force, f_fr, w = law.forces(row[:, cu], row[:, cv], wh[k])
+                wh[k + 1] = w
+                row[:, cF] = force
+                row[:, cFr] = f_fr
+            matmul(W, row[:, ox:, None], out=nxt)
+            rec[:, k + 1, :nn] = nxt[:, :, 0]
+        E = self._energy(wh, E0)
+        if L.n_mounts:
+            rec[:, :rows, self._E] = E.transpose(1, 0, 2)
+        wall = (_time.perf_counter() - t0) / B
         for b, be in enumerate(backends):
-            be._w[:] = w[b].tolist()
-            be._E[:] = E[b].tolist()
+            be._w[:] = wh[rows, b].tolist()
+            be._E[:] = E[-1, b].tolist()
             be.steps += rows
         for m in self.masters:
             m.wall_time += wall
 
+    def _energy(self, wh: np.ndarray, E0: np.ndarray) -> np.ndarray:
+        """Committed friction energy per mount after each step, (rows, B, n_mounts),
+        from the sliders ``wh`` (rows + 1, B, m) and the energy ``E0`` before."""
+        diss = self.law.dissipated(wh[1:], wh[:-1])
+        if self._mount is not None:
+            diss = diss @ self._mount
+        diss[0] += E0
+        return np.cumsum(diss, axis=0)
 
 def steady_states(system, freqs_hz, *, steps_per_period: int | None = None,
                   rtol: float = DEFAULT_RTOL, min_periods: int = DEFAULT_MIN_PERIODS,
