@@ -1,7 +1,7 @@
 """Sweeps that find the peak (vehicle.refine, ``sweep(refine=...)``): the target
 rules on closed forms, and the peak of quarter_car_halved against harmonic balance.
 
-Runtime: about 8 s on the 2-core development machine."""
+Runtime: about 6 s CPU (12 s wall on the shared 2-core machine)."""
 
 from __future__ import annotations
 
