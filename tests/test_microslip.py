@@ -22,7 +22,7 @@ from fmu_src.mount_law import (AxisParameters, ParameterError, axis_force,
 EXACT = 1e-12
 #: loop area by the trapezoid rule on 20 001 samples vs the closed form: measured 1.3e-8
 AREA = 1e-6
-#: 64-slider midpoint fit vs the continuum uniform distribution: measured 2.4e-5
+#: 64-slider midpoint fit vs the continuum uniform distribution: measured 4.9e-5 (of Fs)
 CONTINUUM = 1e-4
 
 KF, FS = 60000.0, 120.0
