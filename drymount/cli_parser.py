@@ -10,7 +10,8 @@ from pathlib import Path
 
 __all__ = ["build_parser", "STUDY_NAMES"]
 
-STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump")
+STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump",
+               "incline")
 
 
 # ======================================================================================

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from enum import IntEnum
 from pathlib import Path
 
+from drymount.studies.incline import run_incline
 from drymount.studies.jump import run_jump
 from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import run_optimize_n0
@@ -22,6 +23,7 @@ STUDIES: dict[str, Callable[..., dict]] = {
     "quarter-car": run_quarter_car,
     "six-dof": run_six_dof,
     "jump": run_jump,
+    "incline": run_incline,
 }
 
 
