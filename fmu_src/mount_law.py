@@ -546,8 +546,12 @@ def initial_sliders(p: AxisParameters, w: float = 0.0):
 
 
 def mean_slider(w) -> float:
-    """Mean slider position (m) of a friction state (float or tuple)."""
+    """Mean slider position (m) of a friction state (float or tuple); exactly the
+    common position when every slider is at the same one."""
     if isinstance(w, tuple):
+        first = w[0]
+        if all(x == first for x in w):
+            return first
         return math.fsum(w) / len(w)
     return w
 

@@ -93,20 +93,22 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     fr = ax.friction
     corr = []
     for a in fr:
-        ff, stuck, last = jenkins_periodic(u[:, a], ax.kf[a], ax.fs[a],
-                                            ax.w_start[a])
-        f[:, a] += ff
-        if jacobian:
-            kt[:, a] += np.where(stuck, ax.kf[a], 0.0)
-            # stuck after a slip: w = u[last] -+ eps depends on X too
-            sel = np.flatnonzero(stuck & (last >= 0))
-            corr.append((a, sel, last[sel]))
+        # each slider of the axis's bank (one for macro-slip, several for micro-slip)
+        for k, fs_pos, fs_neg in ax.banks[a]:
+            ff, stuck, last = jenkins_periodic(u[:, a], k, fs_pos, ax.w_start[a],
+                                                fs_neg)
+            f[:, a] += ff
+            if jacobian:
+                kt[:, a] += np.where(stuck, k, 0.0)
+                # stuck after a slip: w = u[last] -+ eps depends on X too
+                sel = np.flatnonzero(stuck & (last >= 0))
+                corr.append((a, k, sel, last[sel]))
     F = P @ f
     if not jacobian:
         return F, None
     # dF[a] = P diag(kt[:, a]) E  (- kf P[:, sel] E[last[sel]] for Jenkins)
     dF = np.matmul(P[None, :, :] * kt.T[:, None, :], E)
-    for a, sel, last in corr:
+    for a, k, sel, last in corr:
         if sel.size:
-            dF[a] -= ax.kf[a] * (P[:, sel] @ E[last])
+            dF[a] -= k * (P[:, sel] @ E[last])
     return F, dF

@@ -171,3 +171,33 @@ def test_parameter_errors_name_field_value_and_rule():
     assert "`sliders` must be an integer from 1 to 64" in text and "got 65" in text
     assert "`spread` must be finite and in [0, 1)" in text and "got -0.1" in text
     assert "`fs_ratio` must be finite and >= 0, got nan" in text
+
+
+# ------------------------------------------------------------------ HBM (AFT) forms
+@pytest.mark.parametrize("kw", [dict(sliders=6, spread=0.7),
+                                dict(fs_ratio=0.35),
+                                dict(sliders=4, spread=0.5, fs_ratio=2.0)])
+def test_aft_friction_equals_the_law_marched_to_its_periodic_state(kw):
+    """The AFT friction force of a micro-slip / non-symmetric axis equals the law
+    (axis_force) marched over the same samples until periodic."""
+    from fmu_src.mount_law import MountParameters
+    from hbm.aft import FourierBasis, aft_forces
+    from hbm.systems import sdof
+
+    p = _axis(**kw)
+    ax = nonlinear_axes_of(sdof(70.0, MountParameters(axial=p), "force", 1.0))
+    H, N = 5, 128
+    b = FourierBasis(H, N)
+    U = np.zeros((2 * H + 1, 1))
+    U[1], U[2], U[5] = 1.6 * EPS, 0.9 * EPS, 0.3 * EPS
+    U[0] = 0.2 * EPS
+    F, _ = aft_forces(U, ax, b, jacobian=False)
+    u = (b.E @ U)[:, 0]
+    f, _, w = _march(p, u.tolist() * 3)  # two periods settle, keep the third
+    ref = b.P @ f[-N:]
+    assert np.max(np.abs(F[:, 0] - ref)) <= EXACT * FS
+
+
+def nonlinear_axes_of(system):
+    from hbm.elements import nonlinear_axes
+    return nonlinear_axes(system)

@@ -39,7 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from fmu_src.interface import by_causality
-from fmu_src.mount_law import AXES, axis_force, law_code
+from fmu_src.mount_law import (AXES, axis_force, initial_sliders, law_code,
+                               mean_slider)
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
@@ -217,7 +218,9 @@ class NativeBackend(_Backend):
                 int(cols["Ffr"][i]) - o, e, p))
         self._e_pos = [(e, layout.out_off(e) - layout.o_out + 2 * layout.m_of(e))
                        for e in range(layout.n_mounts)]
-        self._w = [0.0] * layout.m           # slider positions of the active axes
+        # friction state of the active axes: a slider position, or the tuple of a
+        # micro-slip axis's slider positions (fmu_src.mount_law.initial_sliders)
+        self._w = [initial_sliders(a[5]) for a in self._axes]
         self._E = [0.0] * layout.n_mounts    # committed friction energy per mount, J
         self._E_axis = [0.0] * layout.m
 
@@ -254,16 +257,19 @@ class NativeBackend(_Backend):
         self.steps += k1 - k0
 
     def sliders(self) -> np.ndarray:
-        """Slider positions, shape (n_mounts, 3), m (0 on inactive axes)."""
+        """Slider positions, shape (n_mounts, 3), m (0 on inactive axes; the mean of
+        the sliders on a micro-slip axis, as the FMU's ``w_<axis>``)."""
         out = np.zeros((self.layout.n_mounts, 3))
         for (i, e, j) in self.layout.axes():
-            out[e, j] = self._w[i]
+            out[e, j] = mean_slider(self._w[i])
         return out
 
     def set_sliders(self, w) -> None:
+        """Put the sliders at ``w`` (n_mounts, 3), m (every slider of a micro-slip
+        axis at its axis's value, as setting the FMU's ``w_<axis>``)."""
         w = np.asarray(w, dtype=float)
         for (i, e, j) in self.layout.axes():
-            self._w[i] = float(w[e, j])
+            self._w[i] = initial_sliders(self._axes[i][5], float(w[e, j]))
 
     def energy(self) -> np.ndarray:
         """Committed friction energy per mount, shape (n_mounts,), J."""
