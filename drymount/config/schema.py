@@ -29,7 +29,7 @@ MAX_HARMONICS = 50
 SINGULAR_RTOL = 1e-10
 
 _AXIS_LAW_KEYS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c")
-_FRICTION_KEYS = ("kf", "mu", "n0")
+_FRICTION_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
 
 #: Allowed keys of every table, by the path pattern used in messages and in
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
