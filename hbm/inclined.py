@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from fmu_src.inclined import InclinedParameters, inclined_update
+from fmu_src.inclined import ContactLost, InclinedParameters, inclined_update
 from hbm.aft import FourierBasis, default_n_samples
 
 __all__ = ["InclinedSDOF", "PeriodicElement", "InclinedHBMResult", "inclined_periodic",
@@ -117,7 +117,8 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
     :func:`inclined_periodic` (the varying normal force inside), ``f`` the weight
     (constant term) and the harmonic force (sine of harmonic 1). Solved by
     ``scipy.optimize.root`` (hybrid Powell, finite-difference Jacobian) from ``x0`` or
-    the linear response.
+    the linear response. Raises :class:`fmu_src.inclined.ContactLost` when the
+    solution found needs a negative normal force.
     """
     H = harmonics
     basis = FourierBasis(H, n_samples or default_n_samples(H))
@@ -130,42 +131,56 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
         # start: the linear system with the element stuck (about kf in series)
         x0 = np.linalg.solve(A + 0.5 * sys.p.kf * np.eye(2 * H + 1), f)
     scale = max(np.abs(x0).max(), 1e-6)
+    norm = max(sys.force_amp, 1.0)
 
     def resid(z):
-        el = inclined_periodic(basis.E @ (z * scale), sys.p)
-        return (A @ (z * scale) + basis.P @ el.force - f) / max(sys.force_amp, 1.0)
+        try:
+            el = inclined_periodic(basis.E @ (z * scale), sys.p)
+        except ContactLost:
+            # a trial iterate outside the contact domain: a large residual makes
+            # the trust region shrink (only the converged point must keep contact)
+            return np.full(z.shape, 1e6)
+        return (A @ (z * scale) + basis.P @ el.force - f) / norm
 
     sol = root(resid, x0 / scale, method="hybr", options={"xtol": 1e-12})
     X = sol.x * scale
-    el = inclined_periodic(basis.E @ X, sys.p)
+    el = inclined_periodic(basis.E @ X, sys.p)   # raises ContactLost if it has none
     res = float(np.linalg.norm(resid(sol.x)))
     return InclinedHBMResult(freq_hz, X, el, res, bool(sol.success) and el.converged,
                              str(sol.message))
 
 
-def inclined_time_reference(sys: InclinedSDOF, freq_hz: float, *, periods: int = 60,
-                            steps: int = 2000, x_start: float = 0.0) -> np.ndarray:
+def inclined_time_reference(sys: InclinedSDOF, freq_hz: float, *, periods: int = 400,
+                            steps: int = 1000, x_start: float = 0.0,
+                            rtol: float = 1e-7) -> np.ndarray:
     """Last period of a time integration (velocity Verlet with a velocity predictor,
-    ``steps`` per period, the element's exact map each step): displacement samples."""
+    ``steps`` per period, the element's exact map each step): displacement samples.
+
+    Runs until two successive periods differ by less than ``rtol`` times the
+    period's peak-to-peak displacement, at most ``periods`` periods (a stuck element
+    damps the start-up transient only by ``c``)."""
     T = 1.0 / freq_hz
     dt = T / steps
     om = 2 * math.pi * freq_hz
-    x, v, w1, w2 = x_start, 0.0, 0.0, 0.0
+    x, v = x_start, 0.0
     st = inclined_update(x, 0.0, 0.0, 0.0, sys.p)
     w1, w2 = st.w1, st.w2
     acc = (sys.weight - sys.k1 * x - sys.c * v - st.force) / sys.m
-    last = np.empty(steps)
-    for n in range(periods * steps):
-        t = n * dt
-        v_half = v + 0.5 * dt * acc
-        x_new = x + dt * v_half
-        st = inclined_update(x_new, x, w1, w2, sys.p)
-        w1, w2 = st.w1, st.w2
-        v_pred = v_half + 0.5 * dt * acc        # predictor for the damper
-        acc = (sys.weight + sys.force_amp * math.sin(om * (t + dt)) - sys.k1 * x_new
-               - sys.c * v_pred - st.force) / sys.m
-        v = v_half + 0.5 * dt * acc
-        x = x_new
-        if n >= (periods - 1) * steps:
-            last[n - (periods - 1) * steps] = x
-    return last
+    prev, cur = np.full(steps, np.inf), np.empty(steps)
+    for period in range(periods):
+        for j in range(steps):
+            t = (period * steps + j) * dt
+            v_half = v + 0.5 * dt * acc
+            x_new = x + dt * v_half
+            st = inclined_update(x_new, x, w1, w2, sys.p)
+            w1, w2 = st.w1, st.w2
+            v_pred = v_half + 0.5 * dt * acc        # predictor for the damper
+            acc = (sys.weight + sys.force_amp * math.sin(om * (t + dt))
+                   - sys.k1 * x_new - sys.c * v_pred - st.force) / sys.m
+            v = v_half + 0.5 * dt * acc
+            x = x_new
+            cur[j] = x
+        if np.abs(cur - prev).max() <= rtol * np.ptp(cur):
+            break
+        prev, cur = cur, prev
+    return cur.copy()

@@ -19,7 +19,7 @@ SYSTEM = InclinedSDOF(weight=300.0, force_amp=150.0)
 def test_hbm_matches_time_integration_where_the_element_slips(freq_hz):
     r = solve_inclined_hbm(SYSTEM, freq_hz, harmonics=7)
     assert r.success, r.message
-    xt = inclined_time_reference(SYSTEM, freq_hz, periods=40, steps=1000)
+    xt = inclined_time_reference(SYSTEM, freq_hz, steps=1000)
     xh = FourierBasis(7, 1000).E @ r.X
     err = np.abs(xh - xt).max() / np.abs(xt).max()
     assert err <= HBM_VS_TIME_TOL, err

@@ -79,6 +79,8 @@ def _transmissibility(sysm: InclinedSDOF, freqs) -> tuple[np.ndarray, float, flo
     out, nmin, nmax, x0 = [], math.inf, -math.inf, None
     for f in freqs:
         r = solve_inclined_hbm(sysm, f, HARMONICS, x0=x0)
+        if not r.success and x0 is not None:     # retry from the stuck linear start
+            r = solve_inclined_hbm(sysm, f, HARMONICS)
         if not r.success:
             out.append(math.nan)
             continue
