@@ -116,8 +116,8 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
     ``R(X) = A(omega) X + P F(E X) - f``; ``F`` the element's force from
     :func:`inclined_periodic` (the varying normal force inside), ``f`` the weight
     (constant term) and the harmonic force (sine of harmonic 1). Solved by
-    ``scipy.optimize.root`` (hybrid Powell, finite-difference Jacobian) from ``x0`` or
-    the linear response. Raises :class:`fmu_src.inclined.ContactLost` when the
+    ``scipy.optimize.root`` (hybrid Powell, then Levenberg-Marquardt if that fails,
+    finite-difference Jacobians) from ``x0`` or the linear response. Raises :class:`fmu_src.inclined.ContactLost` when the
     solution found needs a negative normal force.
     """
     H = harmonics
@@ -143,6 +143,8 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
         return (A @ (z * scale) + basis.P @ el.force - f) / norm
 
     sol = root(resid, x0 / scale, method="hybr", options={"xtol": 1e-12})
+    if not sol.success:   # Levenberg-Marquardt from the same start
+        sol = root(resid, x0 / scale, method="lm", options={"xtol": 1e-13})
     X = sol.x * scale
     el = inclined_periodic(basis.E @ X, sys.p)   # raises ContactLost if it has none
     res = float(np.linalg.norm(resid(sol.x)))

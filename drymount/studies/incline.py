@@ -37,7 +37,9 @@ HARMONICS = 7
 
 @dataclass
 class InclineDesign:
-    """One design's results; ``status`` is "ok", "self-locks" or "loses contact"."""
+    """One design's results; ``status`` is "ok", "self-locks", "loses contact under
+    the weight" or "loses contact at f1-f2 Hz" (the steady state asks for N < 0 or
+    N2 < 0 there; NaN transmissibility at those frequencies)."""
 
     theta_deg: float
     k: float
@@ -51,6 +53,7 @@ class InclineDesign:
     n_min: float = math.nan
     n_max: float = math.nan
     peak_trans: float = math.nan
+    unconverged: int = 0
 
 
 def static_point(p: InclinedParameters, weight: float, k1: float = K1):
@@ -74,25 +77,33 @@ def static_point(p: InclinedParameters, weight: float, k1: float = K1):
     return hi, net(hi)[1]
 
 
-def _transmissibility(sysm: InclinedSDOF, freqs) -> tuple[np.ndarray, float, float]:
-    """Fundamental of (elastomer + damper + element force) / force amplitude."""
-    out, nmin, nmax, x0 = [], math.inf, -math.inf, None
+def _transmissibility(sysm: InclinedSDOF, freqs):
+    """Fundamental of (elastomer + damper + element force) / force amplitude per
+    frequency (NaN where HBM fails), the range of N, and the frequencies where the
+    steady state loses contact."""
+    out, nmin, nmax, x0, lost, failed = [], math.inf, -math.inf, None, [], 0
+    b = FourierBasis(HARMONICS, default_n_samples(HARMONICS))
     for f in freqs:
-        r = solve_inclined_hbm(sysm, f, HARMONICS, x0=x0)
-        if not r.success and x0 is not None:     # retry from the stuck linear start
-            r = solve_inclined_hbm(sysm, f, HARMONICS)
+        try:
+            r = solve_inclined_hbm(sysm, f, HARMONICS, x0=x0)
+            if not r.success and x0 is not None:     # retry from the stuck linear start
+                r = solve_inclined_hbm(sysm, f, HARMONICS)
+        except ContactLost:
+            lost.append(float(f))
+            out.append(math.nan)
+            continue
         if not r.success:
+            failed += 1
             out.append(math.nan)
             continue
         x0 = r.X
         w = 2 * math.pi * f
-        b = FourierBasis(HARMONICS, default_n_samples(HARMONICS))
         Fel = b.P @ r.element.force
         c1 = K1 * r.X[1] + C * w * r.X[2] + Fel[1]
         s1 = K1 * r.X[2] - C * w * r.X[1] + Fel[2]
         out.append(math.hypot(c1, s1) / sysm.force_amp)
         nmin, nmax = min(nmin, r.element.n1.min()), max(nmax, r.element.n1.max())
-    return np.array(out), nmin, nmax
+    return np.array(out), nmin, nmax, lost, failed
 
 
 def _design(theta, k, preload, freqs) -> InclineDesign:
@@ -108,12 +119,16 @@ def _design(theta, k, preload, freqs) -> InclineDesign:
     try:
         x, st = static_point(p, MASS * G)
         d.x_static, d.n_static, d.n2_static = x, st.n1, st.n2
-        sysm = InclinedSDOF(MASS, K1, C, p, FORCE_AMP, MASS * G)
-        d.trans, d.n_min, d.n_max = _transmissibility(sysm, freqs)
-        d.freqs = np.asarray(freqs)
-        d.peak_trans = float(np.nanmax(d.trans))
     except ContactLost:
-        d.status = "loses contact"
+        d.status = "loses contact under the weight"
+        return d
+    sysm = InclinedSDOF(MASS, K1, C, p, FORCE_AMP, MASS * G)
+    d.trans, d.n_min, d.n_max, lost, d.unconverged = _transmissibility(sysm, freqs)
+    d.freqs = np.asarray(freqs)
+    if lost:
+        d.status = f"loses contact at {min(lost):g}-{max(lost):g} Hz"
+    if not np.all(np.isnan(d.trans)):
+        d.peak_trans = float(np.nanmax(d.trans))
     return d
 
 
@@ -154,17 +169,18 @@ def _plot(out: Path, designs) -> None:
     fig = new_figure(figsize=(7, 4.5))
     ax = fig.add_subplot()
     for d in designs:
-        if d.status == "ok":
+        if d.trans is not None and d.k == 2e4 and d.preload == 200.0:
             ax.semilogy(d.freqs, d.trans, marker=".",
-                        label=f"{d.theta_deg:g} deg, k {d.k:g}, P {d.preload:g} N")
+                        label=f"theta = {d.theta_deg:g} deg")
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("force transmissibility [-]")
-    ax.set_title("Inclined friction mount: transmissibility (HBM, varying N)")
+    ax.set_title("Inclined friction mount, k = 20 000 N/m, preload 200 N:\n"
+                 "force transmissibility (HBM H = 7, N varying over the period)")
     ax.legend(fontsize=6)
     save_fig(fig, out / "incline_transmissibility.png")
     fig = new_figure(figsize=(7, 4.5))
     ax = fig.add_subplot()
-    ok = [d for d in designs if d.status == "ok"]
+    ok = [d for d in designs if not math.isnan(d.x_static)]
     ax.plot([d.theta_deg for d in ok], [1e3 * d.x_static for d in ok], "o",
             label="static deflection [mm]")
     ax.plot([d.theta_deg for d in ok], [d.n_static / 100 for d in ok], "s",
@@ -187,8 +203,8 @@ def run_incline(out_dir, quick: bool = False, progress: bool = True) -> dict:
     _write(out, designs, freqs)
     _plot(out, designs)
     failures = [f"theta {d.theta_deg:g} deg, k {d.k:g} N/m, preload {d.preload:g} N: "
-                f"HBM did not converge at {np.isnan(d.trans).sum()} frequencies"
-                for d in designs if d.trans is not None and np.isnan(d.trans).any()]
+                f"HBM did not converge at {d.unconverged} frequencies"
+                for d in designs if d.unconverged]
     files = [out / n for n in ("incline.csv", "summary.md",
                                "incline_transmissibility.png", "incline_static.png")]
     return {"files": files, "failures": failures, "designs": len(designs),
