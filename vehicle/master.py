@@ -138,7 +138,7 @@ class Master:
 
     def __init__(self, system, backend: str = "native", *, fmu_path=None,
                  fmu_logging: bool = True, fmu_start_values=None,
-                 omega_h_max: float = OMEGA_H_MAX):
+                 omega_h_max: float = OMEGA_H_MAX, control: dict | None = None):
         if not (isinstance(omega_h_max, (int, float)) and 0 < omega_h_max < 2):
             raise ValueError(f"`omega_h_max` must be in (0, 2), got {omega_h_max!r}")
         self.system = system
@@ -149,6 +149,9 @@ class Master:
         self.backend = make_backend(backend, system, self.layout, fmu_path=fmu_path,
                                     logging_on=fmu_logging,
                                     start_values=fmu_start_values)
+        if control:
+            # semi-active normal forces, {(mount, axis): controller} (vehicle.control)
+            self.backend.set_control(control)
         n = system.n_dof
         self.q = np.zeros(n)
         self.qd = np.zeros(n)
