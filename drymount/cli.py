@@ -214,6 +214,8 @@ def cmd_cosim(args) -> int:
         kw["duration"] = duration
     if backend == "fmu":
         kw["fmu_path"] = _fmu_path(args.fmu)
+    if cfg.control is not None:  # [control]: scheduled on the excitation frequency
+        kw["control"] = cfg.control.controllers(cfg.system, lambda t: freq)
     out = args.out or Path(f"{cfg.name}_cosim.csv")
     import vehicle
 

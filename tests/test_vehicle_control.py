@@ -73,3 +73,50 @@ def test_bad_control_is_refused_with_a_clear_message():
         ScheduledControl((2.0, 1.0), (1.0, 2.0), signal=math.sin)
     with pytest.raises(ValueError, match="`n_on` must be finite and >= 0"):
         OnOffControl(-1.0)
+
+
+CONTROL_TOML = """
+model = "sdof"
+name = "controlled"
+[sdof]
+mass = 70.0
+[mount]
+law = "linear"
+k1 = 45935.0
+c = 150.0
+[mount.friction]
+kf = 60000.0
+n0 = 10.0
+[excitation]
+kind = "unbalance"
+amplitude = 0.03
+[control]
+"""
+
+
+def test_control_table_builds_controllers_and_checks_values():
+    from drymount.config import ConfigError, load_config
+
+    cfg = load_config(CONTROL_TOML + 'kind = "scheduled"\nschedule_hz = [2.0, 8.0]\n'
+                      'schedule_n = [20.0, 4.0]\nn_max = 50.0\nrate_max = 1e4\n')
+    ctl = cfg.control.controllers(cfg.system, lambda t: 5.0)
+    c = ctl[("mount", "axial")]
+    assert c.command(0.0, 0.0, 0.0) == pytest.approx(12.0)
+    assert c.limits == Limits(0.0, 50.0, 1e4)
+    cfg = load_config(CONTROL_TOML + 'kind = "onoff"\nn_on = 30.0\n')
+    c = cfg.control.controllers(cfg.system)[("mount", "axial")]
+    assert (c.command(0, 1e-3, 1.0), c.command(0, 1e-3, -1.0)) == (30.0, 0.0)
+    with pytest.raises(ConfigError) as err:
+        load_config(CONTROL_TOML + 'kind = "scheduled"\nschedule_hz = [8.0, 2.0]\n'
+                    'schedule_n = [1.0]\nn_min = 5.0\nn_max = 1.0\n'
+                    'axes = ["mount.bogus"]\n')
+    text = "\n".join(err.value.problems)
+    assert "`control.schedule_hz` must be a non-empty array of finite strictly " \
+           "increasing frequencies" in text
+    assert "`control.n_max` must be >= control.n_min = 5.0 N, got 1.0" in text
+    assert "`control.axes` must be a non-empty array of \"<mount>.<axis>\"" in text
+    with pytest.raises(ConfigError, match="`control.n_on` is missing"):
+        load_config(CONTROL_TOML + 'kind = "onoff"\n')
+    with pytest.raises(ConfigError, match="not friction axes"):
+        load_config(CONTROL_TOML + 'kind = "onoff"\nn_on = 3.0\n'
+                    'axes = ["engine.axial"]\n')

@@ -499,7 +499,8 @@ class Master:
 
 def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
              backend: str = "fmu", dt: float | None = None, inputs: Input | None = None,
-             fmu_path=None, fmu_start_values=None) -> TimeHistory:
+             fmu_path=None, fmu_start_values=None, control: dict | None = None
+             ) -> TimeHistory:
     """Time histories of ``system`` from rest.
 
     Parameters
@@ -516,6 +517,9 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     inputs : vehicle.inputs.Input, optional
         Engine/road input (crank excitation, road profiles, ...).
     fmu_path : path-like, optional
+    control : dict, optional
+        ``{(mount name, axis): controller}`` (:mod:`vehicle.control`): semi-active
+        normal forces applied every step.
 
     Returns
     -------
@@ -532,5 +536,5 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     (1281, 1)
     """
     with Master(system, backend, fmu_path=fmu_path,
-                fmu_start_values=fmu_start_values) as m:
+                fmu_start_values=fmu_start_values, control=control) as m:
         return m.simulate(duration, dt=dt, inputs=inputs, freq_hz=freq_hz)

@@ -35,7 +35,7 @@ _FRICTION_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
 ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
-         "mount", "mounts", "excitation", "sweep", "hbm", "cosim",
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "control",
          "design"),  # [design]: checked by drymount.design (explore, optimize)
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
@@ -49,6 +49,9 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
     "hbm": ("harmonics", "n_samples"),
     "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
+    # semi-active normal-force control (drymount.config.control)
+    "control": ("kind", "axes", "n_min", "n_max", "rate_max", "schedule_hz",
+                "schedule_n", "n_on", "n_off"),
 }
 
 #: The model-specific tables: which model each belongs to.
@@ -181,6 +184,8 @@ class Config:
         Where it came from: a file path, ``preset:<name>`` or ``<text>``.
     data : dict
         The parsed TOML document.
+    control : drymount.config.control.ControlSettings or None
+        The ``[control]`` table (semi-active normal force), None without one.
     """
 
     name: str
@@ -192,3 +197,4 @@ class Config:
     cosim: CosimSettings
     source: str
     data: dict = field(repr=False, default_factory=dict)
+    control: object = None
