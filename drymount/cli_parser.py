@@ -11,7 +11,7 @@ from pathlib import Path
 __all__ = ["build_parser", "STUDY_NAMES"]
 
 STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump",
-               "incline")
+               "incline", "semi-active")
 
 
 # ======================================================================================

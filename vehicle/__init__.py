@@ -16,6 +16,7 @@ from .inputs import (
     BaseSine,
     BumpRoad,
     CrankInput,
+    CrankRunUp,
     HarmonicInput,
     Input,
     RandomRoad,

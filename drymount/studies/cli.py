@@ -15,6 +15,7 @@ from drymount.studies.jump import run_jump
 from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import run_optimize_n0
 from drymount.studies.quarter_car import run_quarter_car
+from drymount.studies.semi_active import run_semi_active
 from drymount.studies.six_dof import run_six_dof
 
 STUDIES: dict[str, Callable[..., dict]] = {
@@ -24,6 +25,7 @@ STUDIES: dict[str, Callable[..., dict]] = {
     "six-dof": run_six_dof,
     "jump": run_jump,
     "incline": run_incline,
+    "semi-active": run_semi_active,
 }
 
 
