@@ -312,6 +312,8 @@ def build_parser() -> argparse.ArgumentParser:
              six-dof       6-DOF responses, lambda 1 and 1.2, relocated mount
                            (Figs. 4.11-4.44)
              jump          cubic single DOF: unstable branch and the jump (Fig. 3.7)
+             semi-active   passive vs controlled normal force: engine run-up and
+                           ISO 8608 road, quarter car and 6-DOF (co-simulation)
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])

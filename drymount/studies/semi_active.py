@@ -228,17 +228,25 @@ def _markdown(runs: list[Run], schedules: dict, quick: bool) -> str:
 
 
 def run_semi_active(out_dir, quick: bool = False, progress: bool = True) -> dict:
-    """Run the study into ``out_dir``; returns the key numbers (RMS force by
-    model, scenario and design)."""
+    """Run the study into ``out_dir``.
+
+    Returns ``{"files": [...], "failures": [], "rms_force": {"<model>/<scenario>/
+    <design>": N}}``; ``summary.md`` holds the Markdown table.
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    runs, schedules = [], {}
+    runs, schedules, files = [], {}, []
     for label, preset, dof in MODELS:
         model_runs, schedules[label] = _run_model(label, preset, dof, quick, progress)
         runs += model_runs
-        _plot(label, model_runs,
-              out / f"semi_active_{preset.split('_')[0]}{'_6dof' * (dof == 'z')}.png")
-    write_csv(out / "semi_active.csv", HEADER, [_row(r) for r in runs],
-              comment="drymount study semi-active: passive vs controlled normal force")
-    atomic_write_text(out / "semi_active.md", _markdown(runs, schedules, quick))
-    return {f"{r.model}/{r.scenario}/{r.design}": r.rms_force for r in runs}
+        png = out / f"semi_active_{'quarter' if dof == 'engine' else 'six_dof'}.png"
+        _plot(label, model_runs, png)
+        files.append(png)
+    files.append(write_csv(
+        out / "semi_active.csv", HEADER, [_row(r) for r in runs],
+        comment="drymount study semi-active: passive vs controlled normal force"))
+    files.append(atomic_write_text(out / "summary.md",
+                                   _markdown(runs, schedules, quick)))
+    return {"files": files, "failures": [],
+            "rms_force": {f"{r.model}/{r.scenario}/{r.design}": r.rms_force
+                          for r in runs}}
