@@ -26,6 +26,8 @@ __all__ = ["InclinedSDOF", "PeriodicElement", "InclinedHBMResult", "inclined_per
 
 #: passes of the periodic march before it gives up (sliders repeat after two or three)
 _MAX_PASSES = 20
+#: a solution's residual norm, relative to the force amplitude (a root, not a minimum)
+_RESIDUAL_TOL = 1e-8
 
 
 @dataclass(frozen=True)
@@ -148,8 +150,10 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
     X = sol.x * scale
     el = inclined_periodic(basis.E @ X, sys.p)   # raises ContactLost if it has none
     res = float(np.linalg.norm(resid(sol.x)))
-    return InclinedHBMResult(freq_hz, X, el, res, bool(sol.success) and el.converged,
-                             str(sol.message))
+    ok = bool(sol.success) and el.converged and res <= _RESIDUAL_TOL
+    return InclinedHBMResult(freq_hz, X, el, res, ok,
+                             str(sol.message) + ("" if res <= _RESIDUAL_TOL else
+                                                 f" (residual {res:.3g} not a root)"))
 
 
 def inclined_time_reference(sys: InclinedSDOF, freq_hz: float, *, periods: int = 400,
