@@ -10,6 +10,8 @@ from fmu_src.mount_law import AXES
 from hbm.options import HBMOptions
 from hbm.system import System
 
+from drymount.config.static import StaticSettings
+
 
 MODELS = ("sdof", "quarter_car", "rigid_engine")
 #: Excitation kinds allowed per model (``hbm.system.Excitation``).
@@ -35,7 +37,7 @@ _FRICTION_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
 ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
-         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "control",
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "static", "control",
          "design"),  # [design]: checked by drymount.design (explore, optimize)
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
@@ -48,7 +50,10 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "excitation": ("kind", "amplitude"),
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
     "hbm": ("harmonics", "n_samples"),
-    "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
+    "cosim": ("backend", "freq_hz", "duration", "steps_per_period", "input"),
+    # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
+    "cosim.input": ("road", "speed", "engine", "units"),
+    "static": ("gravity", "g", "loads", "travel"),
     # semi-active normal-force control (drymount.config.control)
     "control": ("kind", "axes", "n_min", "n_max", "rate_max", "schedule_hz",
                 "schedule_n", "n_on", "n_off"),
@@ -184,6 +189,9 @@ class Config:
         Where it came from: a file path, ``preset:<name>`` or ``<text>``.
     data : dict
         The parsed TOML document.
+    static : StaticSettings
+        ``[static]``: gravity and static loads (``system.static_load`` holds the
+        resulting load; default none).
     control : drymount.config.control.ControlSettings or None
         The ``[control]`` table (semi-active normal force), None without one.
     """
@@ -197,4 +205,5 @@ class Config:
     cosim: CosimSettings
     source: str
     data: dict = field(repr=False, default_factory=dict)
+    static: StaticSettings = field(default_factory=StaticSettings)
     control: object = None
