@@ -54,8 +54,9 @@ SCHEDULE_HZ = (20.0, 40.0, 80.0, 140.0, 200.0)
 ONOFF_FACTOR = 2.0
 #: Rate limit of the controllers, n0 per second (a 10 ms full swing).
 RATE_MAX_PER_N0 = 100.0
-#: Run-up and road durations (s) and steps (s): full and quick.
-RUNUP_S, ROAD_S = (8.0, 8.0), (1.0, 1.5)
+#: Run-up and road durations, s: (full, quick); the steps, s.
+RUNUP_S = (8.0, 1.0)
+ROAD_S = (8.0, 1.5)
 DT_RUNUP, DT_ROAD = 1.0 / (200.0 * 32), 5e-4
 ROAD_CLASS, ROAD_SPEED = "C", 20.0
 
