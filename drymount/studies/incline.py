@@ -126,7 +126,8 @@ def _design(theta, k, preload, freqs) -> InclineDesign:
     d.trans, d.n_min, d.n_max, lost, d.unconverged = _transmissibility(sysm, freqs)
     d.freqs = np.asarray(freqs)
     if lost:
-        d.status = f"loses contact at {min(lost):g}-{max(lost):g} Hz"
+        span = f"{min(lost):g}" if len(lost) == 1 else f"{min(lost):g}-{max(lost):g}"
+        d.status = f"loses contact at {span} Hz"
     if not np.all(np.isnan(d.trans)):
         d.peak_trans = float(np.nanmax(d.trans))
     return d
