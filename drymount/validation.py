@@ -1,7 +1,8 @@
 """``drymount validate``: the co-simulated steady state against harmonic balance.
 
 For each system (single DOF, quarter car and 6-DOF presets with friction, and the cubic
-single DOF) a stepped-sine sweep is co-simulated through the mount FMU (one FMU instance
+single DOF; the inclined element of Ch. 5 is checked against time integration of its
+law instead, :func:`run_inclined_case`, as the FMU does not carry it) a stepped-sine sweep is co-simulated through the mount FMU (one FMU instance
 per mount, driven through fmpy by ``vehicle``) and compared, frequency by frequency,
 with multi-harmonic HBM (H = 7 by default) solved at the same frequencies. The
 single-harmonic curve (H = 1, the thesis's method) is shown alongside with its error,
