@@ -2,7 +2,8 @@
 
 For each system (single DOF, quarter car and 6-DOF presets with friction, and the cubic
 single DOF; the inclined element of Ch. 5 is checked against time integration of its
-law instead, :func:`run_inclined_case`, as the FMU does not carry it) a stepped-sine sweep is co-simulated through the mount FMU (one FMU instance
+law instead, :func:`run_inclined_case`, as the FMU does not carry it) a stepped-sine
+sweep is co-simulated through the mount FMU (one FMU instance
 per mount, driven through fmpy by ``vehicle``) and compared, frequency by frequency,
 with multi-harmonic HBM (H = 7 by default) solved at the same frequencies. The
 single-harmonic curve (H = 1, the thesis's method) is shown alongside with its error,
@@ -266,7 +267,8 @@ def run_inclined_case(case: Case, *, quick: bool = False, progress: bool = True
                       ) -> CaseResult:
     """HBM (H = case.harmonics, the normal force varying over the period) against
     time integration of the same law (velocity Verlet, 1000 steps per period,
-    until the period repeats) for a 70 kg engine on k1 = 45 935 N/m, c = 150 N s/m and the inclined
+    until the period repeats) for a 70 kg engine on k1 = 45 935 N/m, c = 150 N s/m and
+    the inclined
     element at 60 degrees under its weight; fundamental amplitudes compared."""
     from fmu_src.inclined import InclinedParameters
     from hbm.aft import FourierBasis

@@ -11,7 +11,7 @@ chassis side) and is pushed towards the red part by springs of stiffness ``k`` w
 preload ``P`` at ``x = 0``. With ``s, c = sin(theta), cos(theta)``:
 
     a  = x c / s           wedge travel (eq. 5.4), rigid contact in the normal direction
-    d1 = x / s             relative slide on the inclined surface (eq. 5.5-5.6 corrected)
+    d1 = x / s             relative slide on the inclined surface (eq. 5.5-5.6 fixed)
     f1 = kf  (d1 - w1)     stuck, |f1| <= mu1 N        (eq. 5.7 with a slider w1)
     f2 = kf2 (a  - w2)     stuck, |f2| <= mu2 N2       (eq. 5.8 with a slider w2)
     f1 = +-mu1 N, f2 = +-mu2 N2 while slipping         (eq. 5.9, 5.10 with the sign)
@@ -109,7 +109,7 @@ class InclinedParameters:
         return math.sin(t), math.cos(t)
 
     def self_locking_margin(self) -> float:
-        """Smallest determinant of the slipping regimes' linear systems (must be > 0)."""
+        """Smallest determinant of the slipping regimes' systems (must be > 0)."""
         s, c = self.sc
         dets = []
         m1 = 0.0 if math.isinf(self.mu1) else self.mu1   # a bonded surface never slips
@@ -271,7 +271,8 @@ def inclined_update(x: float, x_old: float, w1: float, w2: float,
         _check_contact(xe, end, p)
         nw1, nw2 = _sliders(xe, end, reg, w1, w2, p, s, c)
         # slip energy: f affine and w linear in x on the segment -> trapezoid exact
-        diss += 0.5 * ((vals[0] + end[0]) * (nw1 - w1) + (vals[1] + end[1]) * (nw2 - w2))
+        diss += 0.5 * ((vals[0] + end[0]) * (nw1 - w1)
+                       + (vals[1] + end[1]) * (nw2 - w2))
         w1, w2, xc = nw1, nw2, xe
         if xe == x:
             break
@@ -287,6 +288,7 @@ def inclined_update(x: float, x_old: float, w1: float, w2: float,
 def _check_contact(x, vals, p):
     f1, f2, n1, n2 = vals
     for name, n, mu in (("N", n1, p.mu1), ("N2", n2, p.mu2)):
-        if n < -_REL_TOL * (abs(f1) + abs(f2) + p.preload + 1e-9) and not math.isinf(mu):
+        scale = abs(f1) + abs(f2) + p.preload + 1e-9
+        if n < -_REL_TOL * scale and not math.isinf(mu):
             raise ContactLost(f"the inclined element loses contact at x = {x!r} m: "
                               f"{name} = {n:.6g} N < 0 (raise the preload or k)")

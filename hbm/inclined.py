@@ -32,8 +32,9 @@ _RESIDUAL_TOL = 1e-8
 
 @dataclass(frozen=True)
 class InclinedSDOF:
-    """Mass ``m`` (kg) on an elastomer ``k1`` (N/m), ``c`` (N s/m) and the element ``p``;
-    force ``force_amp * sin(omega t)`` (N) on the mass, plus the static ``weight`` (N)."""
+    """Mass ``m`` (kg) on an elastomer ``k1`` (N/m), ``c`` (N s/m) and the element
+    ``p``; force ``force_amp * sin(omega t)`` (N) on the mass, plus the static
+    ``weight`` (N)."""
 
     m: float = 70.0
     k1: float = 45935.0
@@ -119,8 +120,9 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
     :func:`inclined_periodic` (the varying normal force inside), ``f`` the weight
     (constant term) and the harmonic force (sine of harmonic 1). Solved by
     ``scipy.optimize.root`` (hybrid Powell, then Levenberg-Marquardt if that fails,
-    finite-difference Jacobians) from ``x0`` or the linear response. Raises :class:`fmu_src.inclined.ContactLost` when the
-    solution found needs a negative normal force.
+    finite-difference Jacobians) from ``x0`` or the linear response. Raises
+    :class:`fmu_src.inclined.ContactLost` when the solution found needs a negative
+    normal force.
     """
     H = harmonics
     basis = FourierBasis(H, n_samples or default_n_samples(H))

@@ -23,7 +23,7 @@ def test_files_and_statuses(study):
     assert all(f.exists() and f.stat().st_size > 0 for f in res["files"])
     assert not res["failures"]
     st = res["statuses"]
-    assert st["30/20000/200"] == "self-locks"      # both surfaces slipping: determinant < 0
+    assert st["30/20000/200"] == "self-locks"   # both slipping: determinant < 0
     assert st["60/20000/200"] == "ok" and st["90/20000/200"] == "ok"
     with open(out / "incline.csv", newline="") as fh:
         rows = {r["theta_deg"]: r for r in csv.DictReader(fh)}

@@ -1,4 +1,4 @@
-"""The inclined two-surface element (fmu_src/inclined.py) against independent references.
+"""The inclined two-surface element (fmu_src/inclined.py) vs independent references.
 
 * Fine-step reference: the same kinematics (eq. 5.1-5.10 as corrected in
   docs/physics.md) written here as one 4x4 linear system in (f1, f2, N, N2), marched
@@ -22,7 +22,7 @@ from fmu_src.mount_law import jenkins_update
 FINE_STEP_TOL = 1e-9
 #: 90-degree limit vs Jenkins, relative to the slip force (measured 0, exact)
 JENKINS_TOL = 1e-12
-#: slip energy of a cycle vs loop area (trapezoid on 2e4 steps), relative (measured 2.2e-8)
+#: slip energy of a cycle vs loop area (trapezoid, 2e4 steps), relative (measured 2e-8)
 ENERGY_TOL = 1e-6
 
 DESIGNS = [

@@ -1,4 +1,4 @@
-"""Design study of the inclined friction mount (thesis Chapter 5): `drymount study incline`.
+"""Design study of the inclined friction mount (thesis Ch. 5): `drymount study incline`.
 
 Sweeps the surface angle theta, the stiffness k of the elastic pieces and their preload.
 For each design: the static deflection and normal forces under the engine's weight (the
@@ -7,7 +7,8 @@ solved by bisection: the static working point of branch `design` is not used her
 the force transmissibility of the SDOF (engine mass on the elastomer plus the element,
 harmonic force on the mass around the static point) by HBM with the normal force
 varying over the period (:mod:`hbm.inclined`). Designs that self-lock or lose contact
-are reported as such. Writes ``incline.csv``, ``summary.md`` and two plots. At 90 degrees the second
+are reported as such. Writes ``incline.csv``, ``summary.md`` and two plots. At 90
+degrees the second
 surface is bonded (the thesis's Fig. 5.3 design).
 """
 
