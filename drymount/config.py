@@ -88,6 +88,18 @@ SPACINGS = ("linear", "log")
 #: Largest number of harmonics accepted (a sanity bound: H = 7 already converges the
 #: friction systems to 1e-3; 50 harmonics cost ~50x more per Newton step).
 MAX_HARMONICS = 50
+#: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
+#: sharpest kink of the friction law at H = 50 many times over).
+MAX_N_SAMPLES = 8192
+#: Largest number of sweep frequencies (a 10 000-point co-simulated sweep takes
+#: hours; more is a typo).
+MAX_POINTS = 10_000
+#: Masses accepted, kg: from a 1 g test body to a 1000 t machine. Outside, the
+#: mass matrix spans more than the double precision the stability and support
+#: checks rely on (1e-300 kg or 1e30 kg read as "the mounts do not hold the system").
+MASS_RANGE_KG = (1e-3, 1e6)
+#: Principal moments of inertia accepted, kg m^2 (same reasoning).
+INERTIA_RANGE_KGM2 = (1e-6, 1e6)
 #: Relative size below which the smallest eigenvalue of the linearised (stuck)
 #: stiffness counts as zero: the mounts leave a rigid-body motion free.
 SINGULAR_RTOL = 1e-10
@@ -310,6 +322,10 @@ _RULES = {
     ">0": (lambda x: x > 0, "> 0"),
     ">=0": (lambda x: x >= 0, ">= 0"),
     "any": (lambda x: True, ""),
+    "mass": (lambda x: MASS_RANGE_KG[0] <= x <= MASS_RANGE_KG[1],
+             f"in {MASS_RANGE_KG[0]:g}..{MASS_RANGE_KG[1]:g}"),
+    "inertia": (lambda x: INERTIA_RANGE_KGM2[0] <= x <= INERTIA_RANGE_KGM2[1],
+                f"in {INERTIA_RANGE_KGM2[0]:g}..{INERTIA_RANGE_KGM2[1]:g}"),
 }
 
 
@@ -739,7 +755,8 @@ def _settings(ck: _Checker, data: dict):
         what = "empty" if fmax == fmin else "reversed"
         ck.add(f"`sweep.fmax_hz` must be > `sweep.fmin_hz` = {fmin:g} Hz, got "
                f"{fmax:g} Hz: the frequency range is {what}")
-    points = ck.integer(sw, "points", "sweep", minimum=2, default=d.points)
+    points = ck.integer(sw, "points", "sweep", minimum=2, maximum=MAX_POINTS,
+                        default=d.points)
     direction = ck.choice(sw, "direction", "sweep", DIRECTIONS, required=False,
                           default=d.direction)
     spacing = ck.choice(sw, "spacing", "sweep", SPACINGS, required=False,
@@ -750,7 +767,8 @@ def _settings(ck: _Checker, data: dict):
                            default=HBMSettings.harmonics)
     n_samples = None
     if harmonics is not None:
-        n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1)
+        n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1,
+                               maximum=MAX_N_SAMPLES)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
     backend = ck.choice(cs, "backend", "cosim", BACKENDS, required=False,
@@ -792,7 +810,7 @@ def _build(ck: _Checker, data: dict, model: str):
         if t is not None:
             ck.keys(t, "sdof", ALLOWED_KEYS["sdof"], hints={
                 "m": "the key is `mass`", "m_e": "the key is `mass`"})
-            mass = ck.number(t, "mass", "sdof", rule=">0", unit="kg")
+            mass = ck.number(t, "mass", "sdof", rule="mass", unit="kg")
         mount = _single_mount(ck, data)
         exc = _excitation(ck, data, model, {})
         if ck.problems:
@@ -805,8 +823,8 @@ def _build(ck: _Checker, data: dict, model: str):
         if t is not None:
             ck.keys(t, "quarter_car", ALLOWED_KEYS["quarter_car"], hints={
                 "mass": "the masses are `m_e`, `m_s`, `m_us`"})
-            for name, rule, unit in (("m_e", ">0", "kg"), ("m_s", ">0", "kg"),
-                                     ("m_us", ">0", "kg"), ("k_s", ">=0", "N/m"),
+            for name, rule, unit in (("m_e", "mass", "kg"), ("m_s", "mass", "kg"),
+                                     ("m_us", "mass", "kg"), ("k_s", ">=0", "N/m"),
                                      ("c_s", ">=0", "N s/m"), ("k_t", ">0", "N/m"),
                                      ("c_t", ">=0", "N s/m")):
                 vals[name] = ck.number(t, name, "quarter_car", rule=rule, unit=unit)
@@ -821,8 +839,9 @@ def _build(ck: _Checker, data: dict, model: str):
     if t is not None:
         ck.keys(t, "rigid_engine", ALLOWED_KEYS["rigid_engine"], hints={
             "Ixx": "give `inertia = [Ixx, Iyy, Izz]`", "m": "the key is `mass`"})
-        mass = ck.number(t, "mass", "rigid_engine", rule=">0", unit="kg")
-        inertia = ck.vector(t, "inertia", "rigid_engine", 3, unit="kg m^2", rule=">0")
+        mass = ck.number(t, "mass", "rigid_engine", rule="mass", unit="kg")
+        inertia = ck.vector(t, "inertia", "rigid_engine", 3, unit="kg m^2",
+                            rule="inertia")
     mounts = []
     if "mounts" not in data:
         ck.add("`mounts` is missing: model \"rigid_engine\" needs at least 3 "

@@ -343,14 +343,22 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
     return dest
 
 
-def ensure_fmu(path: str | os.PathLike | None = None) -> Path:
+def ensure_fmu(path: str | os.PathLike | None = None, notify=None) -> Path:
     """Return ``path`` (default :func:`default_fmu_path`), building it if it is
-    missing or older than any of its sources (``fmu_src``, ``fmu_doc``, this file)."""
+    missing or older than any of its sources (``fmu_src``, ``fmu_doc``, this file).
+
+    Meant for drymount's own (default) FMU: a user's FMU is never passed here, it
+    would be overwritten. ``notify(reason)`` is called before a build."""
     path = Path(path) if path is not None else default_fmu_path()
     sources = [source_dir() / name for name in (*FMU_SOURCES, LOADER_SOURCE)]
     sources.append(Path(__file__))
     sources += [f for f in DOC_DIR.rglob("*") if f.is_file()]
     newest = max(f.stat().st_mtime for f in sources)
-    if not path.exists() or path.stat().st_mtime < newest:
+    why = ("it does not exist" if not path.exists() else
+           "drymount's FMU sources are newer" if path.stat().st_mtime < newest
+           else None)
+    if why is not None:
+        if notify is not None:
+            notify(why)
         build_fmu(path)
     return path.resolve()
