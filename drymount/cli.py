@@ -14,17 +14,22 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
 
-Exit status: 0 success; 2 bad usage or an invalid configuration (every problem is
-listed, no traceback); 1 a numerical failure (what was computed is still written);
-130 interrupted.
+Exit status (docs/cli.md): 0 success; 1 a numerical failure (what was computed is
+written, marked ``# partial: <reason>`` when the run stopped early); 2 bad usage or an
+invalid configuration, found before any computation (every problem is listed, no
+traceback); 130 interrupted by SIGINT (Ctrl-C), 143 terminated by SIGTERM (what was
+computed is written, marked partial).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import math
 import os
+import re
+import signal
 import sys
 import textwrap
 from pathlib import Path
@@ -37,7 +42,9 @@ EXIT_OK = 0
 EXIT_FAILURE = 1
 #: Bad usage or an invalid configuration (argparse's own code for usage errors).
 EXIT_USAGE = 2
+#: Interrupted by SIGINT (128 + 2); SIGTERM gives 128 + 15 = 143.
 EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
 
 STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump")
 
@@ -62,20 +69,30 @@ def _positive_float(text: str) -> float:
     return x
 
 
-def _int_at_least(minimum: int):
+def _int_at_least(minimum: int, maximum: int | None = None):
+    rng = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
+
     def parse(text: str) -> int:
         try:
             n = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(
-                f"must be an integer >= {minimum}, got {text!r}") from None
-        if n < minimum:
-            raise argparse.ArgumentTypeError(
-                f"must be an integer >= {minimum}, got {n}")
+                f"must be an integer {rng}, got {text!r}") from None
+        if n < minimum or (maximum is not None and n > maximum):
+            raise argparse.ArgumentTypeError(f"must be an integer {rng}, got {n}")
         return n
 
-    parse.__name__ = f"integer >= {minimum}"
+    parse.__name__ = f"integer {rng}"
     return parse
+
+
+def _path(text: str) -> Path:
+    if not text.strip():
+        raise argparse.ArgumentTypeError("the file name is empty")
+    return Path(text)
+
+
+_path.__name__ = "path"
 
 
 # ======================================================================================
@@ -109,12 +126,13 @@ def _harness_args(p, kind: str) -> None:
     p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
                    help="fixed steps per excitation period (default: [cosim] "
                         "steps_per_period, else the harness default)")
-    p.add_argument("--fmu", type=Path, default=None,
-                   help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing)")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--fmu", type=_path, default=None,
+                   help="FMU to use, never modified (default: dist/FrictionMount.fmu, "
+                        "built or rebuilt when missing or older than drymount's "
+                        "sources)")
+    p.add_argument("--out", type=_path, default=None,
                    help=f"CSV file to write (default: <name>_{kind}.csv)")
-    p.add_argument("--plot", type=Path, default=None, help="plot file to write")
+    p.add_argument("--plot", type=_path, default=None, help="plot file to write")
 
 
 def _config_arg(p):
@@ -134,6 +152,8 @@ def _version() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``drymount`` argument parser (subcommands in ``args.command``)."""
+    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES, MAX_POINTS
+
     parser = argparse.ArgumentParser(
         prog="drymount",
         description=textwrap.dedent("""\
@@ -149,8 +169,9 @@ def build_parser() -> argparse.ArgumentParser:
             "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
             "--plot sweep.png",
             "drymount build-fmu --out FrictionMount.fmu",
-        ) + "\n\nexit status: 0 success, 1 numerical failure (results so far are "
-            "written), 2 bad usage or configuration",
+        ) + "\n\nexit status: 0 success, 1 numerical failure, 2 bad usage or "
+            "configuration (before computing), 130 Ctrl-C, 143 SIGTERM; after 1, 130 "
+            "or 143 what was computed is written, first line '# partial: <reason>'",
         formatter_class=_Formatter)
     parser.add_argument("--version", action="version",
                         version=f"drymount {_version()}")
@@ -185,7 +206,7 @@ def build_parser() -> argparse.ArgumentParser:
                             "drymount hbm mine.toml"),
                         formatter_class=_Formatter)
     q.add_argument("name", metavar="NAME", help="preset name")
-    q.add_argument("path", metavar="PATH", type=Path, help="file to write")
+    q.add_argument("path", metavar="PATH", type=_path, help="file to write")
     q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
 
     # build-fmu ----------------------------------------------------------------
@@ -195,7 +216,7 @@ def build_parser() -> argparse.ArgumentParser:
              (pythonfmu). The importer needs a Python 3 with the pythonfmu runtime on
              the host; docs/fmu.md describes its variables.""",
              ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu"])
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="FMU file to write (default: dist/FrictionMount.fmu under the "
                         "current folder)")
 
@@ -212,17 +233,20 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount hbm sdof_cubic --harmonics 1 --fmin 2 --fmax 14 --out h1.csv",
               "drymount hbm my_engine.toml --harmonics 9"])
     _config_arg(p)
-    p.add_argument("--harmonics", "-H", type=_int_at_least(1), default=None,
-                   help="number of harmonics H (default: [hbm] harmonics of CONFIG, 7)")
-    p.add_argument("--n-samples", type=_int_at_least(3), default=None,
-                   help="AFT samples per period (default: [hbm] n_samples, else auto)")
+    p.add_argument("--harmonics", "-H", type=_int_at_least(1, MAX_HARMONICS),
+                   default=None,
+                   help=f"number of harmonics H, 1..{MAX_HARMONICS} (default: [hbm] "
+                        f"harmonics of CONFIG, 7)")
+    p.add_argument("--n-samples", type=_int_at_least(3, MAX_N_SAMPLES), default=None,
+                   help=f"AFT samples per period, 2H+1..{MAX_N_SAMPLES} (default: "
+                        f"[hbm] n_samples, else auto)")
     p.add_argument("--fmin", type=_positive_float, default=None,
                    help="lowest frequency in Hz (default: [sweep] fmin_hz)")
     p.add_argument("--fmax", type=_positive_float, default=None,
                    help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="CSV file to write (default: <name>_hbm.csv)")
-    p.add_argument("--plot", type=Path, default=None,
+    p.add_argument("--plot", type=_path, default=None,
                    help="plot file to write (.png, .pdf, .svg)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
@@ -265,8 +289,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="lowest frequency in Hz (default: [sweep] fmin_hz)")
     p.add_argument("--fmax", type=_positive_float, default=None,
                    help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--points", type=_int_at_least(2), default=None,
-                   help="number of frequencies (default: [sweep] points)")
+    p.add_argument("--points", type=_int_at_least(2, MAX_POINTS), default=None,
+                   help=f"number of frequencies, 2..{MAX_POINTS} (default: [sweep] "
+                        f"points)")
     p.add_argument("--spacing", choices=("linear", "log"), default=None,
                    help="frequency spacing (default: [sweep] spacing)")
     p.add_argument("--direction", choices=("up", "down"), default=None,
@@ -276,7 +301,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
     _harness_args(p, "sweep")
-    p.add_argument("--hbm", type=Path, default=None, metavar="CURVE_CSV",
+    p.add_argument("--hbm", type=_path, default=None, metavar="CURVE_CSV",
                    help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
@@ -292,7 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
     p.add_argument("--quick", action="store_true",
                    help="fewer frequencies (still real runs), for CI")
-    p.add_argument("--out", type=Path, default=Path("validation"),
+    p.add_argument("--out", type=_path, default=Path("validation"),
                    help="report folder")
     p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
                    help="only these systems (sdof_friction, quarter_car_friction, "
@@ -316,7 +341,7 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount study jump --out jump --quick"])
     p.add_argument("name", metavar="NAME", choices=STUDY_NAMES,
                    help="one of " + ", ".join(STUDY_NAMES))
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="output folder (default: study-NAME)")
     p.add_argument("--quick", action="store_true",
                    help="fewer designs and coarser curves (seconds instead of minutes)")
@@ -329,7 +354,7 @@ def build_parser() -> argparse.ArgumentParser:
              and writes demo.md with plots and CSV files. A couple of minutes on 2
              cores.""",
              ["drymount demo", "drymount demo --out /tmp/demo"])
-    p.add_argument("--out", type=Path, default=Path("demo"), help="report folder")
+    p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
     return parser
 
@@ -353,13 +378,122 @@ def _load(spec):
     return resolve_config(spec)
 
 
-def _write_with(path: Path, writer) -> Path:
-    """Call ``writer(tmp_path)`` and move the file to ``path`` atomically."""
-    from drymount.io import atomic_path
+def _write_with(path: Path, writer, partial: str | None = None) -> Path:
+    """Call ``writer(tmp_path)`` and move the file to ``path`` atomically; with
+    ``partial`` (the reason the run stopped early) the first line is
+    ``# partial: <partial>``."""
+    from drymount.io import PARTIAL_PREFIX, atomic_path
 
     with atomic_path(path) as tmp:
         writer(tmp)
+        if partial is not None:
+            text = tmp.read_text(encoding="utf-8")
+            reason = " ".join(partial.split())
+            tmp.write_text(f"{PARTIAL_PREFIX}{reason}\n{text}", encoding="utf-8")
     return path
+
+
+# --------------------------------------------------------------------- signals
+
+#: The signal that stopped the run (SIGINT or SIGTERM), set by the handler.
+_stopped_by: int | None = None
+
+
+@contextlib.contextmanager
+def _signals_interrupt(program: bool = False):
+    """SIGINT and SIGTERM raise KeyboardInterrupt in the main thread (so every run
+    stops the same way and writes what it computed); the signal is remembered for the
+    exit status. Restores the previous handlers afterwards; as a ``program`` (the
+    process ends after main, its results are written) they are ignored instead:
+    Python's finalisation would otherwise die of a late SIGINT (status -2)."""
+    global _stopped_by
+    _stopped_by = None
+
+    def handler(signum, frame):
+        global _stopped_by
+        if _stopped_by is None:
+            _stopped_by = signum
+        raise KeyboardInterrupt(signal.Signals(signum).name)
+
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in saved.items():
+            signal.signal(s, signal.SIG_IGN if program else h)
+
+
+def _stop_reason(exc: BaseException) -> str:
+    if _stopped_by is not None:
+        return f"interrupted by {signal.Signals(_stopped_by).name}"
+    if isinstance(exc, KeyboardInterrupt):
+        return "interrupted"
+    return f"{type(exc).__name__}: {exc}"
+
+
+@contextlib.contextmanager
+def _partial_on_stop(out: Path, what: str):
+    """On any exception carrying a ``partial_result`` (the points computed before a
+    run stopped), write it to ``out`` marked partial, then re-raise."""
+    try:
+        yield
+    except BaseException as exc:
+        res = getattr(exc, "partial_result", None)
+        if res is not None and len(res.freq_hz):
+            reason = (f"{_stop_reason(exc)}; {len(res.freq_hz)} {what} computed "
+                      f"before the run stopped")
+            _write_with(out, res.to_csv, partial=reason)
+            _info(f"wrote {out} (partial: {len(res.freq_hz)} {what})")
+        raise
+
+
+# ------------------------------------------------------------- output paths
+
+_PLOT_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif",
+                 "tiff", "webp", "pgf", "raw", "rgba")
+
+
+def _check_out(path, option: str) -> Path:
+    """``path`` checked as an output file (drymount.io.check_output_path);
+    UsageError naming ``option`` otherwise."""
+    from drymount.io import OutputPathError, check_output_path
+
+    try:
+        check_output_path(path, option)
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
+    return Path(path)
+
+
+def _check_plot(path) -> Path | None:
+    if path is None:
+        return None
+    fmt = Path(path).suffix.lstrip(".").lower()
+    if fmt not in _PLOT_FORMATS:
+        raise UsageError(f"--plot: {str(path)!r} has the extension {fmt!r}, which "
+                         f"names no plot format; use one of "
+                         f"{', '.join(_PLOT_FORMATS)}")
+    return _check_out(path, "--plot")
+
+
+def _default_out(cfg, kind: str) -> Path:
+    """``<name>_<kind>.csv`` in the working directory, whatever the configuration's
+    name holds (path separators, ``..``, odd characters become ``_``)."""
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", cfg.name).strip("._") or "config"
+    return Path(f"{name}_{kind}.csv")
+
+
+def _outputs(args, cfg, kind: str) -> Path:
+    """Check ``--out`` (or the default name) and ``--plot`` before any work."""
+    out = _check_out(args.out if args.out is not None else _default_out(cfg, kind),
+                     "--out")
+    _check_plot(args.plot)
+    return out
 
 
 def _band(args, cfg) -> tuple[float, float]:
@@ -393,6 +527,7 @@ def cmd_presets(args) -> int:
         return EXIT_OK
     if args.path.exists() and not args.force:
         raise UsageError(f"{args.path} exists; use --force to overwrite it")
+    _check_out(args.path, "PATH")
     atomic_write_text(args.path, text)
     _info(f"wrote {args.path} (preset {args.name})")
     return EXIT_OK
@@ -401,6 +536,10 @@ def cmd_presets(args) -> int:
 def cmd_build_fmu(args) -> int:
     from drymount.fmu_build import build_fmu
 
+    if args.out is not None:
+        _check_out(args.out, "--out")
+        if args.out.suffix != ".fmu":
+            raise UsageError(f"--out: {str(args.out)!r} must end with .fmu")
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
     return EXIT_OK
@@ -414,12 +553,14 @@ def cmd_hbm(args) -> int:
     if n_samples is not None and n_samples < 2 * H + 1:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
-    out = args.out or Path(f"{cfg.name}_hbm.csv")
+    out = _outputs(args, cfg, "hbm")
     import hbm
 
-    fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
-                                n_samples=n_samples, progress=not args.quiet)
-    _write_with(out, fr.to_csv)
+    with _partial_on_stop(out, "points"):
+        fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
+                                    n_samples=n_samples, progress=not args.quiet)
+    _write_with(out, fr.to_csv,
+                partial=None if fr.success else f"numerical failure: {fr.message}")
     _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {H})")
     if args.plot is not None:
         _write_with(args.plot, lambda p: fr.plot(path=p))
@@ -460,9 +601,9 @@ def cmd_cosim(args) -> int:
         kw["dt"] = 1.0 / (freq * spp)
     if duration is not None:
         kw["duration"] = duration
+    out = _outputs(args, cfg, "cosim")
     if backend == "fmu":
         kw["fmu_path"] = _fmu_path(args.fmu)
-    out = args.out or Path(f"{cfg.name}_cosim.csv")
     import vehicle
 
     th = vehicle.simulate(cfg.system, freq, **kw)
@@ -474,10 +615,33 @@ def cmd_cosim(args) -> int:
     return EXIT_OK
 
 
-def _fmu_path(path):
-    from drymount.fmu_build import ensure_fmu
+def _fmu_path(path) -> Path:
+    """The FMU a run uses. A user's ``--fmu`` is used as it is (never rebuilt):
+    UsageError if it is missing or not an FMU. The default FMU is built, or rebuilt
+    when older than drymount's sources, saying so."""
+    import zipfile
 
-    return ensure_fmu(path)
+    from drymount.fmu_build import default_fmu_path, ensure_fmu
+
+    if path is None:
+        return ensure_fmu(default_fmu_path(),
+                          notify=lambda why: _info(f"building the default FMU "
+                                                   f"{default_fmu_path()} ({why})"))
+    path = Path(path)
+    if not path.exists():
+        raise UsageError(f"--fmu: {str(path)!r} does not exist (leave --fmu out to "
+                         f"use the default FMU, built when needed)")
+    if not path.is_file() or not zipfile.is_zipfile(path):
+        raise UsageError(f"--fmu: {str(path)!r} is not an FMU (not a zip file)")
+    try:
+        with zipfile.ZipFile(path) as z:
+            has_md = "modelDescription.xml" in z.namelist()
+    except (OSError, zipfile.BadZipFile) as exc:
+        raise UsageError(f"--fmu: {str(path)!r} cannot be read: {exc}") from None
+    if not has_md:
+        raise UsageError(f"--fmu: {str(path)!r} is not an FMU (no "
+                         f"modelDescription.xml in the zip)")
+    return path.resolve()
 
 
 def _plot_time_history(th, cfg, freq, path) -> None:
@@ -554,7 +718,7 @@ def cmd_sweep(args) -> int:
     freqs = s.freqs_hz()
     backend = args.backend or cfg.cosim.backend
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
-    out = args.out or Path(f"{cfg.name}_sweep.csv")
+    out = _outputs(args, cfg, "sweep")
     kw = {}
     spp = args.steps_per_period or cfg.cosim.steps_per_period
     if spp is not None:
@@ -563,8 +727,9 @@ def cmd_sweep(args) -> int:
         kw["fmu_path"] = _fmu_path(args.fmu)
     import vehicle
 
-    res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
-                        workers=args.workers, progress=not args.quiet, **kw)
+    with _partial_on_stop(out, "frequencies"):
+        res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
+                            workers=args.workers, progress=not args.quiet, **kw)
     _write_with(out, res.to_csv)
     _info(f"wrote {out} ({len(res.freq_hz)} frequencies, {s.direction}, backend "
           f"{backend})")
@@ -627,8 +792,27 @@ def main(argv: list[str] | None = None) -> int:
     """Run ``drymount`` with ``argv`` (default ``sys.argv[1:]``); return the exit code.
 
     Usage errors and configuration errors print a clean message (no traceback) and
-    return 2; numerical failures return 1 after writing what was computed.
+    return 2; numerical failures return 1 after writing what was computed; SIGINT
+    returns 130 and SIGTERM 143 after writing what was computed.
     """
+    with _signals_interrupt(program=argv is None):
+        try:
+            code = _run(argv)
+        except KeyboardInterrupt:
+            code = _interrupted()
+    if argv is None and code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+        # CPython remembers a KeyboardInterrupt that passed through exec(str) (a
+        # lazy import) even when it was handled, and would end the process with
+        # SIGINT (status -2) instead of this code: leave without finalisation (the
+        # results are written and the workers stopped).
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(code)
+    return code
+
+
+def _run(argv) -> int:
     from drymount.config import ConfigError
 
     parser = build_parser()
@@ -645,14 +829,22 @@ def main(argv: list[str] | None = None) -> int:
     except UsageError as exc:
         _err(str(exc))
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        _err("interrupted")
-        return EXIT_INTERRUPTED
     except Exception as exc:  # a numerical or FMU failure deep in a run
+        if _stopped_by is not None:  # e.g. an FMU call that the signal broke
+            return _interrupted()
         if args.traceback or os.environ.get("DRYMOUNT_TRACEBACK"):
             raise
         _err(f"{type(exc).__name__}: {exc} (run with --traceback for details)")
         return EXIT_FAILURE
+
+
+def _interrupted() -> int:
+    """Exit status after SIGINT (130) or SIGTERM (143)."""
+    if _stopped_by == signal.SIGTERM:
+        _err("terminated (SIGTERM)")
+        return EXIT_TERMINATED
+    _err("interrupted")
+    return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -70,7 +70,9 @@ class Branch:
     success, status, message, n_newton, n_steps
         ``status``: 0 reached the end, 1 step size below ``ds_min``, 2 too many steps,
         3 left the parameter range backwards, 4 the evaluation failed (non-finite),
-        7 the branch turned back onto itself (retraced points are dropped).
+        7 the branch turned back onto itself (retraced points are dropped),
+        8 interrupted (set on the branch an interrupt carries, see
+        :func:`continue_branch`).
     """
 
     y: list = field(default_factory=list)
@@ -237,6 +239,21 @@ def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
 def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                     settings: ContinuationSettings, lam_start: float | None = None,
                     callback: Callable | None = None) -> Branch:
+    """:func:`_continue` on a new :class:`Branch`. An interrupt (KeyboardInterrupt)
+    propagates with the points accepted so far as its ``branch`` attribute."""
+    br = Branch()
+    try:
+        return _continue(br, fun, y0, lam_end, settings, lam_start, callback)
+    except KeyboardInterrupt as exc:
+        br.status = 8
+        br.message = "interrupted"
+        exc.branch = br
+        raise
+
+
+def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
+              settings: ContinuationSettings, lam_start: float | None = None,
+              callback: Callable | None = None) -> Branch:
     """Trace the solution branch of ``fun`` from a solution ``y0`` until ``lam_end``.
 
     Parameters
@@ -257,7 +274,6 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
     -------
     Branch
     """
-    br = Branch()
     n = y0.size - 1
     y = np.array(y0, dtype=float)
     try:
