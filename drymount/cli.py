@@ -444,11 +444,11 @@ def _partial_on_stop(out: Path, what: str):
         yield
     except BaseException as exc:
         res = getattr(exc, "partial_result", None)
-        if res is not None and len(res.freq_hz):
-            reason = (f"{_stop_reason(exc)}; {len(res.freq_hz)} {what} computed "
-                      f"before the run stopped")
+        n = len(getattr(res, "freq_hz", getattr(res, "t", ())))
+        if res is not None and n:
+            reason = f"{_stop_reason(exc)}; {n} {what} computed before the run stopped"
             _write_with(out, res.to_csv, partial=reason)
-            _info(f"wrote {out} (partial: {len(res.freq_hz)} {what})")
+            _info(f"wrote {out} (partial: {n} {what})")
         raise
 
 
@@ -606,7 +606,8 @@ def cmd_cosim(args) -> int:
         kw["fmu_path"] = _fmu_path(args.fmu)
     import vehicle
 
-    th = vehicle.simulate(cfg.system, freq, **kw)
+    with _partial_on_stop(out, "time steps"):
+        th = vehicle.simulate(cfg.system, freq, **kw)
     _write_with(out, th.to_csv)
     _info(f"wrote {out} ({len(th.t)} time steps, {th.t[-1]:g} s, backend {backend})")
     if args.plot is not None:

@@ -360,3 +360,32 @@ def test_hbm_numerical_failure_is_marked_partial(tmp_path, capsys, monkeypatch):
     first = (tmp_path / "h.csv").read_text().splitlines()[0]
     assert first == ("# partial: numerical failure: step size below ds_min "
                      "(injected)"), first
+
+
+def test_cosim_failure_writes_the_steps_computed(tmp_path, capsys, monkeypatch):
+    """A divergence in the 2nd block of rows: exit 1, the 1st block written under a
+    '# partial:' line (same rows as a complete run)."""
+    from vehicle import master
+
+    monkeypatch.chdir(tmp_path)
+    argv = ["cosim", "sdof_halved", "--freq", "5", "--backend", "native",
+            "--duration", "2", "--steps-per-period", "2000", "--out", "c.csv"]
+    assert run(argv, capsys)[0] == 0
+    complete = (tmp_path / "c.csv").read_text().splitlines()
+    real = master.Master._check_finite
+    calls = []
+
+    def diverge(self, row, t):
+        calls.append(t)
+        if len(calls) == 2:
+            raise master.DivergenceError(f"injected at t = {t}")
+        return real(self, row, t)
+
+    monkeypatch.setattr(master.Master, "_check_finite", diverge)
+    code, _, err = run(argv, capsys)
+    assert code == 1, err
+    lines = (tmp_path / "c.csv").read_text().splitlines()
+    assert lines[0].startswith("# partial: DivergenceError: injected"), lines[0]
+    n = master.BLOCK_ROWS
+    assert f"{n} time steps" in lines[0]
+    assert lines[1:] == complete[:n + 2]
