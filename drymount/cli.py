@@ -534,7 +534,7 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     if args.out is not None:
         _check_out(args.out, "--out")
@@ -622,7 +622,7 @@ def _fmu_path(path) -> Path:
     when older than drymount's sources, saying so."""
     import zipfile
 
-    from drymount.fmu_build import default_fmu_path, ensure_fmu
+    from fmu_build import default_fmu_path, ensure_fmu
 
     if path is None:
         return ensure_fmu(default_fmu_path(),

@@ -4,7 +4,7 @@ A configuration describes one of the thesis's three systems (``model = "sdof"``,
 ``"quarter_car"`` or ``"rigid_engine"``), its mount law(s), its harmonic excitation, and
 the settings of the runs (frequency sweep, harmonic balance, co-simulation). The field
 names are those of :class:`fmu_src.mount_law.AxisParameters` and of the builders of
-:mod:`vehicle.models`; units are SI. ``docs/config.md`` documents every field.
+:mod:`hbm.systems`; units are SI. ``docs/config.md`` documents every field.
 
 Example (the single DOF of the thesis, Sec. 2.1.1, with a friction element)::
 
@@ -50,7 +50,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, LAWS, AxisParameters, MountParameters
+from fmu_src.interface import parameter_unit
+from fmu_src.mount_law import AXES, ELASTIC_LAWS, LAWS, AxisParameters, MountParameters
 from hbm.system import System
 
 if sys.version_info >= (3, 11):
@@ -480,6 +481,14 @@ class _Checker:
 # -- mount law ------------------------------------------------------------
 
 
+def readable_unit(fmi_unit: str | None) -> str:
+    """An FMU unit name (``fmu_src.interface``) as written in messages and
+    docs/config.md: ``N/m3`` -> ``N/m^3``, ``N.s/m`` -> ``N s/m``, ``1`` -> ``[-]``."""
+    if fmi_unit in (None, "1"):
+        return "[-]"
+    return fmi_unit.replace("m3", "m^3").replace(".", " ")
+
+
 def _unchecked_axis(**kw) -> AxisParameters:
     """An AxisParameters without its ``__post_init__`` check (to call ``problems``)."""
     obj = object.__new__(AxisParameters)
@@ -531,7 +540,7 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
         if name in fr:
             x = _as_float(fr[name])
             if x is None:
-                unit = {"kf": "N/m", "mu": "[-]", "n0": "N"}[name]
+                unit = readable_unit(parameter_unit(name))
                 ck.add(f"`{p}.{name}` must be a number ({unit}), got "
                        f"{_type_name(fr[name])} {_show(fr[name])}")
                 ok = False
@@ -542,7 +551,8 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
     if not ok:
         return None
     # with Fs = mu * n0 = 0 the element carries no force: almost surely a mistake
-    for name, unit in (("n0", "N"), ("mu", "[-]")):
+    for name in ("n0", "mu"):
+        unit = readable_unit(parameter_unit(name))
         x = kw[name]
         if math.isfinite(x) and x == 0:
             ck.add(f"`{p}.{name}` must be > 0 in a friction table ({unit}), got "
@@ -567,14 +577,9 @@ def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
         "damping": "the viscous damping is `c`"})
     law = ck.choice(data, "law", path, LAWS)
     needed = {"k1", "c"}
-    if law == "cubic":
-        needed |= {"kc"}
-    elif law in ("piecewise", "piecewise_asym"):
-        needed |= {"k2", "delta"}
-    if law == "piecewise_asym":
-        needed |= {"delta_neg"}
-    units = {"k1": "N/m", "kc": "N/m^3", "k2": "N/m", "delta": "m", "delta_neg": "m",
-             "c": "N s/m"}
+    if law in ELASTIC_LAWS:
+        needed |= set(ELASTIC_LAWS[law].uses)
+    units = {name: readable_unit(parameter_unit(name)) for name in _AXIS_LAW_KEYS[1:]}
     kw = {}
     for name in ("k1", "kc", "k2", "delta", "delta_neg", "c"):
         if name in data:
@@ -802,7 +807,7 @@ def _check_support(ck: _Checker, system: System) -> None:
 
 
 def _build(ck: _Checker, data: dict, model: str):
-    from vehicle import models  # late import: vehicle imports hbm, both are heavy
+    from hbm import systems as models
 
     if model == "sdof":
         t = ck.table(data, "sdof", "", what="(mass) ")

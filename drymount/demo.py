@@ -40,7 +40,7 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
     import hbm
     import vehicle
     from drymount.config import load_preset
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

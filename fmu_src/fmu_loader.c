@@ -33,7 +33,9 @@
  * drops the instance. The model (fmu_src/friction_mount.py) therefore rejects a call
  * that breaks the FMI call-order rules (docs/fmu.md) without raising: it logs the
  * reason and calls drymount_reject_call() below, and the forwarder returns
- * fmi2Error for that call; the instance stays usable. The build (drymount/fmu_build.py) compiles this
+ * fmi2Error for that call; the instance stays usable.
+ *
+ * The build (fmu_build/builder.py) compiles this
  * file with the paths of the building Python:
  *   cc -shared -fPIC -O2 -fvisibility=hidden -DDRYMOUNT_LIBPYTHON_PATH=... \
  *      -DDRYMOUNT_LIBPYTHON_SONAME=... -DDRYMOUNT_PYTHONHOME=... -ldl -lpthread

@@ -285,7 +285,7 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     Parameters
     ----------
     system : System
-        The model (:mod:`vehicle.models` builds the thesis's three).
+        The model (:mod:`hbm.systems` builds the thesis's three).
     fmin_hz, fmax_hz : float
         Frequency range, Hz, ``0 < fmin_hz < fmax_hz``.
     harmonics : int, optional
@@ -319,7 +319,7 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> ax = AxisParameters(law="linear", friction=True, n0=20.0)
     >>> s = sdof(70.0, MountParameters(axial=ax), excitation="force", amplitude=40.0)
     >>> r = frequency_response(s, 2.0, 15.0, harmonics=1)

@@ -92,14 +92,16 @@ class _Model:
         self.B = np.array([r[0] for r in rows]).reshape(len(rows), self.n)
         self.G = np.array([r[1] for r in rows]).reshape(len(rows), system.n_base)
         self.p = [r[2] for r in rows]
-        self.law = [p.law_code for p in self.p]
         self.friction = [p.friction for p in self.p]
-        self.pw = [p.law.startswith("piecewise") and p.k2 != p.k1 for p in self.p]
+        # kinks of each law (the registry's knees: +-delta for the symmetric
+        # piecewise law, +delta and -delta_neg for the asymmetric one)
+        self.knees = [p.elastic.knees(p) if p.elastic.nonlinear(p) else ()
+                      for p in self.p]
         self.n_ax = len(rows)
         # discrete state
         self.mode = [0] * self.n_ax   # 0 stuck, +-1 slipping
         self.w = [0.0] * self.n_ax
-        self.side = [[0, 0] for _ in range(self.n_ax)]  # knee sides (+1 above)
+        self.side = [[0] * len(k) for k in self.knees]  # knee sides (+1 above)
 
     def base(self, t):
         if self.kind != "base":
@@ -121,8 +123,7 @@ class _Model:
         F = np.empty(self.n_ax)
         for a in range(self.n_ax):
             p = self.p[a]
-            f, _ = elastic_force(float(u[a]), self.law[a], p.k1, p.kc, p.k2, p.delta,
-                                 p.delta_neg)
+            f, _ = elastic_force(float(u[a]), p)
             f += p.c * float(v[a])
             if self.friction[a]:
                 if self.mode[a] == 0:
@@ -156,9 +157,7 @@ class _Model:
                     self.mode[a] = s if float(v[a]) * s > 0 else 0
                 else:
                     self.w[a], self.mode[a] = 0.0, 0
-            if self.pw[a]:
-                self.side[a] = [1 if u[a] > p.delta else -1,
-                                1 if u[a] > -p.delta_neg else -1]
+            self.side[a] = [1 if u[a] > level else -1 for level in self.knees[a]]
 
     def events(self):
         """Event functions of the current phase, with their meaning."""
@@ -181,13 +180,12 @@ class _Model:
                     g.terminal, g.direction = True, -s
                     evs.append(g)
                     meta.append(("stick", a, s))
-            if self.pw[a]:
-                for k, level in enumerate((p.delta, -p.delta_neg)):
-                    def g(t, z, a=a, level=level):
-                        return self.uv(t, z)[0][a] - level
-                    g.terminal, g.direction = True, -self.side[a][k]
-                    evs.append(g)
-                    meta.append(("knee", a, k))
+            for k, level in enumerate(self.knees[a]):
+                def g(t, z, a=a, level=level):
+                    return self.uv(t, z)[0][a] - level
+                g.terminal, g.direction = True, -self.side[a][k]
+                evs.append(g)
+                meta.append(("knee", a, k))
         return evs, meta
 
     def switch(self, meta, t, z):

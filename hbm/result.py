@@ -194,7 +194,7 @@ class FrequencyResponse:
                    f"success={self.success} ({self.message}); amplitudes m or rad, "
                    f"fundamental (_amp) and max over the period (_peak); stable 1/0; "
                    f"turning points at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
-        from drymount.io import atomic_path
+        from hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")
@@ -285,7 +285,7 @@ class FrequencyResponse:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend()
         if path is not None:
-            from drymount.io import atomic_path
+            from hbm.io import atomic_path
             with atomic_path(path) as tmp:
                 fig.savefig(tmp, dpi=120, bbox_inches="tight")
         return ax

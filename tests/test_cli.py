@@ -266,7 +266,7 @@ def test_sweep_native_linear_matches_exact(tmp_path, capsys):
 
 
 def test_sweep_with_hbm_overlay_and_fmu_backend(tmp_path, capsys):
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     build_fmu(tmp_path / "FrictionMount.fmu")  # --fmu is never built (issue 11)
     curve = tmp_path / "curve.csv"
@@ -306,7 +306,7 @@ def test_sweep_without_steady_state_exit_1_keeps_the_rows(tmp_path, capsys,
 
 
 def test_cosim_native_and_fmu_time_histories(tmp_path, capsys):
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     build_fmu(tmp_path / "FrictionMount.fmu")  # --fmu is never built (issue 11)
     runs = {}

@@ -8,7 +8,7 @@ import pytest
 
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.models import quarter_car, sdof
+from hbm.systems import quarter_car, sdof
 
 # H = 1 AFT (N = 4096 samples) vs closed forms, relative to the peak amplitude. The
 # AFT's error comes from the kinks of the laws between samples, O(N^-2):

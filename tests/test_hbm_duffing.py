@@ -7,7 +7,7 @@ from scipy.optimize import minimize_scalar
 
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.models import sdof
+from hbm.systems import sdof
 
 # m x'' + c x' + k x + kc x^3 = F sin(omega t); values of the thesis's cubic fit
 M, K, KC, C, F = 20.0, 34770.0, 5.708e8, 20.0, 10.0

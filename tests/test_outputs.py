@@ -280,7 +280,7 @@ def test_config_name_cannot_leave_the_working_dir(tmp_path, capsys, monkeypatch)
 
 def test_user_fmu_is_never_rebuilt(tmp_path, capsys, monkeypatch):
     """An FMU older than drymount's sources given with --fmu is used as it is."""
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     monkeypatch.chdir(tmp_path)
     mine = build_fmu(tmp_path / "mine" / "Mine.fmu")

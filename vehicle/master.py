@@ -93,7 +93,7 @@ class Master:
     system : hbm.system.System
     backend : {"native", "fmu"}
     fmu_path : path-like, optional
-        FMU for the ``fmu`` backend (default ``drymount.fmu_build.ensure_fmu()``).
+        FMU for the ``fmu`` backend (default ``fmu_build.ensure_fmu()``).
     fmu_logging : bool
         FMU debug logging (default on).
     fmu_start_values : dict, optional
@@ -212,17 +212,16 @@ class Master:
         return S + b @ Lx
 
     def _stiffest(self):
-        """Total K and C with every active mount axis at its stiffest tangent:
-        max(k1, k2) for the piecewise laws, k1 otherwise, plus kf if friction."""
+        """Total K and C with every active mount axis at its stiffest tangent (the
+        law's ``stiffest``: max(k1, k2) for the piecewise laws, k1 otherwise), plus kf
+        if friction."""
         s = self.system
         K, C = s.K.copy(), s.C.copy()
         for e in s.elements:
             kd, cd = np.zeros(3), np.zeros(3)
             for j in e.active_axes:
                 p = e.params.axes[j]
-                piecewise = p.law in ("piecewise", "piecewise_asym")
-                k = max(p.k1, p.k2) if piecewise else p.k1
-                kd[j] = k + (p.kf if p.friction else 0.0)
+                kd[j] = p.elastic.stiffest(p) + (p.kf if p.friction else 0.0)
                 cd[j] = p.c
             K += e.B.T @ (kd[:, None] * e.B)
             C += e.B.T @ (cd[:, None] * e.B)
@@ -466,7 +465,7 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
     >>> th = simulate(s, 10.0, 0.5, backend="native")

@@ -357,7 +357,7 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
     >>> ss = steady_state(s, 5.0, backend="native")

@@ -320,7 +320,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     progress : bool
         tqdm progress bar on stderr.
     fmu_path : path-like, optional
-        FMU of the ``fmu`` backend (default: ``drymount.fmu_build.ensure_fmu()``).
+        FMU of the ``fmu`` backend (default: ``fmu_build.ensure_fmu()``).
     steps_per_period, rtol, min_periods, max_periods
         Steady-state options (:func:`vehicle.steady.steady_state`).
     warmup : int
@@ -346,7 +346,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     options = dict(steps_per_period=steps_per_period, rtol=rtol,
                    min_periods=min_periods, max_periods=max_periods)
     if backend == "fmu" and fmu_path is None:
-        from drymount.fmu_build import ensure_fmu
+        from fmu_build import ensure_fmu
         fmu_path = ensure_fmu()
     from tqdm import tqdm
 
