@@ -297,6 +297,8 @@ def test_model_code_imports_only_the_standard_library(fmu, tmp_path):
         vr = {{v.name: k for k, v in s.vars.items()}}
         s.set_boolean([vr["axial_friction"]], [True])
         s.set_real([vr["axial_n0"]], [50.0])
+        s.setup_experiment(0.0)
+        s.enter_initialization_mode()
         s.exit_initialization_mode()
         for k in range(10):
             s.set_real([vr["u_axial"]], [0.001 * k])
@@ -415,7 +417,7 @@ def test_state_save_restore_bit_identical(fmu):
     ("axial_k1", -1.0, "`axial_k1` must be finite and >= 0, got -1.0"),
     ("radial1_kf", 0.0, "`radial1_kf` must be finite and > 0 when friction is on, "
                         "got 0.0"),
-    ("radial2_delta", float("nan"), "`radial2_delta` must be finite and > 0, got nan"),
+    ("radial2_delta", 0.0, "`radial2_delta` must be finite and > 0, got 0.0"),
     ("axial_law", 7, "`axial_law` must be one of 0 = linear, 1 = cubic, "
                      "2 = piecewise, 3 = piecewise_asym, got 7"),
 ])
@@ -432,20 +434,21 @@ def test_bad_parameter_fails_initialization_with_message(fmu, name, value, messa
     gc.collect()
 
 
-def test_non_finite_input_discards_step_with_message(fmu):
+def test_non_finite_input_is_rejected_with_message(fmu):
+    """fmi2SetReal with inf: fmi2Error naming the variable and the value, the input
+    keeps its value, the instance goes on (issue 11: was a discarded step)."""
     mount = Mount(fmu, params=PARAMS).start()
     try:
         march_fmu(mount, 10)
-        mount.set("v_radial1", float("inf"))
+        before = mount.real(["v_radial1", "F_radial1"])
         with pytest.raises(FMICallException) as info:
-            mount.slave.doStep(1e-3, 1e-4)
-        assert info.value.status == FMI_DISCARD
-        assert any("inputs of axis radial1 must be finite" in text and "v_radial1=inf"
-                   in text for _, text in mount.messages)
-        # no output is computed from it: reading one is an error, never a NaN/inf
-        with pytest.raises(FMICallException) as info:
-            mount.real(["F_radial1"])
-        assert info.value.status >= FMI_ERROR
+            mount.set("v_radial1", float("inf"))
+        assert info.value.status == FMI_ERROR
+        assert any("`v_radial1` must be finite, got inf" in text
+                   for _, text in mount.messages), mount.messages
+        assert mount.real(["v_radial1", "F_radial1"]) == before
+        mount.slave.doStep(1e-3, 1e-4)
+        assert np.all(np.isfinite(mount.real(["F_radial1", "E_fr"])))
     finally:
         mount.free()
     gc.collect()
@@ -606,7 +609,7 @@ def test_c_importer_sees_initialization_error(c_host, fmu):
                                     f"R{vr['axial_kf']}=0"])
     # a clean failure: status reported, instance freed, no crash
     assert out.returncode == 3, out.stdout + out.stderr
-    assert "FAILED fmi2ExitInitializationMode status=4" in out.stdout
+    assert "FAILED fmi2ExitInitializationMode status=3" in out.stdout  # fmi2Error
     assert ("`axial_kf` must be finite and > 0 when friction is on, got 0.0"
             in out.stdout)
 
@@ -632,9 +635,11 @@ def test_loader_reports_missing_libpython(c_host, fmu, tmp_path, monkeypatch):
                       preload=False, unzipdir=unzipdir)
     assert out.returncode == 3, out.stdout + out.stderr
     assert "FAILED fmi2Instantiate" in out.stdout
-    assert "cannot load libpython (tried: /nonexistent/libpython3.99.so.1.0, " \
-        "libpython3.99.so.1.0" in out.stdout
-    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "LD_PRELOAD" in out.stdout
+    assert "cannot start Python 3.99 for the FMU (tried: " \
+        "/nonexistent/libpython3.99.so.1.0 (no such file); libpython3.99.so.1.0 (" \
+        in out.stdout
+    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "DRYMOUNT_PYTHONHOME" in out.stdout
+    assert "LD_PRELOAD" in out.stdout
 
 
 def test_docs_fmpy_example_runs(fmu_path, tmp_path, monkeypatch):
