@@ -54,12 +54,14 @@ ALLOWED: dict[str, frozenset] = {
 
 #: Which variables fmi2Set* may change in which state, by causality: the parameters
 #: are ``fixed`` (only before initialization ends), the inputs any time before
-#: fmi2Terminate, the locals ``w_<axis>`` (initial = exact) before initialization
-#: ends. Outputs are never set.
+#: fmi2Terminate. The locals ``w_<axis>`` (the committed slider positions, initial =
+#: exact) may be set before fmi2Terminate too: a drymount extension to FMI 2.0 (which
+#: would use fmi2SetFMUstate), the harness moves a steady state between instances and
+#: backends with it. Outputs are never set.
 SETTABLE: dict[str, frozenset] = {
     "parameter": frozenset({_I, _INIT}),
     "input": frozenset({_I, _INIT, _STEP}),
-    "local": frozenset({_I, _INIT}),
+    "local": frozenset({_I, _INIT, _STEP}),
     "output": frozenset(),
 }
 

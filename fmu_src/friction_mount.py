@@ -415,7 +415,8 @@ class FrictionMount(Fmi2Slave):
             energy = [float(x) for x in state["_E_committed"]]
             n_set = [bool(x) for x in state["_n_set"]]
         except (KeyError, TypeError, ValueError) as exc:
-            raise _Rejected(f"fmi2SetFMUstate: not a state of this FMU ({exc})") from None
+            raise _Rejected(f"fmi2SetFMUstate: not a state of this FMU ({exc})") \
+                from None
         for name, value in values.items():
             by_name[name].setter(value)
         self._e, self._n_set = energy, n_set
