@@ -642,6 +642,75 @@ def test_loader_reports_missing_libpython(c_host, fmu, tmp_path, monkeypatch):
     assert "LD_PRELOAD" in out.stdout
 
 
+def _loader_fmu(fmu, tmp_path, monkeypatch, location):
+    """A copy of the unzipped FMU whose loader records ``location`` = (libpython
+    path, soname, prefix) as the Python that built it."""
+    import shutil
+
+    from fmu_build import builder as fmu_build
+
+    if not (Path(fmu[1]) / "binaries" / "linux64" / fmu_build.REAL_BINARY).exists():
+        pytest.skip("this FMU was built without the linux64 loader (see build.txt)")
+    unzipdir = tmp_path / "fmu"
+    shutil.copytree(fmu[1], unzipdir)
+    monkeypatch.setattr(fmu_build, "libpython_location", lambda: location)
+    assert fmu_build.compile_loader(unzipdir / "binaries" / "linux64" /
+                                    "FrictionMount.so") == ""
+    return unzipdir
+
+
+def _host_args(fmu):
+    vr = fmu[2]
+    return [5, 1e-4, 0.001, 10.0, vr["u_axial"], vr["v_axial"], vr["F_axial"],
+            vr["Ffr_axial"], vr["E_fr"]]
+
+
+def test_loader_moved_prefix_uses_the_prefix_of_the_library(c_host, fmu, tmp_path,
+                                                            monkeypatch):
+    """issue 11: the recorded libpython exists but its recorded prefix does not (the
+    FMU moved to a machine with the same library elsewhere): the loader must not set
+    PYTHONHOME to the missing prefix (the importer died with "Fatal Python error:
+    init_fs_encoding") but find the standard library above the library file."""
+    lib = _libpython()
+    unzipdir = _loader_fmu(fmu, tmp_path, monkeypatch,
+                           (str(lib), lib.name, "/nonexistent/prefix"))
+    out = _run_c_host(c_host, fmu, _host_args(fmu), preload=False, unzipdir=unzipdir)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
+    assert out.stdout.splitlines()[-1] == "DONE"
+    assert "init_fs_encoding" not in out.stderr
+
+
+def test_loader_tries_the_hosts_python(c_host, fmu, tmp_path, monkeypatch):
+    """Neither the recorded library nor its prefix exists: the host's Python is used
+    (python3.X on PATH and its prefix's lib/libpython3.X.so, else the soname on the
+    library path with the standard library found above it)."""
+    lib = _libpython()
+    unzipdir = _loader_fmu(fmu, tmp_path, monkeypatch,
+                           ("/nonexistent/lib/" + lib.name, lib.name, "/nonexistent"))
+    env_path = f"{Path(sys.base_prefix) / 'bin'}:/usr/bin:/bin"
+    out = subprocess.run([str(c_host), str(unzipdir)] + [str(a) for a in
+                                                         _host_args(fmu)],
+                         env={"PATH": env_path}, capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
+    assert out.stdout.splitlines()[-1] == "DONE"
+
+
+def test_loader_refuses_a_pythonhome_without_standard_library(c_host, fmu, tmp_path):
+    """PYTHONHOME set by the user to a folder without the standard library: no
+    interpreter is started (it would kill the importer), fmi2Instantiate returns NULL
+    and the message names the folder and the variables that fix it."""
+    env = {"PATH": "/usr/bin:/bin", "PYTHONHOME": str(tmp_path)}
+    out = subprocess.run([str(c_host), str(fmu[1])] + [str(a) for a in
+                                                       _host_args(fmu)],
+                         env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 3, out.stdout[-2000:] + out.stderr[-2000:]
+    assert "FAILED fmi2Instantiate" in out.stdout
+    assert f"PYTHONHOME={tmp_path} holds no lib/python" in out.stdout
+    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "DRYMOUNT_PYTHONHOME" in out.stdout
+    assert "Fatal Python error" not in out.stderr
+
+
 def test_docs_fmpy_example_runs(fmu_path, tmp_path, monkeypatch):
     """The fmpy example of docs/fmu.md, run as written (in a directory holding
     dist/FrictionMount.fmu); its printed energy equals the in-process law's."""
