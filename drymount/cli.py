@@ -18,23 +18,34 @@ Exit status (docs/cli.md): 0 success; 1 a numerical failure (what was computed i
 written, marked ``# partial: <reason>`` when the run stopped early); 2 bad usage or an
 invalid configuration, found before any computation (every problem is listed, no
 traceback); 130 interrupted by SIGINT (Ctrl-C), 143 terminated by SIGTERM (what was
-computed is written, marked partial).
+computed is written, marked partial). :mod:`drymount.cli_guard` holds these rules.
 """
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import importlib
-import math
 import os
-import re
-import signal
 import sys
-import textwrap
 from pathlib import Path
 
-__all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE"]
+from drymount.cli_guard import (
+    EXIT_INTERRUPTED,
+    EXIT_TERMINATED,
+    UsageError,
+    fmu_path,
+    interrupted,
+    outputs,
+    partial_on_stop,
+    signals_interrupt,
+    stopped_by,
+    write_with,
+)
+from drymount.cli_guard import check_out as _check_out
+from drymount.cli_parser import build_parser
+
+__all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE",
+           "EXIT_INTERRUPTED", "EXIT_TERMINATED", "UsageError"]
 
 EXIT_OK = 0
 #: A numerical failure: an HBM continuation that stopped, a sweep point that did not
@@ -42,321 +53,6 @@ EXIT_OK = 0
 EXIT_FAILURE = 1
 #: Bad usage or an invalid configuration (argparse's own code for usage errors).
 EXIT_USAGE = 2
-#: Interrupted by SIGINT (128 + 2); SIGTERM gives 128 + 15 = 143.
-EXIT_INTERRUPTED = 130
-EXIT_TERMINATED = 143
-
-STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump")
-
-
-class UsageError(Exception):
-    """Bad command-line values found after parsing (exit status 2)."""
-
-
-# ======================================================================================
-# Argument types
-# ======================================================================================
-
-
-def _positive_float(text: str) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"must be a number > 0, got {text!r}") from None
-    if not (math.isfinite(x) and x > 0):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
-    return x
-
-
-def _int_at_least(minimum: int, maximum: int | None = None):
-    rng = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
-
-    def parse(text: str) -> int:
-        try:
-            n = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"must be an integer {rng}, got {text!r}") from None
-        if n < minimum or (maximum is not None and n > maximum):
-            raise argparse.ArgumentTypeError(f"must be an integer {rng}, got {n}")
-        return n
-
-    parse.__name__ = f"integer {rng}"
-    return parse
-
-
-def _path(text: str) -> Path:
-    if not text.strip():
-        raise argparse.ArgumentTypeError("the file name is empty")
-    return Path(text)
-
-
-_path.__name__ = "path"
-
-
-# ======================================================================================
-# Parser
-# ======================================================================================
-
-
-class _Formatter(argparse.RawDescriptionHelpFormatter):
-    """Keeps the layout of descriptions and examples; shows defaults."""
-
-    def _get_help_string(self, action):
-        text = action.help or ""
-        if ("%(default)" not in text and action.default not in (None, False,
-                                                                 argparse.SUPPRESS)
-                and action.option_strings):
-            text += " (default: %(default)s)"
-        return text
-
-
-def _examples(*lines: str) -> str:
-    return "examples:\n" + "\n".join(f"  {line}" for line in lines)
-
-
-def _add(sub, name: str, help_: str, description: str, examples: list[str]):
-    return sub.add_parser(name, help=help_, description=textwrap.dedent(description),
-                          epilog=_examples(*examples), formatter_class=_Formatter)
-
-
-def _harness_args(p, kind: str) -> None:
-    """Options shared by ``cosim`` and ``sweep``: step, FMU, output files."""
-    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
-                   help="fixed steps per excitation period (default: [cosim] "
-                        "steps_per_period, else the harness default)")
-    p.add_argument("--fmu", type=_path, default=None,
-                   help="FMU to use, never modified (default: dist/FrictionMount.fmu, "
-                        "built or rebuilt when missing or older than drymount's "
-                        "sources)")
-    p.add_argument("--out", type=_path, default=None,
-                   help=f"CSV file to write (default: <name>_{kind}.csv)")
-    p.add_argument("--plot", type=_path, default=None, help="plot file to write")
-
-
-def _config_arg(p):
-    p.add_argument("config", metavar="CONFIG",
-                   help="TOML configuration file (docs/config.md) or preset name "
-                        "(drymount presets list)")
-
-
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("drymount")
-    except PackageNotFoundError:  # running from a source tree without install
-        return "(not installed)"
-
-
-def build_parser() -> argparse.ArgumentParser:
-    """The ``drymount`` argument parser (subcommands in ``args.command``)."""
-    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES, MAX_POINTS
-
-    parser = argparse.ArgumentParser(
-        prog="drymount",
-        description=textwrap.dedent("""\
-            drymount: friction-damped engine mounts. An FMI 2.0 mount FMU, a vehicle
-            co-simulation harness and harmonic balance, for the systems of the thesis
-            "Design of an engine mount with dry friction damping".
-
-            CONFIG is a TOML file (docs/config.md) or a preset name."""),
-        epilog=_examples(
-            "drymount demo --out demo                # first look: report in demo/",
-            "drymount presets list",
-            "drymount hbm sdof_halved --out curve.csv --plot curve.png",
-            "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
-            "--plot sweep.png",
-            "drymount build-fmu --out FrictionMount.fmu",
-        ) + "\n\nexit status: 0 success, 1 numerical failure, 2 bad usage or "
-            "configuration (before computing), 130 Ctrl-C, 143 SIGTERM; after 1, 130 "
-            "or 143 what was computed is written, first line '# partial: <reason>'",
-        formatter_class=_Formatter)
-    parser.add_argument("--version", action="version",
-                        version=f"drymount {_version()}")
-    parser.add_argument("--traceback", action="store_true",
-                        help="show the Python traceback of an unexpected error")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-
-    # presets ------------------------------------------------------------------
-    p = _add(sub, "presets", "list, show or export the shipped presets",
-             """\
-             The presets are the thesis's systems as TOML configurations. Every
-             value the thesis does not give is stated in a comment with its reason.
-             Export one to start your own configuration.""",
-             ["drymount presets list", "drymount presets show sdof_halved",
-              "drymount presets export six_dof_halved my_engine.toml"])
-    psub = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-    psub.add_parser("list", help="names and descriptions of the presets",
-                    description="Print each preset's name and description.",
-                    epilog=_examples("drymount presets list"),
-                    formatter_class=_Formatter)
-    q = psub.add_parser("show", help="print a preset's TOML text",
-                        description="Print the TOML text of a preset, with its "
-                                    "comments.",
-                        epilog=_examples("drymount presets show quarter_car_halved"),
-                        formatter_class=_Formatter)
-    q.add_argument("name", metavar="NAME", help="preset name")
-    q = psub.add_parser("export", help="write a preset's TOML to a file",
-                        description="Write the TOML text of a preset to PATH, to edit "
-                                    "it into your own configuration.",
-                        epilog=_examples(
-                            "drymount presets export sdof_halved mine.toml",
-                            "drymount hbm mine.toml"),
-                        formatter_class=_Formatter)
-    q.add_argument("name", metavar="NAME", help="preset name")
-    q.add_argument("path", metavar="PATH", type=_path, help="file to write")
-    q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
-
-    # build-fmu ----------------------------------------------------------------
-    p = _add(sub, "build-fmu", "build the FrictionMount FMU (FMI 2.0 co-simulation)",
-             """\
-             Build FrictionMount.fmu, the mount law as an FMI 2.0 co-simulation FMU
-             (pythonfmu). The importer needs a Python 3 with the pythonfmu runtime on
-             the host; docs/fmu.md describes its variables.""",
-             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu"])
-    p.add_argument("--out", type=_path, default=None,
-                   help="FMU file to write (default: dist/FrictionMount.fmu under the "
-                        "current folder)")
-
-    # hbm ----------------------------------------------------------------------
-    p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
-             """\
-             Multi-harmonic balance with alternating frequency-time evaluation and
-             arc-length continuation from fmin to fmax (thesis Chapter 3,
-             eq. 3.51-3.66), following folds and marking unstable points. Writes a
-             CSV (freq_hz, for each DOF <dof>_amp and <dof>_peak, transmissibility,
-             stable) and optionally a plot. H = 1 is the thesis's single-harmonic
-             method.""",
-             ["drymount hbm sdof_halved --out curve.csv --plot curve.png",
-              "drymount hbm sdof_cubic --harmonics 1 --fmin 2 --fmax 14 --out h1.csv",
-              "drymount hbm my_engine.toml --harmonics 9"])
-    _config_arg(p)
-    p.add_argument("--harmonics", "-H", type=_int_at_least(1, MAX_HARMONICS),
-                   default=None,
-                   help=f"number of harmonics H, 1..{MAX_HARMONICS} (default: [hbm] "
-                        f"harmonics of CONFIG, 7)")
-    p.add_argument("--n-samples", type=_int_at_least(3, MAX_N_SAMPLES), default=None,
-                   help=f"AFT samples per period, 2H+1..{MAX_N_SAMPLES} (default: "
-                        f"[hbm] n_samples, else auto)")
-    p.add_argument("--fmin", type=_positive_float, default=None,
-                   help="lowest frequency in Hz (default: [sweep] fmin_hz)")
-    p.add_argument("--fmax", type=_positive_float, default=None,
-                   help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--out", type=_path, default=None,
-                   help="CSV file to write (default: <name>_hbm.csv)")
-    p.add_argument("--plot", type=_path, default=None,
-                   help="plot file to write (.png, .pdf, .svg)")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-
-    # cosim --------------------------------------------------------------------
-    p = _add(sub, "cosim", "time history co-simulated through the mount FMU",
-             """\
-             Fixed-step co-simulation of the bodies with one mount FMU instance per
-             mount (backend fmu, through fmpy) or the same mount law in-process
-             (backend native). Writes the time histories: time, every DOF and every
-             mount force.""",
-             ["drymount cosim sdof_halved --freq 5 --duration 4 --out run.csv",
-              "drymount cosim six_dof_halved --freq 7 --duration 3 --backend native "
-              "--out run.csv --plot run.png"])
-    _config_arg(p)
-    p.add_argument("--freq", type=_positive_float, default=None,
-                   help="excitation frequency in Hz (default: [cosim] freq_hz)")
-    p.add_argument("--duration", type=_positive_float, default=None,
-                   help="simulated time in s (default: [cosim] duration, else the "
-                        "harness default)")
-    p.add_argument("--backend", choices=("fmu", "native"), default=None,
-                   help="fmu: FMU instances through fmpy; native: in-process law "
-                        "(default: [cosim] backend)")
-    _harness_args(p, "cosim")
-
-    # sweep --------------------------------------------------------------------
-    p = _add(sub, "sweep", "stepped-sine sweep of co-simulated steady states",
-             """\
-             At each frequency, run until the period-to-period change is below the
-             tolerance, starting from the previous frequency's steady state (so jumps
-             show as on a test rig), and extract each DOF's fundamental amplitude and
-             peak and the transmissibility. Same CSV columns as `drymount hbm` (without
-             `stable`) plus `converged`. --hbm overlays a curve written by `drymount
-             hbm` on the plot.""",
-             ["drymount sweep sdof_halved --fmin 2 --fmax 14 --points 25 --backend "
-              "native --workers 2 --out sweep.csv --plot sweep.png",
-              "drymount hbm sdof_cubic --out curve.csv && drymount sweep sdof_cubic "
-              "--direction down --hbm curve.csv --plot down.png"])
-    _config_arg(p)
-    p.add_argument("--fmin", type=_positive_float, default=None,
-                   help="lowest frequency in Hz (default: [sweep] fmin_hz)")
-    p.add_argument("--fmax", type=_positive_float, default=None,
-                   help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--points", type=_int_at_least(2, MAX_POINTS), default=None,
-                   help=f"number of frequencies, 2..{MAX_POINTS} (default: [sweep] "
-                        f"points)")
-    p.add_argument("--spacing", choices=("linear", "log"), default=None,
-                   help="frequency spacing (default: [sweep] spacing)")
-    p.add_argument("--direction", choices=("up", "down"), default=None,
-                   help="sweep order (default: [sweep] direction)")
-    p.add_argument("--backend", choices=("fmu", "native"), default=None,
-                   help="default: [cosim] backend")
-    p.add_argument("--workers", type=_int_at_least(1), default=1,
-                   help="parallel processes")
-    _harness_args(p, "sweep")
-    p.add_argument("--hbm", type=_path, default=None, metavar="CURVE_CSV",
-                   help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-
-    # validate -----------------------------------------------------------------
-    p = _add(sub, "validate", "co-simulation through the FMU against harmonic balance",
-             """\
-             For the single-DOF, quarter-car and 6-DOF presets with friction and the
-             cubic single DOF: a stepped sweep co-simulated through the FMU against
-             multi-harmonic HBM at the same frequencies. Writes validation.md (report
-             with plots) and points.csv; exit status 1 if a system fails its
-             tolerance.""",
-             ["drymount validate --quick --out validation",
-              "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
-    p.add_argument("--quick", action="store_true",
-                   help="fewer frequencies (still real runs), for CI")
-    p.add_argument("--out", type=_path, default=Path("validation"),
-                   help="report folder")
-    p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
-                   help="only these systems (sdof_friction, quarter_car_friction, "
-                        "six_dof_friction, sdof_cubic)")
-    p.add_argument("--inject", default=None, metavar="FIELD=FACTOR",
-                   help="scale a mount-law field on the HBM side only "
-                        "(proves that the check can fail), e.g. n0=1.5")
-
-    # study --------------------------------------------------------------------
-    p = _add(sub, "study", "the thesis's design studies (Chapter 4)",
-             """\
-             normal-force  single DOF, transmissibility for a range of n0
-                           (Figs. 4.1-4.4)
-             optimize-n0   the n0 minimising peak or RMS transmissibility (Sec. 4.2)
-             quarter-car   quarter car for a range of n0 (Figs. 4.6-4.9)
-             six-dof       6-DOF responses, lambda 1 and 1.2, relocated mount
-                           (Figs. 4.11-4.44)
-             jump          cubic single DOF: unstable branch and the jump (Fig. 3.7)
-             Each writes CSV files, plots and summary.md into --out.""",
-             ["drymount study normal-force --out study-nf",
-              "drymount study jump --out jump --quick"])
-    p.add_argument("name", metavar="NAME", choices=STUDY_NAMES,
-                   help="one of " + ", ".join(STUDY_NAMES))
-    p.add_argument("--out", type=_path, default=None,
-                   help="output folder (default: study-NAME)")
-    p.add_argument("--quick", action="store_true",
-                   help="fewer designs and coarser curves (seconds instead of minutes)")
-
-    # demo ---------------------------------------------------------------------
-    p = _add(sub, "demo", "the first-hour demo: FMU, HBM, co-simulation, report",
-             """\
-             Builds the FMU, computes the HBM curve of the friction-damped quarter car
-             against the original mount, co-simulates a few frequencies through the FMU
-             and writes demo.md with plots and CSV files. A couple of minutes on 2
-             cores.""",
-             ["drymount demo", "drymount demo --out /tmp/demo"])
-    p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
-    return parser
 
 
 # ======================================================================================
@@ -378,122 +74,18 @@ def _load(spec):
     return resolve_config(spec)
 
 
-def _write_with(path: Path, writer, partial: str | None = None) -> Path:
-    """Call ``writer(tmp_path)`` and move the file to ``path`` atomically; with
-    ``partial`` (the reason the run stopped early) the first line is
-    ``# partial: <partial>``."""
-    from drymount.io import PARTIAL_PREFIX, atomic_path
-
-    with atomic_path(path) as tmp:
-        writer(tmp)
-        if partial is not None:
-            text = tmp.read_text(encoding="utf-8")
-            reason = " ".join(partial.split())
-            tmp.write_text(f"{PARTIAL_PREFIX}{reason}\n{text}", encoding="utf-8")
-    return path
+_write_with = write_with
 
 
-# --------------------------------------------------------------------- signals
+def _peak_text(name: str, freq_hz, transmissibility) -> str:
+    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value)."""
+    import numpy as np
 
-#: The signal that stopped the run (SIGINT or SIGTERM), set by the handler.
-_stopped_by: int | None = None
-
-
-@contextlib.contextmanager
-def _signals_interrupt(program: bool = False):
-    """SIGINT and SIGTERM raise KeyboardInterrupt in the main thread (so every run
-    stops the same way and writes what it computed); the signal is remembered for the
-    exit status. Restores the previous handlers afterwards; as a ``program`` (the
-    process ends after main, its results are written) they are ignored instead:
-    Python's finalisation would otherwise die of a late SIGINT (status -2)."""
-    global _stopped_by
-    _stopped_by = None
-
-    def handler(signum, frame):
-        global _stopped_by
-        if _stopped_by is None:
-            _stopped_by = signum
-        raise KeyboardInterrupt(signal.Signals(signum).name)
-
-    import threading
-
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    saved = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for s, h in saved.items():
-            signal.signal(s, signal.SIG_IGN if program else h)
-
-
-def _stop_reason(exc: BaseException) -> str:
-    if _stopped_by is not None:
-        return f"interrupted by {signal.Signals(_stopped_by).name}"
-    if isinstance(exc, KeyboardInterrupt):
-        return "interrupted"
-    return f"{type(exc).__name__}: {exc}"
-
-
-@contextlib.contextmanager
-def _partial_on_stop(out: Path, what: str):
-    """On any exception carrying a ``partial_result`` (the points computed before a
-    run stopped), write it to ``out`` marked partial, then re-raise."""
-    try:
-        yield
-    except BaseException as exc:
-        res = getattr(exc, "partial_result", None)
-        n = len(getattr(res, "freq_hz", getattr(res, "t", ())))
-        if res is not None and n:
-            reason = f"{_stop_reason(exc)}; {n} {what} computed before the run stopped"
-            _write_with(out, res.to_csv, partial=reason)
-            _info(f"wrote {out} (partial: {n} {what})")
-        raise
-
-
-# ------------------------------------------------------------- output paths
-
-_PLOT_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif",
-                 "tiff", "webp", "pgf", "raw", "rgba")
-
-
-def _check_out(path, option: str) -> Path:
-    """``path`` checked as an output file (drymount.io.check_output_path);
-    UsageError naming ``option`` otherwise."""
-    from drymount.io import OutputPathError, check_output_path
-
-    try:
-        check_output_path(path, option)
-    except OutputPathError as exc:
-        raise UsageError(str(exc)) from None
-    return Path(path)
-
-
-def _check_plot(path) -> Path | None:
-    if path is None:
-        return None
-    fmt = Path(path).suffix.lstrip(".").lower()
-    if fmt not in _PLOT_FORMATS:
-        raise UsageError(f"--plot: {str(path)!r} has the extension {fmt!r}, which "
-                         f"names no plot format; use one of "
-                         f"{', '.join(_PLOT_FORMATS)}")
-    return _check_out(path, "--plot")
-
-
-def _default_out(cfg, kind: str) -> Path:
-    """``<name>_<kind>.csv`` in the working directory, whatever the configuration's
-    name holds (path separators, ``..``, odd characters become ``_``)."""
-    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", cfg.name).strip("._") or "config"
-    return Path(f"{name}_{kind}.csv")
-
-
-def _outputs(args, cfg, kind: str) -> Path:
-    """Check ``--out`` (or the default name) and ``--plot`` before any work."""
-    out = _check_out(args.out if args.out is not None else _default_out(cfg, kind),
-                     "--out")
-    _check_plot(args.plot)
-    return out
+    t = np.asarray(transmissibility, dtype=float)
+    if not np.any(np.isfinite(t)):
+        return ""
+    i = int(np.nanargmax(t))
+    return f"{name}: peak transmissibility {t[i]:.4g} at {freq_hz[i]:.4g} Hz"
 
 
 def _band(args, cfg) -> tuple[float, float]:
@@ -553,10 +145,10 @@ def cmd_hbm(args) -> int:
     if n_samples is not None and n_samples < 2 * H + 1:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
-    out = _outputs(args, cfg, "hbm")
+    out = outputs(args, cfg, "hbm")
     import hbm
 
-    with _partial_on_stop(out, "points"):
+    with partial_on_stop(out, "points"):
         fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
                                     n_samples=n_samples, progress=not args.quiet)
     _write_with(out, fr.to_csv,
@@ -568,11 +160,9 @@ def cmd_hbm(args) -> int:
     if len(fr.freq_hz):
         import numpy as np
 
-        t = np.asarray(fr.transmissibility, dtype=float)
-        if np.any(np.isfinite(t)):
-            i = int(np.nanargmax(t))
-            print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
-                  f"{fr.freq_hz[i]:.4g} Hz; {len(fr.turning_points)} turning point(s); "
+        peak = _peak_text(cfg.name, fr.freq_hz, fr.transmissibility)
+        if peak:
+            print(f"{peak}; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
             for direction in ("up", "down"):
                 events = [f"jumps at {f:.4g} Hz" if k >= 0 else
@@ -601,12 +191,12 @@ def cmd_cosim(args) -> int:
         kw["dt"] = 1.0 / (freq * spp)
     if duration is not None:
         kw["duration"] = duration
-    out = _outputs(args, cfg, "cosim")
+    out = outputs(args, cfg, "cosim")
     if backend == "fmu":
-        kw["fmu_path"] = _fmu_path(args.fmu)
+        kw["fmu_path"] = fmu_path(args.fmu)
     import vehicle
 
-    with _partial_on_stop(out, "time steps"):
+    with partial_on_stop(out, "time steps"):
         th = vehicle.simulate(cfg.system, freq, **kw)
     _write_with(out, th.to_csv)
     _info(f"wrote {out} ({len(th.t)} time steps, {th.t[-1]:g} s, backend {backend})")
@@ -614,35 +204,6 @@ def cmd_cosim(args) -> int:
         _write_with(args.plot, lambda p: _plot_time_history(th, cfg, freq, p))
         _info(f"wrote {args.plot}")
     return EXIT_OK
-
-
-def _fmu_path(path) -> Path:
-    """The FMU a run uses. A user's ``--fmu`` is used as it is (never rebuilt):
-    UsageError if it is missing or not an FMU. The default FMU is built, or rebuilt
-    when older than drymount's sources, saying so."""
-    import zipfile
-
-    from fmu_build import default_fmu_path, ensure_fmu
-
-    if path is None:
-        return ensure_fmu(default_fmu_path(),
-                          notify=lambda why: _info(f"building the default FMU "
-                                                   f"{default_fmu_path()} ({why})"))
-    path = Path(path)
-    if not path.exists():
-        raise UsageError(f"--fmu: {str(path)!r} does not exist (leave --fmu out to "
-                         f"use the default FMU, built when needed)")
-    if not path.is_file() or not zipfile.is_zipfile(path):
-        raise UsageError(f"--fmu: {str(path)!r} is not an FMU (not a zip file)")
-    try:
-        with zipfile.ZipFile(path) as z:
-            has_md = "modelDescription.xml" in z.namelist()
-    except (OSError, zipfile.BadZipFile) as exc:
-        raise UsageError(f"--fmu: {str(path)!r} cannot be read: {exc}") from None
-    if not has_md:
-        raise UsageError(f"--fmu: {str(path)!r} is not an FMU (no "
-                         f"modelDescription.xml in the zip)")
-    return path.resolve()
 
 
 def _plot_time_history(th, cfg, freq, path) -> None:
@@ -719,16 +280,16 @@ def cmd_sweep(args) -> int:
     freqs = s.freqs_hz()
     backend = args.backend or cfg.cosim.backend
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
-    out = _outputs(args, cfg, "sweep")
+    out = outputs(args, cfg, "sweep")
     kw = {}
     spp = args.steps_per_period or cfg.cosim.steps_per_period
     if spp is not None:
         kw["steps_per_period"] = spp
     if backend == "fmu":
-        kw["fmu_path"] = _fmu_path(args.fmu)
+        kw["fmu_path"] = fmu_path(args.fmu)
     import vehicle
 
-    with _partial_on_stop(out, "frequencies"):
+    with partial_on_stop(out, "frequencies"):
         res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
                             workers=args.workers, progress=not args.quiet, **kw)
     _write_with(out, res.to_csv)
@@ -738,12 +299,9 @@ def cmd_sweep(args) -> int:
         _write_with(args.plot, lambda p: res.plot(path=p, hbm=overlay))
         _info(f"wrote {args.plot}")
     conv = np.asarray(res.converged, dtype=bool)
-    t = np.asarray(res.transmissibility, dtype=float)
-    if np.any(np.isfinite(t)):
-        i = int(np.nanargmax(t))
-        print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
-              f"{res.freq_hz[i]:.4g} Hz ({int(conv.sum())}/{len(conv)} frequencies "
-              f"converged)")
+    peak = _peak_text(cfg.name, res.freq_hz, res.transmissibility)
+    if peak:
+        print(f"{peak} ({int(conv.sum())}/{len(conv)} frequencies converged)")
     if not np.all(conv):
         bad = ", ".join(f"{f:g}" for f in np.asarray(res.freq_hz)[~conv])
         _err(f"no steady state reached at {bad} Hz (those rows have converged = 0 in "
@@ -796,11 +354,11 @@ def main(argv: list[str] | None = None) -> int:
     return 2; numerical failures return 1 after writing what was computed; SIGINT
     returns 130 and SIGTERM 143 after writing what was computed.
     """
-    with _signals_interrupt(program=argv is None):
+    with signals_interrupt(program=argv is None):
         try:
             code = _run(argv)
         except KeyboardInterrupt:
-            code = _interrupted()
+            code = interrupted()
     if argv is None and code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
         # CPython remembers a KeyboardInterrupt that passed through exec(str) (a
         # lazy import) even when it was handled, and would end the process with
@@ -831,21 +389,12 @@ def _run(argv) -> int:
         _err(str(exc))
         return EXIT_USAGE
     except Exception as exc:  # a numerical or FMU failure deep in a run
-        if _stopped_by is not None:  # e.g. an FMU call that the signal broke
-            return _interrupted()
+        if stopped_by() is not None:  # e.g. an FMU call that the signal broke
+            return interrupted()
         if args.traceback or os.environ.get("DRYMOUNT_TRACEBACK"):
             raise
         _err(f"{type(exc).__name__}: {exc} (run with --traceback for details)")
         return EXIT_FAILURE
-
-
-def _interrupted() -> int:
-    """Exit status after SIGINT (130) or SIGTERM (143)."""
-    if _stopped_by == signal.SIGTERM:
-        _err("terminated (SIGTERM)")
-        return EXIT_TERMINATED
-    _err("interrupted")
-    return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -6,28 +6,7 @@ checked (:func:`check_output_path`) and partial results marked (``# partial:``) 
 :mod:`hbm.io` describes.
 """
 
-from hbm.io import (
-    PARTIAL_PREFIX,
-    OutputPathError,
-    atomic_path,
-    atomic_write_bytes,
-    atomic_write_text,
-    check_output_path,
-    format_value,
-    mark_partial,
-    save_figure,
-    write_csv,
-)
+from hbm import io as _io
+from hbm.io import *  # noqa: F403 - the same API
 
-__all__ = [
-    "OutputPathError",
-    "check_output_path",
-    "mark_partial",
-    "PARTIAL_PREFIX",
-    "atomic_path",
-    "atomic_write_bytes",
-    "atomic_write_text",
-    "write_csv",
-    "save_figure",
-    "format_value",
-]
+__all__ = list(_io.__all__)

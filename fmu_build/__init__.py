@@ -6,24 +6,7 @@ and the app (``drymount``) can build the FMU without importing each other.
 ``fmu_doc/`` is the FMU's ``documentation/`` folder.
 """
 
-from fmu_build.builder import (
-    FMU_SOURCES,
-    build_fmu,
-    compile_loader,
-    default_fmu_path,
-    ensure_fmu,
-    fmu_module_names,
-    libpython_location,
-    source_dir,
-)
+from fmu_build import builder
+from fmu_build.builder import *  # noqa: F403 - the package's API is the builder's
 
-__all__ = [
-    "FMU_SOURCES",
-    "build_fmu",
-    "compile_loader",
-    "libpython_location",
-    "default_fmu_path",
-    "ensure_fmu",
-    "fmu_module_names",
-    "source_dir",
-]
+__all__ = list(builder.__all__)

@@ -301,6 +301,26 @@ def _fmu_builder():
     return FmuBuilder
 
 
+def _build_notes(version: str, package: str, entry: str, why_not: str) -> str:
+    """Text of the FMU's ``documentation/build.txt``."""
+    lib = libpython_location()
+    if why_not:
+        loader_note = (f"linux64 loader: {why_not}. A C/C++ importer must "
+                       f"LD_PRELOAD libpython (externalDependencies.txt).")
+    else:
+        loader_note = (f"linux64 loader: binaries/linux64/{MODEL_NAME}.so loads "
+                       f"{lib[0]} (or $DRYMOUNT_LIBPYTHON, or {lib[1]} on the "
+                       f"library path) when the importer has no Python, sets "
+                       f"PYTHONHOME={lib[2]} if unset, and forwards to "
+                       f"binaries/linux64/{REAL_BINARY} (pythonfmu).")
+    return (f"drymount version: {version}\n"
+            f"Python package inside resources/: {package}\n"
+            f"entry module (resources/slavemodule.txt): {entry}\n"
+            f"files copied byte for byte from fmu_src/: {', '.join(FMU_SOURCES)}\n"
+            f"built with Python {sys.version.split()[0]} ({sys.base_prefix})\n"
+            f"{loader_note}\n")
+
+
 def default_fmu_path() -> Path:
     """``dist/FrictionMount.fmu`` under the current working directory."""
     return Path.cwd() / "dist" / "FrictionMount.fmu"
@@ -347,26 +367,10 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
         doc = tmp / "documentation"
         shutil.copytree(DOC_DIR, doc, ignore=shutil.ignore_patterns("__pycache__",
                                                                      "*.pyc"))
-        loader = tmp / "FrictionMount.so"
+        loader = tmp / f"{MODEL_NAME}.so"
         why_not = compile_loader(loader)
-        lib = libpython_location()
-        if why_not:
-            loader_note = (f"linux64 loader: {why_not}. A C/C++ importer must "
-                           f"LD_PRELOAD libpython (externalDependencies.txt).")
-        else:
-            loader_note = (f"linux64 loader: binaries/linux64/FrictionMount.so loads "
-                           f"{lib[0]} (or $DRYMOUNT_LIBPYTHON, or {lib[1]} on the "
-                           f"library path) when the importer has no Python, sets "
-                           f"PYTHONHOME={lib[2]} if unset, and forwards to "
-                           f"binaries/linux64/{REAL_BINARY} (pythonfmu).")
-        (doc / "build.txt").write_text(
-            f"drymount version: {version}\n"
-            f"Python package inside resources/: {package}\n"
-            f"entry module (resources/slavemodule.txt): {entry}\n"
-            f"files copied byte for byte from fmu_src/: {', '.join(FMU_SOURCES)}\n"
-            f"built with Python {sys.version.split()[0]} ({sys.base_prefix})\n"
-            f"{loader_note}\n")
-        partial = tmp / "FrictionMount.fmu"
+        (doc / "build.txt").write_text(_build_notes(version, package, entry, why_not))
+        partial = tmp / f"{MODEL_NAME}.fmu"
         # An instance of this FMU in the process may have imported these modules
         # already (against the FMU's own pythonfmu): the builder must import them
         # afresh from ``tmp``.

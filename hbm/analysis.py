@@ -17,15 +17,17 @@ import sys
 
 import numpy as np
 
-from hbm.continuation import Branch, continue_branch, newton
+from hbm.continuation import Branch, Status, continue_branch, newton
 from hbm.linear import linear_frf
 from hbm.options import HBMOptions
 from hbm.residual import HarmonicBalance
 from hbm.result import FrequencyResponse
+from hbm.segments import Restart, clip, join
 from hbm.stability import is_stable
 from hbm.system import System
 
-__all__ = ["frequency_response", "solve_frequencies", "build_problem"]
+__all__ = ["frequency_response", "solve_frequencies", "build_problem",
+           "resolve_options", "postprocess"]
 
 
 def _check_range(fmin_hz, fmax_hz):
@@ -40,7 +42,10 @@ def _check_range(fmin_hz, fmax_hz):
         raise ValueError("; ".join(problems))
 
 
-def _options(options, harmonics, n_samples) -> HBMOptions:
+def resolve_options(options, harmonics, n_samples) -> tuple[int, int | None,
+                                                            HBMOptions]:
+    """``(H, n_samples, options)``: explicit arguments over ``options`` (default
+    :class:`HBMOptions`)."""
     if options is None:
         options = HBMOptions()
     elif not isinstance(options, HBMOptions):
@@ -225,8 +230,9 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int):
     return stable, fmr
 
 
-def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
-                 turning) -> FrequencyResponse:
+def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
+                turning) -> FrequencyResponse:
+    """The :class:`FrequencyResponse` of the scaled points ``ys`` of ``prob``."""
     hb = prob.hb
     sysm = hb.system
     n, m, H = hb.n, hb.m, hb.H
@@ -327,16 +333,38 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     (True, 2.0, 15.0)
     """
     _check_range(fmin_hz, fmax_hz)
-    H, N, opts = _options(options, harmonics, n_samples)
+    H, N, opts = resolve_options(options, harmonics, n_samples)
+    if opts.max_restarts == 0:
+        return _refined(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress)
+    # Restarts: a new segment past the highest frequency reached, clipped to the band
+    f0, parts, restarts = float(fmin_hz), [], []
+    while True:
+        fr = _refined(system, f0, fmax_hz, H, N, closed_form, opts, progress)
+        parts.append(clip(fr, float(fmin_hz), float(fmax_hz)))
+        top = float(np.max(fr.freq_hz)) if len(fr.freq_hz) else f0
+        if fr.success or top >= fmax_hz * (1 - 1e-9) or \
+                len(restarts) >= opts.max_restarts:
+            break
+        f_next = max(top, f0) * opts.restart_factor
+        if f_next >= fmax_hz:
+            break
+        restarts.append(Restart(f_next, fr.message))
+        f0 = f_next
+    return join(parts, restarts, float(fmax_hz))
+
+
+def _refined(system: System, fmin_hz: float, fmax_hz: float, H: int, N, closed_form,
+             opts: HBMOptions, progress: bool) -> FrequencyResponse:
+    """One curve from ``fmin_hz`` to ``fmax_hz``; traced again with twice the AFT
+    samples (at most ``opts.refine_samples`` times) when it dead-ends or stalls at a
+    kink of the sampled residual (the kinks shrink with more samples)."""
     prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
     result = _trace(prob, fmin_hz, fmax_hz, opts, progress)
-    # A dead end or a stall at a kink of the sampled (AFT) residual: the kinks shrink
-    # with more samples, so trace again with twice as many (at most
-    # ``opts.refine_samples`` times) and say so in the message.
     history = []
     refine = 0
-    while (not result.success and result.status in (1, 7) and not prob.hb.closed_form
-           and refine < opts.refine_samples):
+    while (not result.success and result.status in (Status.STEP_TOO_SMALL,
+                                                    Status.RETRACED)
+           and not prob.hb.closed_form and refine < opts.refine_samples):
         refine += 1
         history.append(f"with {prob.hb.n_samples} AFT samples {result.message}")
         prob = build_problem(system, fmin_hz, fmax_hz, H, 2 * prob.hb.n_samples,
@@ -365,9 +393,10 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
     try:
         y0, its0, msg = _start(prob, fmin_hz, settings)
         if y0 is None:
-            br = Branch(status=6, message=f"no solution at fmin = {fmin_hz} Hz ({msg})",
+            br = Branch(status=Status.NO_START,
+                        message=f"no solution at fmin = {fmin_hz} Hz ({msg})",
                         n_newton=its0)
-            return _postprocess(prob, [], opts, br, [])
+            return postprocess(prob, [], opts, br, [])
         done = [fmin_hz]
 
         def callback(lam):
@@ -385,15 +414,15 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
         if br.n_iter:
             br.n_iter[0] = its0
         turning = br.turning_points
-        return _postprocess(prob, br.y, opts, br, turning)
+        return postprocess(prob, br.y, opts, br, turning)
     except KeyboardInterrupt as exc:
         # the points traced before the interrupt, for the caller to write
         br = getattr(exc, "branch", None)
         if br is not None and br.y:
             br.message = (f"interrupted after {len(br.y)} points at "
                           f"{br.y[-1][-1] * prob.ws / (2 * np.pi):.6g} Hz")
-            exc.partial_result = _postprocess(prob, br.y, opts, br,
-                                              br.turning_points)
+            exc.partial_result = postprocess(prob, br.y, opts, br,
+                                             br.turning_points)
         raise
     finally:
         if bar is not None:
@@ -422,7 +451,7 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
     if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
         raise ValueError(f"`freqs_hz` must be a non-empty 1-D array of finite "
                          f"frequencies > 0 Hz, got {freqs_hz!r}")
-    H, N, opts = _options(options, harmonics, n_samples)
+    H, N, opts = resolve_options(options, harmonics, n_samples)
     fmin, fmax = float(f.min()), float(f.max())
     if fmax == fmin:
         fmax = fmin * 1.5
@@ -455,7 +484,8 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
             if ok:
                 break
         if not ok:
-            br.status, br.message = 1, f"no convergence at {fi:.6g} Hz ({msg})"
+            br.status = Status.NO_CONVERGENCE
+            br.message = f"no convergence at {fi:.6g} Hz ({msg})"
             break
         ys.append(y)
         br.n_iter.append(its)
@@ -469,5 +499,6 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
             dy = None
         y_prev = y
     else:
-        br.success, br.status, br.message = True, 0, "solved at every frequency"
-    return _postprocess(prob, ys, opts, br, [])
+        br.success, br.status = True, Status.DONE
+        br.message = "solved at every frequency"
+    return postprocess(prob, ys, opts, br, [])

@@ -19,6 +19,7 @@ NumPy; ``tests/test_hbm_elements.py`` proves it equal to
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from hbm.laws import hbm_law
 from hbm.system import System
 
 __all__ = ["NonlinearAxes", "nonlinear_axes", "elastic_remainder",
-           "jenkins_periodic"]
+           "jenkins_periodic", "JenkinsResponse"]
 
 @dataclass(frozen=True, eq=False)
 class NonlinearAxes:
@@ -163,8 +164,16 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
     return f, kt
 
 
+class JenkinsResponse(NamedTuple):
+    """Periodic response of one Jenkins element (:func:`jenkins_periodic`)."""
+
+    force: np.ndarray
+    stuck: np.ndarray
+    last_slip: np.ndarray
+
+
 def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     ) -> JenkinsResponse:
     """Periodic response of one Jenkins element to sampled periodic motion.
 
     The periodic response of marching :func:`fmu_src.mount_law.jenkins_update` over
@@ -187,6 +196,8 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
 
     Returns
     -------
+    JenkinsResponse
+        ``(force, stuck, last_slip)``:
     force : ndarray, shape (N,)
         Friction force in N.
     stuck : ndarray of bool, shape (N,)
@@ -230,5 +241,5 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
             last = i
             stuck[i] = False
         last_slip[i] = last
-    return (np.array(force), np.array(stuck, dtype=bool),
-            np.array(last_slip, dtype=int))
+    return JenkinsResponse(np.array(force), np.array(stuck, dtype=bool),
+                           np.array(last_slip, dtype=int))

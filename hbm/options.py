@@ -1,4 +1,9 @@
-"""Options of the harmonic-balance solver."""
+"""Options of the harmonic-balance solver: the one source of their defaults.
+
+The continuation's settings (:class:`hbm.continuation.ContinuationSettings`) have no
+defaults of their own and are built from these; the app's configuration
+(``drymount.config``) takes its ``[hbm]`` defaults from here too.
+"""
 
 from __future__ import annotations
 
@@ -25,7 +30,9 @@ class HBMOptions:
     n_samples : int or None
         AFT samples per period; None: ``max(64, 8H)`` rounded up to a power of 2.
     ds_initial, ds_min, ds_max : float
-        Initial, smallest and largest arc-length step (scaled units).
+        Initial, smallest and largest arc-length step (scaled units). ``ds_max`` =
+        0.1 is what every shipped result used (``hbm.continuation`` once had its own,
+        unused default of 0.15).
     n_norm : int
         Desired Newton iterations per step (thesis eq. 3.66).
     max_newton : int
@@ -56,6 +63,15 @@ class HBMOptions:
         trace the curve again when the continuation stalls or dead-ends at a kink of
         the sampled nonsmooth residual (0: never). The result's ``n_samples`` and
         ``message`` say when it did.
+    max_restarts : int
+        When the curve still stops before ``fmax`` (a stall at a knee, a branch that
+        turns back), :func:`hbm.frequency_response` starts a new segment
+        ``restart_factor`` above the highest frequency reached, at most this many
+        times (0: never). Segments are clipped to the band and joined with a gap row;
+        see ``FrequencyResponse.restarts``.
+    restart_factor : float
+        Where a restarted segment starts, relative to the highest frequency reached
+        (> 1).
     """
 
     harmonics: int = 7
@@ -74,6 +90,8 @@ class HBMOptions:
     stability_stride: int = 4
     n_peak: int = 256
     refine_samples: int = 2
+    max_restarts: int = 0
+    restart_factor: float = 1.02
 
     def __post_init__(self):
         problems = []
@@ -85,7 +103,7 @@ class HBMOptions:
                 continue
             if f.name == "n_samples" and v is None:
                 continue
-            if f.name == "refine_samples":
+            if f.name in ("refine_samples", "max_restarts"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                     problems.append(f"`{f.name}` must be an integer >= 0, got {v!r}")
                 continue
@@ -100,6 +118,8 @@ class HBMOptions:
                             f"got {self.ds_min}")
         if not problems and self.max_growth < 1:
             problems.append(f"`max_growth` must be >= 1, got {self.max_growth}")
+        if not problems and self.restart_factor <= 1:
+            problems.append(f"`restart_factor` must be > 1, got {self.restart_factor}")
         if problems:
             raise ValueError("invalid HBMOptions: " + "; ".join(problems))
 

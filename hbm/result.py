@@ -7,7 +7,27 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["FrequencyResponse"]
+from hbm.continuation import Status
+
+__all__ = ["FrequencyResponse", "Status"]
+
+
+def _landing(f, st, amp, i: int, sgn: float):
+    """``(distance, index)`` of the stable point a sweep in direction ``sgn`` lands
+    on when the solution at ``i`` ends at a fold: on a stable piece of the curve
+    spanning ``f[i]``, the nearest in (scaled) amplitude; None if there is none."""
+    best = None
+    for k in range(len(f) - 1):
+        if k in (i, i - 1) or not (st[k] and st[k + 1]):
+            continue
+        lo, hi = sorted((f[k], f[k + 1]))
+        if not lo <= f[i] <= hi or lo == hi:
+            continue
+        land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
+        dist = float(np.linalg.norm(amp[land] - amp[i]))
+        if land != i and (best is None or dist < best[0]):
+            best = (dist, land)
+    return best
 
 
 @dataclass
@@ -37,10 +57,11 @@ class FrequencyResponse:
         jump frequencies are ``freq_hz[turning_points]``.
     success : bool
         Whether the curve reached ``fmax``.
-    status : int
-        0 done; 1 step below ``ds_min``; 2 too many steps; 3 turned back below
-        ``fmin``; 4 evaluation failed; 6 no start solution; 7 the branch turned back
-        onto itself (a dead end of the sampled nonsmooth problem).
+    status : hbm.continuation.Status
+        How the computation ended (``Status.DONE``, ``STEP_TOO_SMALL``,
+        ``TOO_MANY_STEPS``, ``TURNED_BACK`` below ``fmin``, ``EVALUATION_FAILED``,
+        ``NO_START``, ``RETRACED``: the branch turned back onto itself, a dead end of
+        the sampled nonsmooth problem; ``NO_CONVERGENCE`` at a given frequency).
     message : str
     n_newton : int
         Newton iterations in total.
@@ -59,6 +80,10 @@ class FrequencyResponse:
         Fold (jump) frequencies, Hz, located between the two points around each
         turning point (extremum of the cubic Hermite interpolant of omega along the
         arc, built from the points and their tangents).
+    restarts : tuple of hbm.segments.Restart
+        ``(freq_hz, reason)`` of every restart (``HBMOptions.max_restarts``): the
+        curve is in ``len(restarts) + 1`` segments separated by one gap row each
+        (NaN values, frequency = the restart frequency); see :attr:`segments`.
     """
 
     freq_hz: np.ndarray
@@ -69,7 +94,7 @@ class FrequencyResponse:
     stable: np.ndarray
     turning_points: np.ndarray
     success: bool
-    status: int
+    status: Status
     message: str
     n_newton: int
     n_steps: int
@@ -81,10 +106,23 @@ class FrequencyResponse:
     newton_per_point: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     system_name: str = ""
     turning_freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    restarts: tuple = ()
 
     @property
     def n_points(self) -> int:
         return int(self.freq_hz.size)
+
+    @property
+    def segments(self) -> list[slice]:
+        """Index ranges of the segments (one without restarts), gap rows excluded."""
+        out, start = [], 0
+        gaps = np.flatnonzero(np.isnan(self.amplitude).all(axis=1)) \
+            if self.restarts else []
+        for g in gaps:
+            out.append(slice(start, int(g)))
+            start = int(g) + 1
+        out.append(slice(start, self.n_points))
+        return out
 
     def sweep_jumps(self, direction: str = "up", min_change: float = 0.01
                     ) -> list[tuple[float, int, int]]:
@@ -149,17 +187,7 @@ class FrequencyResponse:
                 jumps.append((float(f[i]), i, -1))
                 break
             # a fold: the solution ends here; land on another stable part
-            best = None
-            for k in range(n - 1):
-                if k in (i, i - 1) or not (st[k] and st[k + 1]):
-                    continue
-                lo, hi = sorted((f[k], f[k + 1]))
-                if not lo <= f[i] <= hi or lo == hi:
-                    continue
-                land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
-                dist = float(np.linalg.norm(amp[land] - amp[i]))
-                if land != i and (best is None or dist < best[0]):
-                    best = (dist, land)
+            best = _landing(f, st, amp, i, sgn)
             if best is None:
                 break
             if best[0] >= min_change:

@@ -50,7 +50,7 @@ from .steady import (
     run_steady,
 )
 
-__all__ = ["sweep", "SweepResult", "DEFAULT_WARMUP"]
+__all__ = ["sweep", "SweepResult", "SweepPoint", "DEFAULT_WARMUP"]
 
 #: Warm-up frequencies run (and discarded) before a parallel chunk.
 DEFAULT_WARMUP = 3
@@ -182,18 +182,36 @@ class SweepResult:
         return fig
 
 
-def _point_row(ss):
-    return (ss.freq_hz, ss.amplitude, ss.peak, ss.transmissibility, ss.converged,
-            ss.n_periods, ss.friction_energy, ss.phasor,
-            np.asarray(ss.sliders, dtype=float), ss.mean,
-            fourier_coefficients(ss.q, FOURIER_HARMONICS))
+@dataclass
+class SweepPoint:
+    """What a sweep keeps of the steady state at one frequency (picklable: parallel
+    chunks send these back)."""
+
+    freq_hz: float
+    amplitude: np.ndarray
+    peak: np.ndarray
+    transmissibility: float
+    converged: bool
+    n_periods: int
+    friction_energy: float
+    phasor: np.ndarray
+    sliders: np.ndarray
+    mean: np.ndarray
+    fourier: np.ndarray
+
+    @classmethod
+    def of(cls, ss) -> SweepPoint:
+        return cls(ss.freq_hz, ss.amplitude, ss.peak, ss.transmissibility,
+                   ss.converged, ss.n_periods, ss.friction_energy, ss.phasor,
+                   np.asarray(ss.sliders, dtype=float), ss.mean,
+                   fourier_coefficients(ss.q, FOURIER_HARMONICS))
 
 
-def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, rows,
+def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, points,
                report=None):
-    """Run one contiguous chunk in this process, appending a point row to ``rows``
-    for each frequency (so the caller keeps them when the run is stopped) and
-    calling ``report(index, row)`` after each."""
+    """Run one contiguous chunk in this process, appending a :class:`SweepPoint` to
+    ``points`` for each frequency (so the caller keeps them when the run is stopped)
+    and calling ``report(index, point)`` after each."""
     warm = dict(options, rtol=max(options["rtol"], WARMUP_RTOL))
     with Master(system, backend, fmu_path=fmu_path) as m:
         first = True
@@ -203,21 +221,21 @@ def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, rows,
         for f in freqs:
             ss = run_steady(m, f, start="linear" if first else "continue", **options)
             first = False
-            rows.append(_point_row(ss))
+            points.append(SweepPoint.of(ss))
             if report is not None:
-                report(len(rows) - 1, rows[-1])
-    return rows
+                report(len(points) - 1, points[-1])
+    return points
 
 
-#: The queue a worker process sends its rows through (set by ``_init_worker``).
+#: The queue a worker process sends its points through (set by ``_init_worker``).
 _WORKER_QUEUE = None
 #: Seconds between a worker's checks that its parent is alive.
 PARENT_POLL_S = 0.5
 
 
 def _init_worker(queue) -> None:
-    """Worker process set-up: rows go to ``queue``; Ctrl-C is the parent's to handle
-    (it stops the workers); the worker exits when its parent dies."""
+    """Worker process set-up: points go to ``queue``; Ctrl-C is the parent's to
+    handle (it stops the workers); the worker exits when its parent dies."""
     import os
     import signal
     import threading
@@ -236,9 +254,9 @@ def _init_worker(queue) -> None:
 
 
 def _worker_chunk(chunk, system, freqs, warmup_freqs, backend, fmu_path, options):
-    """A chunk in a worker process: each row is sent as ``(chunk, index, row)``."""
+    """A chunk in a worker process: each point is sent as ``(chunk, index, point)``."""
     _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, [],
-               report=lambda i, row: _WORKER_QUEUE.put((chunk, i, row)))
+               report=lambda i, point: _WORKER_QUEUE.put((chunk, i, point)))
     return len(freqs)
 
 
@@ -255,47 +273,6 @@ def _stop_pool(pool) -> None:
         if p.is_alive():
             p.kill()
             p.join(timeout=1.0)
-
-
-def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,
-                  received):
-    """Run the chunks in ``workers`` processes; rows arrive in ``received``
-    (``(chunk, index) -> row``) as they are computed."""
-    import queue as _queue
-
-    bounds = np.linspace(0, f.size, workers + 1).round().astype(int)
-    ctx = multiprocessing.get_context("spawn")
-    rows_q = ctx.Queue()
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
-                               initializer=_init_worker, initargs=(rows_q,))
-    try:
-        futures = []
-        for c in range(workers):
-            a, b = bounds[c], bounds[c + 1]
-            wu = f[max(0, a - warmup):a].tolist()
-            futures.append(pool.submit(_worker_chunk, c, system, f[a:b].tolist(), wu,
-                                       backend, fmu_path, options))
-        idle_since = None
-        while len(received) < f.size:
-            try:
-                c, i, row = rows_q.get(timeout=0.2)
-            except _queue.Empty:
-                for fu in futures:
-                    if fu.done() and fu.exception() is not None:
-                        raise fu.exception()
-                if all(fu.done() for fu in futures):
-                    idle_since = idle_since or _time.monotonic()
-                    if _time.monotonic() - idle_since > 30.0:
-                        raise RuntimeError("the sweep workers finished but "
-                                           f"{f.size - len(received)} rows never "
-                                           "arrived") from None
-                continue
-            received[(c, i)] = row
-            bar.update(1)
-    finally:
-        _stop_pool(pool)
-        rows_q.close()
-        rows_q.cancel_join_thread()
 
 
 def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
@@ -354,47 +331,90 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     workers = int(min(workers, f.size))
     bar = tqdm(total=f.size, desc=f"sweep {direction} ({backend})", unit="freq",
                file=sys.stderr, disable=not progress, leave=False)
-    rows, received = [], {}
+    points, received = [], {}
     try:
         if workers == 1:
-            _run_chunk(system, f.tolist(), [], backend, fmu_path, options, rows,
-                       report=lambda i, row: bar.update(1))
+            _run_chunk(system, f.tolist(), [], backend, fmu_path, options, points,
+                       report=lambda i, point: bar.update(1))
         else:
             _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,
                           received)
-            rows = [received[k] for k in sorted(received)]
+            points = [received[k] for k in sorted(received)]
     except BaseException as exc:
         # Stopped (Ctrl-C, SIGTERM, an FMU error): hand the caller what was
         # computed, in sweep order, on the exception.
-        rows = rows or [received[k] for k in sorted(received)]
-        exc.partial_result = _result(system, rows, direction, backend, workers,
-                                     warmup, rtol, steps_per_period, t0)
+        points = points or [received[k] for k in sorted(received)]
+        exc.partial_result = _result(
+            system, points, direction, backend, _time.perf_counter() - t0, workers,
+            notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
+                   "steps_per_period": steps_per_period, "stopped": repr(exc)})
         raise
     finally:
         bar.close()
-    return _result(system, rows, direction, backend, workers, warmup, rtol,
-                   steps_per_period, t0)
+    return _result(system, points, direction, backend, _time.perf_counter() - t0,
+                   workers, notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
+                                   "steps_per_period": steps_per_period})
 
 
-def _result(system, rows, direction, backend, workers, warmup, rtol,
-            steps_per_period, t0) -> SweepResult:
-    elapsed = _time.perf_counter() - t0
-    n = system.n_dof
+def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,
+                  received):
+    """Contiguous chunks of ``f`` in ``workers`` spawned processes, each after a
+    warm-up on the ``warmup`` frequencies before it; the points arrive in
+    ``received`` (``(chunk, index) -> SweepPoint``) as they are computed."""
+    import queue as _queue
+
+    bounds = np.linspace(0, f.size, workers + 1).round().astype(int)
+    ctx = multiprocessing.get_context("spawn")
+    points_q = ctx.Queue()
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
+                               initializer=_init_worker, initargs=(points_q,))
+    try:
+        futures = []
+        for c in range(workers):
+            a, b = bounds[c], bounds[c + 1]
+            wu = f[max(0, a - warmup):a].tolist()
+            futures.append(pool.submit(_worker_chunk, c, system, f[a:b].tolist(), wu,
+                                       backend, fmu_path, options))
+        idle_since = None
+        while len(received) < f.size:
+            try:
+                c, i, point = points_q.get(timeout=0.2)
+            except _queue.Empty:
+                for fu in futures:
+                    if fu.done() and fu.exception() is not None:
+                        raise fu.exception()
+                if all(fu.done() for fu in futures):
+                    idle_since = idle_since or _time.monotonic()
+                    if _time.monotonic() - idle_since > 30.0:
+                        raise RuntimeError("the sweep workers finished but "
+                                           f"{f.size - len(received)} points never "
+                                           "arrived") from None
+                continue
+            received[(c, i)] = point
+            bar.update(1)
+    finally:
+        _stop_pool(pool)
+        points_q.close()
+        points_q.cancel_join_thread()
+
+
+def _result(system, points, direction, backend, elapsed, workers, notes
+            ) -> SweepResult:
+    """Stack the points into a :class:`SweepResult`."""
+    n, k = system.n_dof, len(points)
+
+    def stack(name, dtype=float, shape=None):
+        out = np.array([getattr(p, name) for p in points], dtype=dtype)
+        return out if shape is None else out.reshape(shape)
+
     return SweepResult(
-        freq_hz=np.array([r[0] for r in rows]),
-        amplitude=np.array([r[1] for r in rows]).reshape(len(rows), n),
-        peak=np.array([r[2] for r in rows]).reshape(len(rows), n),
-        transmissibility=np.array([r[3] for r in rows], dtype=float),
-        converged=np.array([r[4] for r in rows], dtype=bool),
-        n_periods=np.array([r[5] for r in rows], dtype=int),
-        friction_energy=np.array([r[6] for r in rows], dtype=float),
-        phasor=np.array([r[7] for r in rows], dtype=complex).reshape(len(rows), n),
-        sliders=np.array([r[8] for r in rows], dtype=float).reshape(
-            len(rows), len(system.elements), 3),
-        mean=np.array([r[9] for r in rows], dtype=float).reshape(len(rows), n),
-        fourier=np.array([r[10] for r in rows], dtype=float),
+        freq_hz=stack("freq_hz"), amplitude=stack("amplitude", shape=(k, n)),
+        peak=stack("peak", shape=(k, n)), transmissibility=stack("transmissibility"),
+        converged=stack("converged", bool), n_periods=stack("n_periods", int),
+        friction_energy=stack("friction_energy"),
+        phasor=stack("phasor", complex, (k, n)),
+        sliders=stack("sliders", shape=(k, len(system.elements), 3)),
+        mean=stack("mean", shape=(k, n)), fourier=stack("fourier"),
         dof_names=tuple(system.dof_names), direction=direction, backend=backend,
         system_name=system.name, transmissibility_kind=system.transmissibility.kind,
-        elapsed=elapsed, workers=workers,
-        notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
-               "steps_per_period": steps_per_period})
+        elapsed=elapsed, workers=workers, notes=notes)

@@ -5,7 +5,7 @@ System edits return new systems (``hbm.system.System`` is immutable):
 :func:`with_normal_force`, :func:`with_friction_of`, :func:`with_stiffness_factor`,
 :func:`relocate_mount`, :func:`engine_excited`. Metrics: :func:`peak`,
 :func:`value_at`, :func:`band_rms`, :func:`friction_energy`. Curves:
-:func:`hbm_curve` (a :class:`Curve`: design, system, HBM response, wall time).
+:func:`hbm_curve` (a :class:`DesignResult`: design, system, HBM response, wall time).
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -28,7 +27,7 @@ __all__ = [
     "friction_template", "with_stiffness_factor", "mount_position", "relocate_mount",
     "engine_excited", "engine_unbalance", "ENGINE_EXCITATION", "friction_axes",
     "friction_energy", "FrictionWork", "Peak", "peak", "value_at", "ratio",
-    "band_rms", "bands", "Curve", "hbm_curve", "PLOT_DS_MAX", "RESTART_FACTOR",
+    "band_rms", "bands", "DesignResult", "hbm_curve", "PLOT_DS_MAX", "RESTART_FACTOR",
     "MAX_RESTARTS",
 ]
 
@@ -253,10 +252,10 @@ def _cycle_work(u: np.ndarray, kf: float, fs: float) -> tuple[float, int]:
     for period in range(2):
         e_sum, n_slip = 0.0, 0
         for uk in u:
-            _, w_new, _, slipping = jenkins_update(float(uk), w, kf, fs)
-            e_sum += fs * abs(w_new - w)
-            n_slip += slipping
-            w = w_new
+            step = jenkins_update(float(uk), w, kf, fs)
+            e_sum += fs * abs(step.w_new - w)
+            n_slip += step.slipping
+            w = step.w_new
     return e_sum, n_slip
 
 
@@ -361,15 +360,18 @@ def bands(f, mask) -> list[tuple[float, float]]:
 
 
 @dataclass
-class Curve:
-    """One HBM curve of a study with the design it belongs to.
+class DesignResult:
+    """One design of a study and its HBM curve (the curve itself is the one
+    ``hbm.FrequencyResponse`` type; this record adds the design, wall time and extra
+    per-point columns).
 
     Attributes
     ----------
     case : dict
         The design (e.g. ``{"mount": "halved", "n0_N": 10.0, "H": 7}``).
     system : System
-    fr : SegmentedResponse
+    fr : hbm.FrequencyResponse
+        With a gap row between restarted segments (``fr.restarts``).
     seconds : float
         Wall time of the HBM run, s.
     extra : dict of str -> ndarray (n_points,)
@@ -388,144 +390,33 @@ class Curve:
 PLOT_DS_MAX = 0.01
 
 
-#: When the continuation stops before ``fmax`` (a stalled step at a knee of the
-#: piecewise law, a branch that turns back), the curve is restarted this factor above
-#: the highest frequency reached, at most ``MAX_RESTARTS`` times. The pieces are kept
-#: as separate segments (a gap in the plots) and every restart is reported.
+#: The studies' curves restart the continuation where it stalls before ``fmax`` (a
+#: stalled step at a knee of the piecewise law, a branch that turns back): at most
+#: ``MAX_RESTARTS`` times, ``RESTART_FACTOR`` above the highest frequency reached
+#: (``hbm.HBMOptions.max_restarts``, ``restart_factor``). The pieces are separate
+#: segments of one ``hbm.FrequencyResponse`` (a gap row, NaN, in the plots) and every
+#: restart is reported.
 RESTART_FACTOR = 1.02
 MAX_RESTARTS = 8
-
-#: Fields of an HBM response that the segments concatenate (point by point).
-_POINT_FIELDS = ("freq_hz", "coefficients", "amplitude", "transmissibility", "stable")
-
-
-@dataclass
-class SegmentedResponse:
-    """HBM segments of one curve, concatenated (the fields the studies use).
-
-    Segments are separated by one row whose values are NaN (a gap in the plots); its
-    frequency is the restart frequency. Fields as :class:`hbm.FrequencyResponse`:
-    freq_hz (n,), coefficients (n, n_dof, 2H+1), amplitude (n, n_dof),
-    transmissibility (n,), stable (n,), turning_points (indices), success (all of
-    fmin..fmax covered), message, dof_names, harmonics; plus ``restarts``, one
-    ``(frequency in Hz, reason)`` per restart.
-    """
-
-    freq_hz: np.ndarray
-    coefficients: np.ndarray
-    amplitude: np.ndarray
-    transmissibility: np.ndarray
-    stable: np.ndarray
-    turning_points: np.ndarray
-    success: bool
-    message: str
-    dof_names: tuple
-    harmonics: int
-    restarts: list
-
-
-def _clip(fr, fmin: float, fmax: float):
-    """The points of ``fr`` inside [fmin, fmax] Hz (a branch that turns back can
-    leave the band); turning points renumbered."""
-    f = np.asarray(fr.freq_hz, dtype=float)
-    keep = (f >= fmin * (1 - 1e-9)) & (f <= fmax * (1 + 1e-9))
-    if np.all(keep):
-        return fr
-    new_index = np.cumsum(keep) - 1
-    tps = np.array([new_index[t] for t in fr.turning_points if keep[t]], dtype=int)
-    return SimpleNamespace(
-        freq_hz=f[keep], coefficients=np.asarray(fr.coefficients)[keep],
-        amplitude=np.asarray(fr.amplitude)[keep],
-        transmissibility=np.asarray(fr.transmissibility)[keep],
-        stable=np.asarray(fr.stable, dtype=bool)[keep], turning_points=tps,
-        success=fr.success, message=fr.message, dof_names=fr.dof_names,
-        harmonics=fr.harmonics)
-
-
-def _continue_with_restarts(system: System, band, harmonics: int, options
-                            ) -> tuple[list, list]:
-    """HBM pieces over ``band``: each restarted ``RESTART_FACTOR`` above the last
-    frequency reached. Returns ``(pieces, restarts)``."""
-    f0, fmax = float(band[0]), float(band[1])
-    parts, restarts = [], []
-    while True:
-        fr = hbm.frequency_response(system, f0, fmax, harmonics=harmonics,
-                                    options=options)
-        parts.append(fr)
-        top = float(np.max(fr.freq_hz)) if len(fr.freq_hz) else f0
-        if fr.success or top >= fmax * (1 - 1e-9) or len(restarts) >= MAX_RESTARTS:
-            break
-        f_next = max(top, f0) * RESTART_FACTOR
-        if f_next >= fmax:
-            break
-        restarts.append((f_next, fr.message))
-        f0 = f_next
-    return [_clip(fr, float(band[0]), fmax) for fr in parts], restarts
-
-
-def _single(fr) -> SegmentedResponse:
-    return SegmentedResponse(
-        np.asarray(fr.freq_hz), np.asarray(fr.coefficients), np.asarray(fr.amplitude),
-        np.asarray(fr.transmissibility), np.asarray(fr.stable, dtype=bool),
-        np.asarray(fr.turning_points, dtype=int), bool(fr.success), fr.message,
-        tuple(fr.dof_names), fr.harmonics, [])
-
-
-def _gap_row(fr, f_gap: float) -> dict:
-    """One NaN row (restart frequency ``f_gap``) shaped like the points of ``fr``."""
-    return {"freq_hz": np.array([f_gap]),
-            "coefficients": np.full((1,) + fr.coefficients.shape[1:], np.nan),
-            "amplitude": np.full((1,) + fr.amplitude.shape[1:], np.nan),
-            "transmissibility": np.array([np.nan]), "stable": np.array([True])}
-
-
-def _join(parts, restarts, fmax: float) -> SegmentedResponse:
-    """Concatenate the pieces, one gap row between neighbours."""
-    cols = {k: [] for k in _POINT_FIELDS}
-    tps, n = [], 0
-    for i, fr in enumerate(parts):
-        if i:
-            for k, v in _gap_row(fr, restarts[i - 1][0]).items():
-                cols[k].append(v)
-            n += 1
-        for k in cols:
-            cols[k].append(np.asarray(getattr(fr, k)))
-        tps += [n + int(t) for t in fr.turning_points]
-        n += len(fr.freq_hz)
-    last = parts[-1]
-    reached = (float(np.max(last.freq_hz)) >= fmax * (1 - 1e-9) if len(last.freq_hz)
-               else False)
-    return SegmentedResponse(
-        *[np.concatenate(cols[k]) for k in _POINT_FIELDS[:4]],
-        np.concatenate(cols["stable"]).astype(bool), np.array(tps, dtype=int),
-        bool(last.success or reached),
-        f"{len(parts)} segments; " + "; ".join(
-            f"restarted at {f:.4g} Hz after: {m}" for f, m in restarts),
-        tuple(last.dof_names), last.harmonics, restarts)
-
-
-def segmented(system: System, band, harmonics: int, options) -> SegmentedResponse:
-    """HBM curve over ``band`` (Hz), restarted past points where it stalls."""
-    parts, restarts = _continue_with_restarts(system, band, harmonics, options)
-    if len(parts) == 1:
-        return _single(parts[0])
-    return _join(parts, restarts, float(band[1]))
 
 
 def hbm_curve(system: System, band, harmonics: int, case: dict,
               failures: list, notes: list | None = None,
-              ds_max: float | None = PLOT_DS_MAX) -> Curve:
+              ds_max: float | None = PLOT_DS_MAX) -> DesignResult:
     """An HBM curve over ``band`` (Hz), restarted past points where it stalls.
 
     A curve that does not reach ``band[1]`` is a failure (appended to ``failures``);
     restarts are notes.
     """
     t0 = time.perf_counter()
-    options = hbm.HBMOptions() if ds_max is None else hbm.HBMOptions(ds_max=ds_max)
-    fr = segmented(system, band, harmonics, options)
+    restart = {"max_restarts": MAX_RESTARTS, "restart_factor": RESTART_FACTOR}
+    options = (hbm.HBMOptions(**restart) if ds_max is None
+               else hbm.HBMOptions(ds_max=ds_max, **restart))
+    fr = hbm.frequency_response(system, float(band[0]), float(band[1]),
+                                harmonics=harmonics, options=options)
     dt = time.perf_counter() - t0
     if not fr.success:
         failures.append(f"{case}: {fr.message}")
     elif fr.restarts and notes is not None:
         notes.append(f"{case}: {fr.message}")
-    return Curve(dict(case), system, fr, dt)
+    return DesignResult(dict(case), system, fr, dt)

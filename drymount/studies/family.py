@@ -15,7 +15,7 @@ import numpy as np
 from drymount.io import atomic_write_text, write_csv
 from drymount.studies.common import (
     PLOT_DS_MAX,
-    Curve,
+    DesignResult,
     bands,
     friction_energy,
     friction_template,
@@ -70,7 +70,7 @@ class FamilySpec:
         return self.study.replace("-", "_")
 
 
-def _find(curves: list[Curve], mount: str, n0: float, H: int) -> Curve:
+def _find(curves: list[DesignResult], mount: str, n0: float, H: int) -> DesignResult:
     return next(c for c in curves if c.case == {"mount": mount, "n0_N": n0, "H": H})
 
 
@@ -83,7 +83,7 @@ def _systems(spec: FamilySpec) -> dict:
 
 
 def _curves(spec: FamilySpec, systems: dict, forces, hs, quick: bool,
-            progress: bool, failures: list, notes: list) -> list[Curve]:
+            progress: bool, failures: list, notes: list) -> list[DesignResult]:
     """One HBM curve per (mount, n0, H), with the friction energy per cycle."""
     designs = [(m, n0, H) for m in systems for n0 in forces for H in hs]
     curves = []
@@ -96,7 +96,7 @@ def _curves(spec: FamilySpec, systems: dict, forces, hs, quick: bool,
     return curves
 
 
-def _case(spec: FamilySpec, c: Curve) -> dict:
+def _case(spec: FamilySpec, c: DesignResult) -> dict:
     """The key numbers of one curve."""
     pk = peak(c.fr.freq_hz, c.fr.transmissibility)
     e = c.extra["e_fr_J"]
@@ -117,7 +117,7 @@ def _best_halved(cases: list[dict], ref: dict, H_hi: int) -> dict:
     return min(isolating or halved, key=lambda x: x["peak"])
 
 
-def _lower_on_grid(spec: FamilySpec, cref: Curve, cbest: Curve):
+def _lower_on_grid(spec: FamilySpec, cref: DesignResult, cbest: DesignResult):
     """(grid, best < reference per grid point) on a common log grid."""
     f_grid = np.geomspace(spec.band_hz[0], spec.band_hz[1], COMPARISON_GRID_POINTS)
     t_ref = np.array([value_at(cref.fr.freq_hz, cref.fr.transmissibility, f)
@@ -127,7 +127,7 @@ def _lower_on_grid(spec: FamilySpec, cref: Curve, cbest: Curve):
     return f_grid, t_best < t_ref
 
 
-def _write_tables(spec: FamilySpec, curves: list[Curve], cases: list[dict],
+def _write_tables(spec: FamilySpec, curves: list[DesignResult], cases: list[dict],
                   out: Path) -> None:
     write_curves(out / f"{spec.stem}_curves.csv",
                  f"{spec.description} from HBM; n0 in N, freq in Hz, <dof>_amp in m "

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import atomic_write_text, write_csv
-from drymount.studies.common import Curve, hbm_curve, load_system, peak
+from drymount.studies.common import DesignResult, hbm_curve, load_system, peak
 from drymount.studies.output import (
     log_axes,
     new_figure,
@@ -293,7 +293,7 @@ def run_jump(out_dir, quick: bool = False, progress: bool = True) -> dict:
     return result
 
 
-def _write_tables(c: Curve, sweeps: dict, out: Path) -> None:
+def _write_tables(c: DesignResult, sweeps: dict, out: Path) -> None:
     write_curves(out / "jump_hbm.csv", "cubic single DOF, HBM: freq in Hz, x_amp in "
                  "m (fundamental amplitude), stable 1/0", [c])
     rows = [[d, f, a, bool(cv)] for d, sw in sweeps.items()
@@ -304,8 +304,8 @@ def _write_tables(c: Curve, sweeps: dict, out: Path) -> None:
                             "backend): freq in Hz, x_amp in m (fundamental amplitude)")
 
 
-def _plot_jump(c: Curve, amp, fold: _Fold, sweeps: dict, freqs, step_run: _StepRun,
-               out: Path) -> str:
+def _plot_jump(c: DesignResult, amp, fold: _Fold, sweeps: dict, freqs,
+               step_run: _StepRun, out: Path) -> str:
     fr, H = c.fr, c.case["H"]
     fig = new_figure(figsize=(11, 4.2))
     ax = fig.add_subplot(1, 2, 1)

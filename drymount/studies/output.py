@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from drymount.io import save_figure, write_csv
-from drymount.studies.common import RESTART_FACTOR, Curve
+from drymount.studies.common import RESTART_FACTOR, DesignResult
 from hbm.system import System
 
 if TYPE_CHECKING:
@@ -119,7 +119,7 @@ def notes_md(r) -> list[str]:
     return out
 
 
-def write_curves(path: Path, comment: str, curves: Sequence[Curve]) -> None:
+def write_curves(path: Path, comment: str, curves: Sequence[DesignResult]) -> None:
     """All curves in one long-format CSV: design columns, then the HBM columns."""
     case_keys = list(dict.fromkeys(k for c in curves for k in c.case))
     dof_names = list(curves[0].fr.dof_names)

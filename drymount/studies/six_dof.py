@@ -14,7 +14,7 @@ import hbm
 from drymount.io import atomic_write_text, write_csv
 from drymount.studies.common import (
     ENGINE_EXCITATION,
-    Curve,
+    DesignResult,
     engine_excited,
     friction_axes,
     friction_energy,
@@ -112,20 +112,20 @@ class _Run:
     failures: list = field(default_factory=list)
     notes: list = field(default_factory=list)
 
-    def curve(self, system: System, band, case: dict) -> Curve:
+    def curve(self, system: System, band, case: dict) -> DesignResult:
         self.tick()
         return hbm_curve(system, band, self.H, {**case, "H": self.H}, self.failures,
                          self.notes, ds_max=None)
 
 
-def _base_curves(run: _Run) -> list[Curve]:
+def _base_curves(run: _Run) -> list[DesignResult]:
     """Part 1: mount deflection input, every lambda, mount and n0."""
     return [run.curve(with_normal_force(run.systems[(lam, m)], n0), SIX_DOF_BAND_HZ,
                       {"part": "base", "lambda": lam, "mount": m, "n0_N": n0})
             for lam in run.lambdas for m in MOUNTS for n0 in run.forces]
 
 
-def _engine_curves(run: _Run) -> list[Curve]:
+def _engine_curves(run: _Run) -> list[DesignResult]:
     """Part 2: engine excitation, lambda = 1, every mount and engine n0."""
     return [run.curve(with_normal_force(engine_excited(run.systems[(1.0, m)]), n0),
                       SIX_DOF_ENGINE_BAND_HZ,
@@ -140,7 +140,7 @@ def _relocated_system(run: _Run, position: str) -> System:
     return s
 
 
-def _add_mount_work(c: Curve, system: System) -> None:
+def _add_mount_work(c: DesignResult, system: System) -> None:
     """Friction energy per cycle and slip fraction of the relocated mount's element
     (zeros without one)."""
     for i, j in friction_axes(system):
@@ -153,7 +153,7 @@ def _add_mount_work(c: Curve, system: System) -> None:
         c.extra["e_fr_mount_J"], c.extra["slip_fraction"] = zeros, zeros
 
 
-def _relocation_curves(run: _Run) -> tuple[list[Curve], dict]:
+def _relocation_curves(run: _Run) -> tuple[list[DesignResult], dict]:
     """Part 3: mount 3 at Table 4.1 and relocated, n0 = 0 and RELOCATION_N0.
     Returns the curves and the undamped natural frequencies (Hz) per position."""
     curves, nat = [], {}
@@ -170,7 +170,7 @@ def _relocation_curves(run: _Run) -> tuple[list[Curve], dict]:
     return curves, nat
 
 
-def _curve_peaks(c: Curve, dof_names) -> dict:
+def _curve_peaks(c: DesignResult, dof_names) -> dict:
     d = {}
     for j, name in enumerate(dof_names):
         pk = peak(c.fr.freq_hz, np.asarray(c.fr.amplitude)[:, j])
@@ -179,7 +179,7 @@ def _curve_peaks(c: Curve, dof_names) -> dict:
     return d
 
 
-def _cases(curves: list[Curve], dofs) -> list[dict]:
+def _cases(curves: list[DesignResult], dofs) -> list[dict]:
     return [{**c.case, **_curve_peaks(c, dofs), "success": bool(c.fr.success),
              "seconds": c.seconds, "n_points": len(c.fr.freq_hz)} for c in curves]
 
@@ -238,7 +238,8 @@ def _engine_values(engine=ENGINE_EXCITATION) -> dict:
             "rod_length_m": engine.rod_length}
 
 
-def _write_tables(curves: list[Curve], cases: list[dict], dofs, out: Path) -> None:
+def _write_tables(curves: list[DesignResult], cases: list[dict], dofs,
+                 out: Path) -> None:
     write_curves(out / "six_dof_curves.csv",
                  "6-DOF HBM curves; part base: mount deflection input, amplitudes in "
                  "m and rad; part engine/relocation: engine excitation; n0 in N; "
