@@ -42,6 +42,7 @@ from drymount.cli_guard import (
     write_with,
 )
 from drymount.cli_guard import check_out as _check_out
+from drymount.cli_guard import check_out_dir as _check_out_dir
 from drymount.cli_parser import build_parser
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE",
@@ -322,16 +323,19 @@ def _lead_module(name: str):
 
 
 def cmd_validate(args) -> int:
+    _check_out_dir(args.out, "--out")
     return _lead_module("validation").main(args)
 
 
 def cmd_study(args) -> int:
     if args.out is None:
         args.out = Path(f"study-{args.name}")
+    _check_out_dir(args.out, "--out")
     return _lead_module("studies").main(args)
 
 
 def cmd_demo(args) -> int:
+    _check_out_dir(args.out, "--out")
     return _lead_module("demo").main(args)
 
 

@@ -23,6 +23,7 @@ from pathlib import Path
 
 __all__ = ["UsageError", "EXIT_INTERRUPTED", "EXIT_TERMINATED", "signals_interrupt",
            "interrupted", "partial_on_stop", "write_with", "outputs", "check_out",
+           "check_out_dir",
            "fmu_path", "stopped_by"]
 
 #: Interrupted by SIGINT (128 + 2); SIGTERM gives 128 + 15 = 143.
@@ -146,6 +147,28 @@ def check_out(path, option: str) -> Path:
         check_output_path(path, option)
     except OutputPathError as exc:
         raise UsageError(str(exc)) from None
+    return Path(path)
+
+
+def check_out_dir(path, option: str) -> Path:
+    """``path`` checked as an output folder (it may exist as a folder, or be
+    creatable in a writable folder); UsageError naming ``option`` otherwise."""
+    import os
+
+    text = os.fspath(path) if path is not None else ""
+    if not str(text).strip():
+        raise UsageError(f"{option}: the folder name is empty")
+    target = Path(os.path.realpath(text))
+    if target.exists() and not target.is_dir():
+        raise UsageError(f"{option}: {str(text)!r} exists and is not a folder")
+    parent = target
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise UsageError(f"{option}: cannot create {str(text)!r}: {str(parent)!r} is "
+                         f"not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UsageError(f"{option}: cannot write into {str(parent)!r}")
     return Path(path)
 
 

@@ -189,18 +189,22 @@ def test_usage_errors_in_process_are_fast(tmp_path, capsys, monkeypatch):
     """In-process (no interpreter start): within USAGE_ERROR_S, exit 2."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "d").mkdir()
+    (tmp_path / "f").write_text("a file")
     for argv in (["hbm", "sdof_halved", "--out", "/dev/null"],
                  ["hbm", "sdof_halved", "--out", "d"],
                  ["hbm", "sdof_halved", "--plot", "p.xyz"],
                  ["build-fmu", "--out", "d"],
                  ["build-fmu", "--out", "model.zip"],
-                 ["presets", "export", "sdof_halved", "d", "--force"]):
+                 ["presets", "export", "sdof_halved", "d", "--force"],
+                 ["study", "jump", "--quick", "--out", "f"],
+                 ["demo", "--out", "/dev/null"],
+                 ["validate", "--quick", "--out", "f/sub"]):
         t0 = time.perf_counter()
         code, _, err = run(argv, capsys)
         elapsed = time.perf_counter() - t0
         assert code == 2, (argv, err)
         assert elapsed < USAGE_ERROR_S, (argv, elapsed)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["d"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d", "f"]
 
 
 @pytest.mark.parametrize("argv, limit", [
