@@ -368,10 +368,35 @@ EXPORT void fmi2FreeInstance(fmi2Component c) {
 }
 
 /* Set by the model during a call it rejects (see the top of this file); per thread,
- * as the model runs in the importer's calling thread. */
-static __thread int call_rejected;
+ * as the model runs in the importer's calling thread. A pthread key rather than
+ * __thread: no dynamic TLS block in a library the importer may dlclose. */
+static pthread_key_t rejected_key;
+static pthread_once_t rejected_once = PTHREAD_ONCE_INIT;
+static int rejected_ready;
 
-EXPORT void drymount_reject_call(void) { call_rejected = 1; }
+static void make_rejected_key(void) {
+    rejected_ready = pthread_key_create(&rejected_key, NULL) == 0;
+}
+
+EXPORT void drymount_reject_call(void) {
+    pthread_once(&rejected_once, make_rejected_key);
+    if (rejected_ready)
+        pthread_setspecific(rejected_key, (void *)1);
+}
+
+/* 1 if the model rejected the call this thread is making; clears the mark. */
+static int take_rejected(void) {
+    pthread_once(&rejected_once, make_rejected_key);
+    if (!rejected_ready || pthread_getspecific(rejected_key) == NULL)
+        return 0;
+    pthread_setspecific(rejected_key, NULL);
+    return 1;
+}
+
+__attribute__((destructor)) static void drop_rejected_key(void) {
+    if (rejected_ready)
+        pthread_key_delete(rejected_key);
+}
 
 /* Every other function: forward (only reachable with an instance, i.e. after a
  * successful load); a call the model rejected returns fmi2Error. */
@@ -379,11 +404,10 @@ EXPORT void drymount_reject_call(void) { call_rejected = 1; }
     EXPORT ret name params { \
         if (!loaded) \
             return fmi2Error; \
-        call_rejected = 0; \
+        take_rejected(); \
         ret status_ = real_##name args; \
-        if (call_rejected && status_ < fmi2Error) \
+        if (take_rejected() && status_ < fmi2Error) \
             status_ = fmi2Error; \
-        call_rejected = 0; \
         return status_; \
     }
 FMI2_FORWARDED(DEFINE_FORWARD)
