@@ -4,12 +4,15 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
 
     presets   list | show NAME | export NAME PATH
     build-fmu build the FrictionMount FMU
+    export-ssp SSP 1.0 archive of a configuration's mount FMU instances
     hbm       harmonic-balance frequency response of a configuration
     cosim     time history co-simulated through the mount FMU (or in-process)
     sweep     stepped-sine sweep of co-simulated steady states
     validate  co-simulation against harmonic balance, with a report
     study     the thesis's design studies
     demo      the first-hour demo: FMU, HBM and co-simulation of a quarter car
+    explore   sample a configuration's [design] space (grid, LHS, Sobol)
+    optimize  differential evolution on a configuration's [design] space
 
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
@@ -69,10 +72,15 @@ def _info(msg: str) -> None:
     print(msg, file=sys.stderr)
 
 
-def _load(spec):
-    from drymount.config import resolve_config
+def _load(spec, overrides=()):
+    from drymount.paths import load_with_overrides
 
-    return resolve_config(spec)
+    cfg = load_with_overrides(spec, overrides or ())
+    if "design" in cfg.data:  # part of the file: every command checks it
+        from drymount.design import design_space
+
+        design_space(cfg)
+    return cfg
 
 
 _write_with = write_with
@@ -127,19 +135,45 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
-    from fmu_build import build_fmu
-
     if args.out is not None:
         _check_out(args.out, "--out")
         if args.out.suffix != ".fmu":
             raise UsageError(f"--out: {str(args.out)!r} must end with .fmu")
+    if args.native:
+        from fmu_build.native import build_native_fmu
+
+        build = build_native_fmu(args.out, fmi=args.fmi or 2)
+        _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
+              f"{', '.join(build.missing_platforms)} (sources and the compile command "
+              f"are in the FMU)")
+        print(build.path)
+        return EXIT_OK
+    if args.fmi not in (None, 2):
+        raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
+                         f"FMI 2.0 only")
+    from fmu_build import build_fmu
+
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
     return EXIT_OK
 
 
-def cmd_hbm(args) -> int:
+def cmd_export_ssp(args) -> int:
+    from drymount.ssp import export_ssp
+
     cfg = _load(args.config)
+    if args.fmu is not None and not args.fmu.is_file():
+        raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    _check_out(args.out, "--out")
+    exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
+    _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
+          f"({', '.join(exp.mounts)}) of {exp.fmu}, "
+          f"parameter set {exp.parameter_set!r}")
+    return EXIT_OK
+
+
+def cmd_hbm(args) -> int:
+    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
     n_samples = args.n_samples if args.n_samples is not None else cfg.hbm.n_samples
@@ -179,7 +213,7 @@ def cmd_hbm(args) -> int:
 
 
 def cmd_cosim(args) -> int:
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     freq = args.freq if args.freq is not None else cfg.cosim.freq_hz
     if freq is None:
         raise UsageError(f"give --freq (the configuration {cfg.source} has no "
@@ -273,7 +307,7 @@ def cmd_sweep(args) -> int:
 
     from drymount.config import SweepSettings
 
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     s = SweepSettings(fmin, fmax, args.points or cfg.sweep.points,
                       args.direction or cfg.sweep.direction,
@@ -339,15 +373,30 @@ def cmd_demo(args) -> int:
     return _lead_module("demo").main(args)
 
 
+def cmd_explore(args) -> int:
+    from drymount.design.commands import cmd_explore as run
+
+    return run(args, _load, UsageError)
+
+
+def cmd_optimize(args) -> int:
+    from drymount.design.commands import cmd_optimize as run
+
+    return run(args, _load, UsageError)
+
+
 COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
+    "export-ssp": cmd_export_ssp,
     "hbm": cmd_hbm,
     "cosim": cmd_cosim,
     "sweep": cmd_sweep,
     "validate": cmd_validate,
     "study": cmd_study,
     "demo": cmd_demo,
+    "explore": cmd_explore,
+    "optimize": cmd_optimize,
 }
 
 

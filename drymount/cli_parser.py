@@ -89,7 +89,8 @@ def _harness_args(p, kind: str) -> None:
     p.add_argument("--fmu", type=_path, default=None,
                    help="FMU to use, never modified (default: dist/FrictionMount.fmu, "
                         "built or rebuilt when missing or older than drymount's "
-                        "sources)")
+                        "sources; or a native build, dist/FrictionMountNative.fmu or "
+                        "dist/FrictionMountNative3.fmu)")
     p.add_argument("--out", type=_path, default=None,
                    help=f"CSV file to write (default: <name>_{kind}.csv)")
     p.add_argument("--plot", type=_path, default=None, help="plot file to write")
@@ -99,6 +100,11 @@ def _config_arg(p):
     p.add_argument("config", metavar="CONFIG",
                    help="TOML configuration file (docs/config.md) or preset name "
                         "(drymount presets list)")
+    p.add_argument("--set", action="append", default=None, metavar="PATH=VALUE",
+                   dest="overrides",
+                   help="override a field of CONFIG, checked like the file; "
+                        "repeatable, e.g. --set mount.friction.n0=12 --set "
+                        "'mounts[*].axial.c=200'")
 
 
 def _version() -> str:
@@ -176,10 +182,34 @@ def build_parser() -> argparse.ArgumentParser:
              Build FrictionMount.fmu, the mount law as an FMI 2.0 co-simulation FMU
              (pythonfmu). The importer needs a Python 3 with the pythonfmu runtime on
              the host; docs/fmu.md describes its variables.""",
-             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu"])
+             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu",
+              "drymount build-fmu --native --fmi 3  # dist/FrictionMountNative3.fmu"])
     p.add_argument("--out", type=_path, default=None,
                    help="FMU file to write (default: dist/FrictionMount.fmu under the "
-                        "current folder)")
+                        "current folder; with --native dist/FrictionMountNative.fmu or "
+                        "dist/FrictionMountNative3.fmu)")
+    p.add_argument("--native", action="store_true",
+                   help="the native build (C, no Python needed by the importer; "
+                        "docs/fmu.md, 'Which FMU')")
+    p.add_argument("--fmi", type=int, choices=(2, 3), default=None,
+                   help="FMI version of the native build (default 2; the PythonFMU "
+                        "build is FMI 2.0 only)")
+
+    # export-ssp ---------------------------------------------------------------
+    p = _add(sub, "export-ssp", "SSP 1.0 archive of a configuration's mount FMUs",
+             """\
+             Write an SSP 1.0 archive: SystemStructure.ssd with one FMU component per
+             mount of the configuration (connectors u, v, n in; F, Ffr, E_fr out), one
+             parameter set per mount (resources/<mount>.ssv, the configuration's values
+             and units) and documentation/README.txt saying what the host connects (the
+             vehicle body is not an FMU).""",
+             ["drymount export-ssp six_dof_halved --out six_dof.ssp --native"])
+    _config_arg(p)
+    p.add_argument("--out", type=_path, required=True, help="SSP file to write")
+    p.add_argument("--native", action="store_true",
+                   help="pack the native FMU (FrictionMountNative.fmu, FMI 2.0) "
+                        "instead of the PythonFMU build")
+    p.add_argument("--fmu", type=_path, default=None, help="pack this FMU instead")
 
     # hbm ----------------------------------------------------------------------
     p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
@@ -278,6 +308,9 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
     p.add_argument("--quick", action="store_true",
                    help="fewer frequencies (still real runs), for CI")
+    p.add_argument("--fmu", type=_path, default=None,
+                   help="FMU to validate (default: dist/FrictionMount.fmu, built if "
+                        "missing; any build, e.g. dist/FrictionMountNative.fmu)")
     p.add_argument("--out", type=_path, default=Path("validation"),
                    help="report folder")
     p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
@@ -317,4 +350,9 @@ def build_parser() -> argparse.ArgumentParser:
              ["drymount demo", "drymount demo --out /tmp/demo"])
     p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
+
+    # explore, optimize (drymount.design) ------------------------------------------
+    from drymount.design.commands import add_commands
+
+    add_commands(sub, _add, _config_arg, _int_at_least)
     return parser

@@ -31,7 +31,9 @@ from drymount.config import (
 
 ROOT = Path(__file__).resolve().parents[1]
 #: A usage error must be reported before any computation: the CLI starts, reads the
-#: configuration and checks the paths in well under this (measured ~0.5 s).
+#: configuration and checks the paths in well under this much CPU time (measured
+#: 0.45-0.6 s user+sys for a whole `python -m drymount.cli` process; the sweep asked
+#: for would take minutes). CPU time, not wall time: the test machine is shared.
 USAGE_ERROR_S = 1.0
 ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
            PYTHONPATH=str(ROOT))
@@ -145,10 +147,15 @@ def test_failed_writer_leaves_old_file_and_no_temporary(tmp_path):
 
 
 def _timed_cli(args, cwd) -> tuple[int, str, float]:
-    t0 = time.monotonic()
+    """Exit status, stderr and the CPU seconds (user + sys) of the CLI process."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     p = subprocess.run([sys.executable, "-m", "drymount.cli", *map(str, args)],
                        cwd=cwd, env=ENV, capture_output=True, text=True, timeout=120)
-    return p.returncode, p.stderr, time.monotonic() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return p.returncode, p.stderr, cpu
 
 
 @pytest.mark.parametrize("case", ["devnull", "dir", "empty", "under_file", "fifo",
@@ -180,13 +187,13 @@ def test_bad_paths_exit_2_before_computing(tmp_path, case):
     assert code == 2, err
     assert word in err, err
     assert "Traceback" not in err
-    assert elapsed < USAGE_ERROR_S + 1.5, elapsed  # + interpreter start on a busy box
+    assert elapsed < USAGE_ERROR_S, elapsed  # CPU seconds of the whole process
     assert sorted(p.name for p in tmp_path.iterdir()) == before, "something was written"
     assert not (tmp_path / "typo.fmu").exists()
 
 
 def test_usage_errors_in_process_are_fast(tmp_path, capsys, monkeypatch):
-    """In-process (no interpreter start): within USAGE_ERROR_S, exit 2."""
+    """In-process (no interpreter start): within USAGE_ERROR_S of CPU, exit 2."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "d").mkdir()
     (tmp_path / "f").write_text("a file")
@@ -199,9 +206,9 @@ def test_usage_errors_in_process_are_fast(tmp_path, capsys, monkeypatch):
                  ["study", "jump", "--quick", "--out", "f"],
                  ["demo", "--out", "/dev/null"],
                  ["validate", "--quick", "--out", "f/sub"]):
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         code, _, err = run(argv, capsys)
-        elapsed = time.perf_counter() - t0
+        elapsed = time.process_time() - t0
         assert code == 2, (argv, err)
         assert elapsed < USAGE_ERROR_S, (argv, elapsed)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d", "f"]

@@ -47,7 +47,8 @@ _FRICTION_KEYS = ("kf", "mu", "n0")
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
 ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
-         "mount", "mounts", "excitation", "sweep", "hbm", "cosim"),
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim",
+         "design"),  # [design]: checked by drymount.design (explore, optimize)
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
     "rigid_engine": ("mass", "inertia"),
