@@ -84,6 +84,7 @@ def _load(spec, overrides=()):
 
 
 _write_with = write_with
+_fmu_path = fmu_path
 
 
 def _peak_text(name: str, freq_hz, transmissibility) -> str:

@@ -289,7 +289,7 @@ class FrictionMount(Fmi2Slave):
         """Reject the current FMI call: log ``message`` (status error), leave
         everything as it was and return ``value`` with the call marked fmi2Error
         through the loader; raise :class:`FMICallError` where that is impossible."""
-        text = f"{MODEL_NAME} {self.instance_name}: {message}"
+        text = f"{MODEL_NAME}: {message}"  # the logger names the instance
         self.log(text, Fmi2Status.error)
         hook = _reject_hook(self.resources) if self._native else None
         if hook is None:
@@ -441,8 +441,8 @@ class FrictionMount(Fmi2Slave):
             except _Rejected as exc:
                 if self._bad_params != str(exc):
                     self._bad_params = str(exc)
-                    self.log(f"{MODEL_NAME} {self.instance_name}: outputs are 0 until "
-                             f"the parameters are valid ({exc})", Fmi2Status.warning)
+                    self.log(f"{MODEL_NAME}: outputs are 0 until the parameters "
+                             f"are valid ({exc})", Fmi2Status.warning)
                 return {"Real": 0.0, "Integer": 0, "Boolean": False}[kind]
         return self.vars[vr].getter()
 
