@@ -11,6 +11,9 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
     validate  co-simulation against harmonic balance, with a report
     study     the thesis's design studies
     demo      the first-hour demo: FMU, HBM and co-simulation of a quarter car
+    fit       mount-law parameters from rig data (elastic law, friction, damping)
+    characterise  dynamic stiffness and loss angle of the mounts (datasheet maps)
+    static    static working point under the engine's weight (knee warnings)
     explore   sample a configuration's [design] space (grid, LHS, Sobol)
     optimize  differential evolution on a configuration's [design] space
 
@@ -374,6 +377,21 @@ def cmd_demo(args) -> int:
     return _lead_module("demo").main(args)
 
 
+def cmd_fit(args) -> int:
+    return _lead_module("fit").main(args)
+
+
+def cmd_static(args) -> int:
+    return _lead_module("static").main(args)
+
+
+def cmd_characterise(args) -> int:
+    if args.fmin is not None and args.fmax is not None and not args.fmax > args.fmin:
+        raise UsageError(f"the frequency range must satisfy fmin < fmax, got fmin = "
+                         f"{args.fmin:g} Hz, fmax = {args.fmax:g} Hz")
+    return _lead_module("characterise").main(args)
+
+
 def cmd_explore(args) -> int:
     from drymount.design.commands import cmd_explore as run
 
@@ -396,6 +414,9 @@ COMMANDS = {
     "validate": cmd_validate,
     "study": cmd_study,
     "demo": cmd_demo,
+    "fit": cmd_fit,
+    "characterise": cmd_characterise,
+    "static": cmd_static,
     "explore": cmd_explore,
     "optimize": cmd_optimize,
 }

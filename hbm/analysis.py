@@ -95,6 +95,8 @@ class _Problem:
     def linear_guess(self, freq_hz: float, stuck: bool) -> np.ndarray:
         Q = linear_frf(self.hb.system, [freq_hz], stuck=stuck)[0]
         X = np.zeros((self.hb.m, self.hb.n))
+        if self.hb.static is not None:
+            X[0] = self.hb.static.q  # about the static working point
         X[1] = Q.imag
         X[2] = Q.real
         return self.y_of(X.ravel(), 2 * np.pi * freq_hz)
