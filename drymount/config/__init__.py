@@ -52,10 +52,9 @@ from drymount.config.loading import (
     resolve_config,
 )
 from drymount.config.mounts import mount_from_table, readable_unit
+from drymount.config.checks import INERTIA_RANGE_KGM2, MASS_RANGE_KG
 from drymount.config.schema import (
     ALLOWED_KEYS,
-    INERTIA_RANGE_KGM2,
-    MASS_RANGE_KG,
     MAX_HARMONICS,
     MAX_N_SAMPLES,
     MAX_POINTS,

@@ -6,7 +6,12 @@ from __future__ import annotations
 import difflib
 import math
 
-from drymount.config.schema import INERTIA_RANGE_KGM2, MASS_RANGE_KG
+#: Masses accepted, kg: from a 1 g test body to a 1000 t machine. Outside, the
+#: mass matrix spans more than the double precision the stability and support
+#: checks rely on (1e-300 kg or 1e30 kg read as "the mounts do not hold the system").
+MASS_RANGE_KG = (1e-3, 1e6)
+#: Principal moments of inertia accepted, kg m^2 (same reasoning).
+INERTIA_RANGE_KGM2 = (1e-6, 1e6)
 
 
 # ======================================================================================
