@@ -175,6 +175,9 @@ def build_parser() -> argparse.ArgumentParser:
                         formatter_class=_Formatter)
     q.add_argument("name", metavar="NAME", help="preset name")
     q.add_argument("path", metavar="PATH", type=_path, help="file to write")
+    q.add_argument("--name", dest="as_name", default=None,
+                   help="the configuration's `name` (output files start with it); "
+                        "default: the stem of PATH")
     q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
 
     # build-fmu ----------------------------------------------------------------
@@ -251,7 +254,10 @@ def build_parser() -> argparse.ArgumentParser:
              mount force.""",
              ["drymount cosim sdof_halved --freq 5 --duration 4 --out run.csv",
               "drymount cosim six_dof_halved --freq 7 --duration 3 --backend native "
-              "--out run.csv --plot run.png"])
+              "--out run.csv --plot run.png",
+              "drymount cosim six_dof_halved --road examples/data/road_profile.csv "
+              "--speed 20 --backend native --spectra psd.csv --spectra-plot psd.png "
+              "--skip 0.5"])
     _config_arg(p)
     p.add_argument("--freq", type=_positive_float, default=None,
                    help="excitation frequency in Hz (default: [cosim] freq_hz)")
@@ -261,6 +267,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--backend", choices=("fmu", "native"), default=None,
                    help="fmu: FMU instances through fmpy; native: in-process law "
                         "(default: [cosim] backend)")
+    p.add_argument("--road", type=_path, default=None, metavar="CSV",
+                   help="measured road profile or base displacement: distance [m] or "
+                        "time [s], elevation [mm|m] (default: [cosim.input] road)")
+    p.add_argument("--speed", type=_positive_float, default=None,
+                   help="vehicle speed in m/s for a road over distance (default: "
+                        "[cosim.input] speed)")
+    p.add_argument("--engine", type=_path, default=None, metavar="CSV",
+                   help="measured engine forces/moments or accelerations: time [s] "
+                        "and one column per DOF (default: [cosim.input] engine)")
+    p.add_argument("--spectra", type=_path, default=None, metavar="CSV",
+                   help="write the PSDs of the mount forces and DOF accelerations")
+    p.add_argument("--spectra-plot", type=_path, default=None, metavar="PNG",
+                   help="plot the PSDs")
+    p.add_argument("--skip", type=float, default=0.0, metavar="SECONDS",
+                   help="start-up transient left out of the spectra (default 0 s)")
     _harness_args(p, "cosim")
 
     # sweep --------------------------------------------------------------------
@@ -362,7 +383,7 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount fit loops examples/data/rig_loops.csv --mount sdof_halved"])
     p.add_argument("kind", metavar="KIND", choices=("elastic", "loops", "table"),
                    help="elastic, loops or table")
-    p.add_argument("data", metavar="DATA", type=Path, help="the rig data (CSV)")
+    p.add_argument("data", metavar="DATA", type=_path, help="the rig data (CSV)")
     p.add_argument("--law", default="auto",
                    choices=("auto", "linear", "cubic", "piecewise", "piecewise_asym"),
                    help="elastic: the law to write (default: lowest AIC)")
@@ -374,7 +395,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "file (e.g. the mount.toml of `fit elastic`) or a preset")
     p.add_argument("--fix-c", action="store_true",
                    help="loops/table: keep c of --mount instead of fitting it")
-    p.add_argument("--out", type=Path, default=Path("fit"), help="output folder")
+    p.add_argument("--out", type=_path, default=Path("fit"), help="output folder")
     p.add_argument("--no-plot", dest="plot", action="store_false",
                    help="do not draw fit.png")
 
@@ -405,10 +426,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--check", choices=("auto", "fmu", "law"), default="auto",
                    help="time-domain cross-check: through the FMU (auto: if fmpy is "
                         "installed) or by marching the law")
-    p.add_argument("--fmu", type=Path, default=None,
+    p.add_argument("--fmu", type=_path, default=None,
                    help="FMU for the cross-check (default: dist/FrictionMount.fmu, "
                         "built if missing)")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="output folder (default: <name>_characterise)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
@@ -432,7 +453,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="static generalised load on a DOF, N or N m (repeatable)")
     p.add_argument("--travel-mm", type=_positive_float, default=None,
                    help="warn when a mount axis deflects more than this, mm")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="CSV file (default: <name>_static.csv)")
 
     # demo ---------------------------------------------------------------------

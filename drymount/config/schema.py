@@ -56,7 +56,9 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "excitation": ("kind", "amplitude"),
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
     "hbm": ("harmonics", "n_samples"),
-    "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
+    "cosim": ("backend", "freq_hz", "duration", "steps_per_period", "input"),
+    # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
+    "cosim.input": ("road", "speed", "engine", "units"),
     "static": ("gravity", "g", "loads", "travel"),
 }
 
