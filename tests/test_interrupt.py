@@ -7,8 +7,9 @@ writes, cut after whole rows that equal the complete run's rows. The exit status
 130 (SIGINT) or 143 (SIGTERM), or 0 if the run finished first. No process of the
 run (sweep workers) may outlive it by more than 5 s.
 
-Runtime (2 cores, shared): ~90 s for the default cases; the ``slow`` variant adds more
-moments and the parallel FMU sweep.
+Runtime: ~75 s for the default cases on 2 idle cores (each run is a fresh
+interpreter), ~150 s with 8 jobs on the 2 cores; the ``slow`` variant adds SIGTERM,
+more moments and the parallel FMU sweep.
 """
 
 from __future__ import annotations
@@ -126,7 +127,7 @@ def _inject(tmp_path, args, n, sig, *, subset=False, seed=11):
         assert os.stat(out).st_mode & 0o777 == 0o664, "the file lost its mode"
         seen[kind] = seen.get(kind, 0) + 1
     # the moments must have hit the computation, not only its start or end
-    assert seen.get("partial", 0) >= n // 4, seen
+    assert seen.get("partial", 0) >= max(1, n // 4), seen
     return seen
 
 
@@ -143,14 +144,14 @@ def test_sigint_during_sweep(tmp_path):
 def test_sigterm_during_parallel_sweep(tmp_path):
     """SIGTERM with --workers 2: exit 143, the rows the workers sent, no worker left."""
     args = [*SWEEP_ARGS[:3], "24", *SWEEP_ARGS[4:], "--workers", "2"]
-    seen = _inject(tmp_path, args, 4, signal.SIGTERM, subset=True)
+    seen = _inject(tmp_path, args, 2, signal.SIGTERM, subset=True)
     print(seen)
 
 
 def test_sigint_during_fmu_sweep(tmp_path):
     """Ctrl-C inside an FMU call: exit 130 (not 1 with an FMUError), rows written."""
     args = ["sweep", "sdof_halved", "--points", "8", "--backend", "fmu", "-q"]
-    seen = _inject(tmp_path, args, 4, signal.SIGINT, seed=3)
+    seen = _inject(tmp_path, args, 2, signal.SIGINT, seed=3)
     print(seen)
 
 
@@ -162,3 +163,5 @@ def test_signals_many_moments(tmp_path):
     args = ["sweep", "sdof_halved", "--points", "16", "--backend", "fmu", "-q",
             "--workers", "2"]
     _inject(tmp_path, args, 10, signal.SIGINT, subset=True)
+    _inject(tmp_path, [*SWEEP_ARGS[:3], "24", *SWEEP_ARGS[4:], "--workers", "2"], 10,
+            signal.SIGTERM, subset=True)
