@@ -25,6 +25,11 @@ written, marked ``# partial: <reason>`` when the run stopped early); 2 bad usage
 invalid configuration, found before any computation (every problem is listed, no
 traceback); 130 interrupted by SIGINT (Ctrl-C), 143 terminated by SIGTERM (what was
 computed is written, marked partial). :mod:`drymount.cli_guard` holds these rules.
+
+Environment: ``DRYMOUNT_THREADS`` = BLAS/OpenMP threads (default 1; ``default`` keeps
+the libraries' own; see :mod:`drymount.threads`), ``DRYMOUNT_TRACEBACK`` = show
+tracebacks, ``DRYMOUNT_MARCH`` = Jenkins march backend of the HBM
+(:mod:`hbm.friction_march`).
 """
 
 from __future__ import annotations
@@ -480,6 +485,13 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv) -> int:
+    from drymount.threads import limit_threads
+
+    try:
+        limit_threads()  # one BLAS thread unless $DRYMOUNT_THREADS says otherwise
+    except ValueError as exc:
+        _err(str(exc))
+        return EXIT_USAGE
     from drymount.config import ConfigError
 
     parser = build_parser()

@@ -147,20 +147,20 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
 
     Parameters
     ----------
-    u : ndarray, shape (N, n_ax)
-        Deflection samples, m.
+    u : ndarray, shape (..., N, n_ax)
+        Deflection samples (leading axes: any batch), m.
     ax : NonlinearAxes
 
     Returns
     -------
-    f, df_du : ndarray, shape (N, n_ax)
+    f, df_du : ndarray, shape (..., N, n_ax)
         Force in N and tangent in N/m.
     """
     f = np.zeros_like(u)
     kt = np.zeros_like(u)
     for law, mask in ax.groups:
         if law.remainder is not None and np.any(mask):
-            f[:, mask], kt[:, mask] = law.remainder(u[:, mask], ax, mask)
+            f[..., mask], kt[..., mask] = law.remainder(u[..., mask], ax, mask)
     return f, kt
 
 
