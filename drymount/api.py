@@ -291,12 +291,11 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
 def _fmu_kw(backend: str, fmu_path) -> dict:
     if backend != "fmu":
         return {}
-    from fmu_build import ensure_fmu
-    from fmu_build.native import is_native_fmu
+    from fmu_build import default_fmu_path, ensure_fmu
 
-    if fmu_path is not None and is_native_fmu(fmu_path):
-        return {"fmu_path": Path(fmu_path).resolve()}
-    return {"fmu_path": ensure_fmu(fmu_path)}
+    if fmu_path is not None:  # a user's FMU (PythonFMU or native): used as it is,
+        return {"fmu_path": Path(fmu_path).resolve()}  # never rebuilt (issue 11)
+    return {"fmu_path": ensure_fmu(default_fmu_path())}
 
 
 def sweep(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
@@ -433,7 +432,9 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
         dt = 1.0 / (freq * spp)
     inputs = None if parts is None else (
         parts[0] if len(parts) == 1 else vehicle.SumInput(parts))
+    kw = _fmu_kw(backend, fmu_path)
+    if m.config.control is not None:  # [control]: scheduled on the excitation frequency
+        kw["control"] = m.config.control.controllers(m.system, lambda t: freq)
     th = vehicle.simulate(m.system, freq if parts is None else freq_hz, duration,
-                          backend=backend, dt=dt, inputs=inputs,
-                          **_fmu_kw(backend, fmu_path))
+                          backend=backend, dt=dt, inputs=inputs, **kw)
     return CosimResult(th)

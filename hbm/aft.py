@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hbm.elements import NonlinearAxes, elastic_remainder
+from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
 from hbm.friction_march import jenkins_aft
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
@@ -122,6 +122,8 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
     E, P = basis.E, basis.P
+    if _has_slider_banks(ax):   # micro-slip or non-symmetric sliders: per slider
+        return _aft_banks(U, ax, basis, jacobian)
     plan = _plan(ax)
     u = E @ U  # (..., N, n_ax)
     if plan.elastic:
@@ -158,4 +160,49 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         dF = np.zeros((*U.shape[:-2], ax.n, *P.shape[:1], E.shape[1]))
         if dF_fr is not None:
             dF[..., fr, :, :] = dF_fr
+    return F, dF
+
+
+def _has_slider_banks(ax: NonlinearAxes) -> bool:
+    """Whether an axis has more than one slider or a non-symmetric one (the
+    vectorised march of :mod:`hbm.friction_march` takes one symmetric slider)."""
+    return not all(len(b) <= 1 and (not b or b[0][1] == b[0][2]) for b in ax.banks)
+
+
+def _aft_banks(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
+               jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`aft_forces` marching every slider of each axis's bank with the scalar
+    :func:`hbm.elements.jenkins_periodic` (batches one by one)."""
+    if U.ndim > 2:
+        batch = U.reshape(-1, *U.shape[-2:])
+        parts = [_aft_banks(u, ax, basis, jacobian) for u in batch]
+        F = np.stack([p[0] for p in parts]).reshape(*U.shape[:-2], *parts[0][0].shape)
+        if not jacobian:
+            return F, None
+        dF = np.stack([p[1] for p in parts]).reshape(*U.shape[:-2], *parts[0][1].shape)
+        return F, dF
+    E, P = basis.E, basis.P
+    u = E @ U  # (N, n_ax)
+    f, kt = elastic_remainder(u, ax)
+    fr = ax.friction
+    corr = []
+    for a in fr:
+        # each slider of the axis's bank (one for macro-slip, several for micro-slip)
+        for k, fs_pos, fs_neg in ax.banks[a]:
+            ff, stuck, last = jenkins_periodic(u[:, a], k, fs_pos, ax.w_start[a],
+                                                fs_neg)
+            f[:, a] += ff
+            if jacobian:
+                kt[:, a] += np.where(stuck, k, 0.0)
+                # stuck after a slip: w = u[last] -+ eps depends on X too
+                sel = np.flatnonzero(stuck & (last >= 0))
+                corr.append((a, k, sel, last[sel]))
+    F = P @ f
+    if not jacobian:
+        return F, None
+    # dF[a] = P diag(kt[:, a]) E  (- kf P[:, sel] E[last[sel]] for Jenkins)
+    dF = np.matmul(P[None, :, :] * kt.T[:, None, :], E)
+    for a, k, sel, last in corr:
+        if sel.size:
+            dF[a] -= k * (P[:, sel] @ E[last])
     return F, dF

@@ -260,14 +260,15 @@ class _Batch:
 def steady_states(system, freqs_hz, *, steps_per_period: int | None = None,
                   rtol: float = DEFAULT_RTOL, min_periods: int = DEFAULT_MIN_PERIODS,
                   max_periods: int = DEFAULT_MAX_PERIODS, batch_size: int = BATCH_SIZE,
-                  progress=None) -> list[SteadyState]:
+                  progress=None, report=None) -> list[SteadyState]:
     """Steady states of ``system`` at every frequency of ``freqs_hz``, stepped in
     batches (native law; each from the linearised start, see the module docstring).
 
     Returns one :class:`vehicle.steady.SteadyState` per frequency, in the order of
     ``freqs_hz``; the same as ``steady_state(system, f, backend="native")`` per
     frequency up to round-off. ``progress`` (a tqdm bar or None) is advanced by one
-    per finished frequency.
+    per finished frequency; ``report(index, steady_state)`` is called for each
+    as it finishes (so a caller keeps what was computed if the run is stopped).
     """
     f = [float(x) for x in np.asarray(freqs_hz, dtype=float).reshape(-1)]
     if not f or not all(np.isfinite(x) and x > 0 for x in f):
@@ -295,6 +296,8 @@ def steady_states(system, freqs_hz, *, steps_per_period: int | None = None,
                 for i, ss in _run_batch(group[a:a + batch_size], f, rtol,
                                         min_periods, max_periods):
                     out[i] = ss
+                    if report is not None:
+                        report(i, ss)
                     if progress is not None:
                         progress.update(1)
         return out

@@ -140,7 +140,7 @@ class Master:
 
     def __init__(self, system, backend: str = "native", *, fmu_path=None,
                  fmu_logging: bool = True, fmu_start_values=None,
-                 omega_h_max: float = OMEGA_H_MAX):
+                 omega_h_max: float = OMEGA_H_MAX, control: dict | None = None):
         if not (isinstance(omega_h_max, (int, float)) and 0 < omega_h_max < 2):
             raise ValueError(f"`omega_h_max` must be in (0, 2), got {omega_h_max!r}")
         self.system = system
@@ -151,6 +151,9 @@ class Master:
         self.backend = make_backend(backend, system, self.layout, fmu_path=fmu_path,
                                     logging_on=fmu_logging,
                                     start_values=fmu_start_values)
+        if control:
+            # semi-active normal forces, {(mount, axis): controller} (vehicle.control)
+            self.backend.set_control(control)
         n = system.n_dof
         #: the static working point (``system.static_load``), None if unloaded; the
         #: master starts there with the sliders relaxed (hbm.static)
@@ -427,29 +430,40 @@ class Master:
         self._set_row0(rec, inputs, 0.0)
         t0 = self.time
         done = 0
-        while done < total:
-            b = min(rows, total - done)
-            k = done + np.arange(b)
-            self._fill_inputs(rec, inputs, k * dt, (k + 1) * dt)
-            self._run_rows(b, t0, done)
-            self._check_finite(rec[b], t0 + (done + b) * dt)
-            x = rec[:b, L.o_x:L.o_x + 3 * n]
-            out_q[done:done + b] = x[:, :n]
-            out_qd[done:done + b] = x[:, n:2 * n] + 0.5 * dt * x[:, 2 * n:]
-            out_F[done:done + b] = rec[:b, cols["F"]]
-            out_Ffr[done:done + b] = rec[:b, cols["Ffr"]]
-            out_u[done:done + b] = rec[:b, cols["u"]]
-            out_E[done:done + b] = rec[:b, cols["E"]]
-            done += b
-            rec[0, :L.n_next] = rec[b, :L.n_next]
+
+        def history(rows_done: int) -> TimeHistory:
+            sl = slice(0, rows_done)
+            return TimeHistory(
+                t=np.arange(rows_done) * dt, q=out_q[sl], qd=out_qd[sl],
+                forces=out_F[sl], friction_forces=out_Ffr[sl],
+                deflections=out_u[sl], friction_energy=out_E[sl].sum(1),
+                dof_names=tuple(self.system.dof_names),
+                force_names=tuple(self.system.axis_labels()), dt=dt,
+                backend=self.backend_name, system_name=self.system.name)
+
+        try:
+            while done < total:
+                b = min(rows, total - done)
+                k = done + np.arange(b)
+                self._fill_inputs(rec, inputs, k * dt, (k + 1) * dt)
+                self._run_rows(b, t0, done)
+                self._check_finite(rec[b], t0 + (done + b) * dt)
+                x = rec[:b, L.o_x:L.o_x + 3 * n]
+                out_q[done:done + b] = x[:, :n]
+                out_qd[done:done + b] = x[:, n:2 * n] + 0.5 * dt * x[:, 2 * n:]
+                out_F[done:done + b] = rec[:b, cols["F"]]
+                out_Ffr[done:done + b] = rec[:b, cols["Ffr"]]
+                out_u[done:done + b] = rec[:b, cols["u"]]
+                out_E[done:done + b] = rec[:b, cols["E"]]
+                done += b
+                rec[0, :L.n_next] = rec[b, :L.n_next]
+        except BaseException as exc:
+            # stopped (interrupt, FMU error, divergence): the rows completed so far
+            exc.partial_result = history(done)
+            raise
         self.q, self.qd, self.qdd = self._state_of_row(rec[0])
         self.time = t0 + total * dt
-        return TimeHistory(
-            t=np.arange(total) * dt, q=out_q, qd=out_qd, forces=out_F,
-            friction_forces=out_Ffr, deflections=out_u, friction_energy=out_E.sum(1),
-            dof_names=tuple(self.system.dof_names),
-            force_names=tuple(self.system.axis_labels()), dt=dt,
-            backend=self.backend_name, system_name=self.system.name)
+        return history(total)
 
     # ------------------------------------------------------------------ periods
     def begin_periodic(self, inputs: Input, steps: int, h: float) -> None:
@@ -518,7 +532,8 @@ class Master:
 
 def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
              backend: str = "fmu", dt: float | None = None, inputs: Input | None = None,
-             fmu_path=None, fmu_start_values=None) -> TimeHistory:
+             fmu_path=None, fmu_start_values=None, control: dict | None = None
+             ) -> TimeHistory:
     """Time histories of ``system`` from rest.
 
     Parameters
@@ -535,6 +550,9 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     inputs : vehicle.inputs.Input, optional
         Engine/road input (crank excitation, road profiles, ...).
     fmu_path : path-like, optional
+    control : dict, optional
+        ``{(mount name, axis): controller}`` (:mod:`vehicle.control`): semi-active
+        normal forces applied every step.
 
     Returns
     -------
@@ -551,5 +569,5 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     (1281, 1)
     """
     with Master(system, backend, fmu_path=fmu_path,
-                fmu_start_values=fmu_start_values) as m:
+                fmu_start_values=fmu_start_values, control=control) as m:
         return m.simulate(duration, dt=dt, inputs=inputs, freq_hz=freq_hz)

@@ -26,18 +26,24 @@ SPACINGS = ("linear", "log")
 #: Largest number of harmonics accepted (a sanity bound: H = 7 already converges the
 #: friction systems to 1e-3; 50 harmonics cost ~50x more per Newton step).
 MAX_HARMONICS = 50
+#: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
+#: sharpest kink of the friction law at H = 50 many times over).
+MAX_N_SAMPLES = 8192
+#: Largest number of sweep frequencies (a 10 000-point co-simulated sweep takes
+#: hours; more is a typo).
+MAX_POINTS = 10_000
 #: Relative size below which the smallest eigenvalue of the linearised (stuck)
 #: stiffness counts as zero: the mounts leave a rigid-body motion free.
 SINGULAR_RTOL = 1e-10
 
 _AXIS_LAW_KEYS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c")
-_FRICTION_KEYS = ("kf", "mu", "n0")
+_FRICTION_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
 
 #: Allowed keys of every table, by the path pattern used in messages and in
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
 ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
-         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "static",
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "static", "control",
          "design"),  # [design]: checked by drymount.design (explore, optimize)
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
@@ -54,6 +60,9 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
     "cosim.input": ("road", "speed", "engine", "units"),
     "static": ("gravity", "g", "loads", "travel"),
+    # semi-active normal-force control (drymount.config.control)
+    "control": ("kind", "axes", "n_min", "n_max", "rate_max", "schedule_hz",
+                "schedule_n", "n_on", "n_off"),
 }
 
 #: The model-specific tables: which model each belongs to.
@@ -189,6 +198,8 @@ class Config:
     static : StaticSettings
         ``[static]``: gravity and static loads (``system.static_load`` holds the
         resulting load; default none).
+    control : drymount.config.control.ControlSettings or None
+        The ``[control]`` table (semi-active normal force), None without one.
     """
 
     name: str
@@ -201,3 +212,4 @@ class Config:
     source: str
     data: dict = field(repr=False, default_factory=dict)
     static: StaticSettings = field(default_factory=StaticSettings)
+    control: object = None
