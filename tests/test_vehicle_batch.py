@@ -151,3 +151,26 @@ def test_batched_steady_states_group_by_steps_per_period():
     got = steady_states(s, freqs)
     assert [g.freq_hz for g in got] == freqs
     assert len({g.steps_per_period for g in got}) == 3
+
+
+def test_stopped_batched_sweep_keeps_the_converged_frequencies(monkeypatch):
+    """A stop (here an error after the second converged frequency) hands the caller
+    the frequencies that converged, on the exception."""
+    import vehicle.batch as vb
+
+    real = vb._analyse
+    calls = []
+
+    def analyse(*args):
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        calls.append(1)
+        return real(*args)
+
+    monkeypatch.setattr(vb, "_analyse", analyse)
+    s = api.load("quarter_car_halved").system
+    with pytest.raises(KeyboardInterrupt) as info:
+        vehicle.sweep(s, [2.0, 3.0, 9.0, 10.0], backend="native", batch=True,
+                      progress=False)
+    part = info.value.partial_result
+    assert len(part.freq_hz) == 2 and "stopped" in part.notes
