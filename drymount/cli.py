@@ -225,6 +225,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", type=Path, default=None,
                    help="plot file to write (.png, .pdf, .svg)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    _hbm_accuracy_args(p)
 
     # cosim --------------------------------------------------------------------
     p = _add(sub, "cosim", "time history co-simulated through the mount FMU",
@@ -353,6 +354,25 @@ def _load(spec):
     return resolve_config(spec)
 
 
+def _hbm_accuracy_args(p) -> None:
+    """Accuracy and step controls of `drymount hbm` (default: [hbm] of CONFIG)."""
+    g = p.add_argument_group("accuracy and steps (default: [hbm] of CONFIG, else hbm's)")
+    g.add_argument("--tol", type=_positive_float, default=None,
+                   help="wanted accuracy relative to the peak (default 1e-3): H and N "
+                        "are raised until the error estimate is below tol/2 (unless "
+                        "--harmonics/--n-samples fix them), and the step until reading "
+                        "between CSV rows stays within tol/2")
+    g.add_argument("--max-harmonics", type=_int_at_least(1), default=None,
+                   help="cap on H when --tol raises it (default 25)")
+    for flag, what in (("--ds-initial", "first"), ("--ds-min", "smallest"),
+                       ("--ds-max", "largest")):
+        g.add_argument(flag, type=_positive_float, default=None,
+                       help=f"{what} arc-length step (scaled: a sweep spans about 1)")
+    g.add_argument("--max-angle", type=_positive_float, default=None,
+                   help="largest angle between successive tangents, rad (default 0.15)")
+    g.add_argument("--log-freq", action="store_true", help="log frequency axis in --plot")
+
+
 def _write_with(path: Path, writer) -> Path:
     """Call ``writer(tmp_path)`` and move the file to ``path`` atomically."""
     from drymount.io import atomic_path
@@ -417,13 +437,23 @@ def cmd_hbm(args) -> int:
     out = args.out or Path(f"{cfg.name}_hbm.csv")
     import hbm
 
-    fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
-                                n_samples=n_samples, progress=not args.quiet)
+    try:
+        opts = cfg.hbm.options(**{k: getattr(args, k) for k in (
+            "tol", "max_harmonics", "ds_initial", "ds_min", "ds_max", "max_angle")})
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=args.harmonics,
+                                n_samples=args.n_samples, options=opts,
+                                progress=not args.quiet)
     _write_with(out, fr.to_csv)
-    _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {H})")
+    events = Path(fr.events_path(out))
+    _write_with(events, fr.events_to_csv)
+    _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {fr.harmonics}, "
+          f"N = {fr.n_samples or 'closed forms'}) and {events} (folds and peaks)")
     if args.plot is not None:
-        _write_with(args.plot, lambda p: fr.plot(path=p))
+        _write_with(args.plot, lambda p: fr.plot(path=p, logx=args.log_freq))
         _info(f"wrote {args.plot}")
+    _print_hbm_accuracy(fr)
     if len(fr.freq_hz):
         import numpy as np
 
@@ -444,6 +474,25 @@ def cmd_hbm(args) -> int:
              f"{len(fr.freq_hz)} points computed so far are in {out}")
         return EXIT_FAILURE
     return EXIT_OK
+
+
+def _print_hbm_accuracy(fr) -> None:
+    """Error estimate, merged turning points, folds and peaks of an HBM curve."""
+    e = fr.error_max()
+    if e == e:
+        verdict = {True: "meets", False: "misses", None: "vs"}[fr.tol_met]
+        print(f"  error estimate {e:.2g} of peak ({fr.error_reference}); {verdict} "
+              f"the tolerance")
+    if fr.turning_points_merged:
+        print(f"  {fr.turning_points_merged} turning point(s) merged as zigzags of the "
+              f"sampled residual (gone with more AFT samples)")
+    for ev in fr.folds:
+        print(f"  fold at {ev.freq_hz:.6f} Hz" + ("" if ev.converged else
+                                                  " (not converged)"))
+    for ev in fr.peaks:
+        if ev.interior:
+            print(f"  peak of {ev.dof}: {ev.amplitude[fr.dof_names.index(ev.dof)]:.6g}"
+                  f" at {ev.freq_hz:.6f} Hz")
 
 
 def cmd_cosim(args) -> int:

@@ -110,7 +110,8 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "mounts[].<axis>.friction": _FRICTION_KEYS,
     "excitation": ("kind", "amplitude"),
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
-    "hbm": ("harmonics", "n_samples"),
+    "hbm": ("harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
+            "ds_max", "max_angle"),
     "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
 }
 
@@ -185,10 +186,38 @@ class HBMSettings:
         Number of harmonics H (1..MAX_HARMONICS); 1 is the thesis's single harmonic.
     n_samples : int or None
         AFT time samples per period (>= 2H + 1); None lets ``hbm`` choose.
+    tol : float or None
+        Wanted accuracy relative to the peak (``hbm.HBMOptions.tol``); None: its
+        default (1e-3).
+    max_harmonics : int or None
+        Cap on H when ``tol`` raises it (``hbm.HBMOptions.max_harmonics``).
+    ds_initial, ds_min, ds_max, max_angle : float or None
+        Continuation step controls (scaled arc length, rad); None: the defaults of
+        ``hbm.HBMOptions``.
     """
 
     harmonics: int = 7
     n_samples: int | None = None
+    tol: float | None = None
+    max_harmonics: int | None = None
+    ds_initial: float | None = None
+    ds_min: float | None = None
+    ds_max: float | None = None
+    max_angle: float | None = None
+
+    def options(self, **overrides):
+        """``hbm.HBMOptions`` with these settings (None: hbm's default), H as the
+        starting number of harmonics; ``overrides`` (not None) win."""
+        import hbm
+
+        kw = {"harmonics": self.harmonics}
+        for k in ("n_samples", "tol", "max_harmonics", "ds_initial", "ds_min", "ds_max",
+                  "max_angle"):
+            v = overrides.get(k)
+            v = getattr(self, k) if v is None else v
+            if v is not None:
+                kw[k] = v
+        return hbm.HBMOptions(**kw)
 
 
 @dataclass(frozen=True)
@@ -751,6 +780,13 @@ def _settings(ck: _Checker, data: dict):
     n_samples = None
     if harmonics is not None:
         n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1)
+    hbm_extra = {k: ck.number(hb, k, "hbm", rule=">0", required=False)
+                 for k in ("tol", "ds_initial", "ds_min", "ds_max", "max_angle")}
+    if hbm_extra["tol"] is not None and not hbm_extra["tol"] < 0.5:
+        ck.add(f"`hbm.tol` must be a number > 0 and < 0.5 (relative to the peak), "
+               f"got {hbm_extra['tol']}")
+    hbm_extra["max_harmonics"] = ck.integer(hb, "max_harmonics", "hbm", minimum=1,
+                                            maximum=MAX_HARMONICS)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
     backend = ck.choice(cs, "backend", "cosim", BACKENDS, required=False,
@@ -761,7 +797,7 @@ def _settings(ck: _Checker, data: dict):
     if None in (fmin, fmax, points, direction, spacing, harmonics, backend):
         return None
     return (SweepSettings(fmin, fmax, points, direction, spacing),
-            HBMSettings(harmonics, n_samples),
+            HBMSettings(harmonics, n_samples, **hbm_extra),
             CosimSettings(backend, freq, duration, spp))
 
 

@@ -236,7 +236,9 @@ def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
 
 def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                     settings: ContinuationSettings, lam_start: float | None = None,
-                    callback: Callable | None = None) -> Branch:
+                    callback: Callable | None = None,
+                    tangent0: np.ndarray | None = None,
+                    chord_error: Callable | None = None) -> Branch:
     """Trace the solution branch of ``fun`` from a solution ``y0`` until ``lam_end``.
 
     Parameters
@@ -252,6 +254,14 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         Stop (status 3) if the branch returns below it.
     callback : callable, optional
         ``callback(lam)`` after every accepted point (progress bar).
+    tangent0 : ndarray, optional
+        Direction to start in (default: towards larger lam).
+    chord_error : callable, optional
+        ``chord_error(y0, t0, y1, t1) -> ratio``: the error of the straight chord
+        between two consecutive points relative to the wanted tolerance. A step with
+        a ratio above 1 is rejected and retried smaller (down to ``4 ds_min``), and
+        the next step is sized for a ratio of about 0.6 (the chord error grows like
+        the step squared).
 
     Returns
     -------
@@ -267,7 +277,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         return br
     e = np.zeros(n + 1)
     e[-1] = 1.0
-    t = tangent_at(J, e)
+    t = tangent_at(J, e if tangent0 is None else tangent0)
     if t is None:
         br.status, br.message = 4, "singular Jacobian at the start point"
         return br
@@ -316,6 +326,12 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                 br.status, br.message = 4, f"tangent failed at lam = {y_new[-1]:.6g}"
                 return br
             continue
+        ratio = 0.0
+        if chord_error is not None:
+            ratio = chord_error(y, t, y_new, t_new)
+            if ratio > 1.0 and ds > 4 * settings.ds_min:
+                ds = max(ds * max(0.2, 0.8 / math.sqrt(ratio)), 2 * settings.ds_min)
+                continue
         if y_new[-1] >= lam_end:
             # land exactly on lam_end: natural-parameter Newton from the secant
             frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
@@ -377,6 +393,8 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
         if angle > 0.0:
             fac = min(fac, max(settings.max_angle / angle, 0.5))
+        if ratio > 0.0:
+            fac = min(fac, max(0.2, math.sqrt(0.6 / ratio)))
         ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
         ds = max(ds, settings.ds_min)
         y, t = y_new, t_new

@@ -51,6 +51,27 @@ class HBMOptions:
         the points not evaluated.
     n_peak : int
         Phases per period used for the peak ``max |q(t)|``.
+    tol : float or None
+        Wanted accuracy of the curve relative to its peak (default 1e-3): half of it
+        for the harmonic-balance error (:mod:`hbm.error_estimate`; H and N are raised
+        until the estimate is below ``tol / 2``, up to ``max_harmonics`` and
+        ``max_samples``) and half for reading the curve between consecutive points
+        (the step is shrunk until the straight chord stays within ``tol / 2`` of the
+        curve in every DOF's amplitude). None: neither (fixed H and N, steps by
+        ``max_angle`` only).
+    error_estimate : bool
+        Estimate the truncation and sampling errors of every point (always on when
+        ``tol`` is set).
+    max_harmonics : int
+        Largest H the ``tol`` adaptation may use.
+    max_samples : int
+        Largest N the ``tol`` adaptation may use.
+    zigzag_refine : int
+        Factor on N for re-tracing a closely spaced pair of turning points; the pair is
+        kept only if it persists (1: keep every turning point).
+    zigzag_span : float
+        Largest frequency extent of a turning-point pair that is re-checked, relative
+        to ``fmax - fmin``.
     refine_samples : int
         How often :func:`hbm.frequency_response` may double the AFT sample count and
         trace the curve again when the continuation stalls or dead-ends at a kink of
@@ -74,6 +95,12 @@ class HBMOptions:
     stability_stride: int = 4
     n_peak: int = 256
     refine_samples: int = 2
+    tol: float | None = 1e-3
+    error_estimate: bool = True
+    max_harmonics: int = 25
+    max_samples: int = 2048
+    zigzag_refine: int = 4
+    zigzag_span: float = 0.05
 
     def __post_init__(self):
         problems = []
@@ -83,14 +110,19 @@ class HBMOptions:
                 if not isinstance(v, bool):
                     problems.append(f"`{f.name}` must be true or false, got {v!r}")
                 continue
-            if f.name == "n_samples" and v is None:
+            if f.name in ("n_samples", "tol") and v is None:
+                continue
+            if f.name == "error_estimate":
+                if not isinstance(v, bool):
+                    problems.append(f"`{f.name}` must be true or false, got {v!r}")
                 continue
             if f.name == "refine_samples":
                 if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                     problems.append(f"`{f.name}` must be an integer >= 0, got {v!r}")
                 continue
             if f.name in ("harmonics", "n_samples", "n_norm", "max_newton", "max_steps",
-                          "n_peak", "stability_stride"):
+                          "n_peak", "stability_stride", "max_harmonics", "max_samples",
+                          "zigzag_refine"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                     problems.append(f"`{f.name}` must be an integer >= 1, got {v!r}")
             elif not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
@@ -98,6 +130,8 @@ class HBMOptions:
         if not problems and self.ds_min > self.ds_max:
             problems.append(f"`ds_min` must be <= `ds_max` = {self.ds_max}, "
                             f"got {self.ds_min}")
+        if not problems and self.tol is not None and not self.tol < 0.5:
+            problems.append(f"`tol` must be < 0.5 (relative to peak), got {self.tol}")
         if not problems and self.max_growth < 1:
             problems.append(f"`max_growth` must be >= 1, got {self.max_growth}")
         if problems:

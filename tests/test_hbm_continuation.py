@@ -58,7 +58,7 @@ def test_curve_points_solve_the_equations():
     assert r.success and r.freq_hz[0] == 2.0 and r.freq_hz[-1] == 15.0
     assert np.all(np.diff(r.freq_hz) > 0)  # no fold for this preset
     sel = slice(None, None, 3)
-    r2 = hbm.solve_frequencies(s, r.freq_hz[sel], harmonics=5)
+    r2 = hbm.solve_frequencies(s, r.freq_hz[sel], harmonics=5, n_samples=r.n_samples)
     np.testing.assert_allclose(r2.coefficients, r.coefficients[sel], rtol=0,
                                atol=1e-9 * r.amplitude.max())
     assert r.n_newton >= r.n_points - 1 and r.n_steps >= r.n_points - 1
@@ -136,12 +136,13 @@ def test_dead_end_of_the_sampled_problem_is_refined():
     reaches fmax and the message says what happened."""
     from drymount.config import load_preset
     s = load_preset("six_dof_halved").system
-    off = hbm.HBMOptions(stability=False, refine_samples=0)
+    # tol=None: the steps of the old default (the chord control would step past it)
+    off = hbm.HBMOptions(stability=False, refine_samples=0, tol=None)
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5, options=off)
     assert not r.success and r.status == 7 and r.n_samples == 64
     assert r.n_points > 10 and 9.0 < r.freq_hz.max() < 10.0
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5,
-                               options=hbm.HBMOptions(stability=False))
+                               options=hbm.HBMOptions(stability=False, tol=None))
     assert r.success and r.n_samples == 128 and r.freq_hz[-1] == 25.0
     assert "raised to 128" in r.message and "64 AFT samples" in r.message
 
@@ -155,19 +156,27 @@ def test_csv_and_plot(tmp_path):
     rows = list(csv.reader(lines[1:]))
     assert rows[0] == ["freq_hz", "engine_amp", "engine_peak", "sprung_amp",
                        "sprung_peak", "unsprung_amp", "unsprung_peak",
-                       "transmissibility", "stable"]
+                       "transmissibility", "err_truncation", "err_sampling",
+                       "stable"]
     data = np.array(rows[1:], dtype=float)
-    assert data.shape == (r.n_points, 9)
+    assert data.shape == (r.n_points, 11)
     np.testing.assert_allclose(data[:, 0], r.freq_hz, rtol=1e-9)
     np.testing.assert_allclose(data[:, 1], r.amplitude[:, 0], rtol=1e-9)
     np.testing.assert_allclose(data[:, 7], r.amplitude[:, 0] / r.amplitude[:, 1],
                                rtol=1e-9)  # thesis eq. 4.3
-    assert set(data[:, 8]) <= {0.0, 1.0}
+    assert set(data[:, 10]) <= {0.0, 1.0}
+    np.testing.assert_allclose(data[:, 8], r.error_truncation, rtol=1e-2)
     png = tmp_path / "curve.png"
     ax = r.plot(png)
     assert png.stat().st_size > 1000
-    import matplotlib.pyplot as plt
-    plt.close(ax.figure)
+    # one panel per DOF beside the transmissibility, titled with system and H/N
+    fig = ax.figure
+    assert len(fig.axes) == 4
+    assert "H = 3" in fig._suptitle.get_text()
+    assert "|sprung|" in fig.axes[0].get_ylabel() or "eq. 4.3" in fig.axes[0].get_ylabel()
+    assert [a.get_title() for a in fig.axes[1:]] == [
+        "DOF engine", "DOF sprung", "DOF unsprung"]
+    assert all("[m]" in a.get_ylabel() for a in fig.axes[1:])
 
 
 def test_force_transmissibility_equals_linear_formula():
