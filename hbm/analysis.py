@@ -289,12 +289,18 @@ def _marked(prob: _Problem, ev: CurveEvent, n_peak: int) -> MarkedPoint:
                        float(trans), ev.converged, ev.interior)
 
 
-def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning):
-    """Located folds and per-DOF peaks (empty without tangents)."""
+def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
+    """Located folds and per-DOF peaks (empty without tangents); ``located``: folds
+    already located on a finer re-trace, by turning-point index."""
     if not br.tangent or len(br.tangent) != len(br.y):
         return [], []
     settings = opts.continuation_settings()
-    folds = locate_folds(prob, br, settings, _to_hz(prob)) if len(turning) else []
+    folds = []
+    if len(turning):
+        todo = Branch(y=br.y, tangent=br.tangent,
+                      turning_points=[i for i in turning if i not in located])
+        found = {e.index: e for e in locate_folds(prob, todo, settings, _to_hz(prob))}
+        folds = [located.get(i) or found[i] for i in turning]
     peaks = locate_peaks(prob, br, settings, _to_hz(prob), _amplitude_fn(prob),
                          prob.hb.n)
     return ([_marked(prob, e, opts.n_peak) for e in folds],
@@ -302,7 +308,7 @@ def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning):
 
 
 def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
-                 turning) -> FrequencyResponse:
+                 turning, located=None) -> FrequencyResponse:
     hb = prob.hb
     sysm = hb.system
     n, m, H = hb.n, hb.m, hb.H
@@ -322,7 +328,7 @@ def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                               opts.n_peak)
     if opts.stability and npts:
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
-    folds, peaks = _events(prob, br, opts, turning)
+    folds, peaks = _events(prob, br, opts, turning, located or {})
     return FrequencyResponse(
         turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
@@ -477,8 +483,8 @@ def _next_resolution(hb: HarmonicBalance, est: ErrorEstimate, goal: float,
         # sampling error ~ N^-2 or faster (kinks located between samples)
         N_new = N << max(1, math.ceil(0.5 * math.log2(samp / (0.5 * goal))))
     if H_new != H and not pin_n:
-        N_new = max(N_new, default_n_samples(H_new), 1 << (
-            math.ceil(N * H_new / H) - 1).bit_length())
+        # the sampling error depends on N (where the kinks fall), hardly on N / H
+        N_new = max(N_new, default_n_samples(H_new))
     N_new = min(N_new, opts.max_samples)
     if N_new <= 2 * H_new:
         N_new = N
@@ -566,21 +572,30 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
         if bar is not None:
             bar.close()
     zz = _merge_zigzags(prob, br, opts)
-    result = _postprocess(prob, br.y, opts, br, br.turning_points)
-    result.turning_points_merged = 2 * zz.merged
+    result = _postprocess(prob, br.y, opts, br, br.turning_points, zz.folds)
+    result.turning_points_merged = zz.merged
+    if zz.refined:
+        result.message += "; " + "; ".join(
+            f"{f0:.4g}-{f1:.4g} Hz re-traced with more AFT samples ({k} points: "
+            f"zigzags of the sampled residual)" for f0, f1, k in zz.refined)
     return result, br
 
 
 def _merge_zigzags(prob: _Problem, br: Branch, opts: HBMOptions):
-    """Merge turning-point pairs that vanish with ``opts.zigzag_refine`` x samples."""
-    fine = None
+    """Merge turning-point clusters that vanish with ``opts.zigzag_refine`` (then its
+    square) times the samples."""
+    fines = []
     if not prob.hb.closed_form and opts.zigzag_refine > 1 and \
             len(br.turning_points) >= 2:
-        fine = build_problem(prob.hb.system, *prob.f_ends, prob.hb.H,
-                             prob.hb.n_samples * opts.zigzag_refine, False)
-        fine.xs, fine.ws, fine.rs = prob.xs, prob.ws, prob.rs  # same scaled unknowns
-    return merge_spurious_pairs(br, fine, opts.continuation_settings(),
-                                opts.zigzag_span)
+        for level in (1, 2):
+            N = prob.hb.n_samples * opts.zigzag_refine ** level
+            if N > max(opts.max_samples, 4 * prob.hb.n_samples):
+                break
+            fine = build_problem(prob.hb.system, *prob.f_ends, prob.hb.H, N, False)
+            fine.xs, fine.ws, fine.rs = prob.xs, prob.ws, prob.rs  # same unknowns
+            fines.append(fine)
+    return merge_spurious_pairs(br, fines, opts.continuation_settings(),
+                                opts.zigzag_span, _to_hz(prob))
 
 
 def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,

@@ -238,7 +238,8 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                     settings: ContinuationSettings, lam_start: float | None = None,
                     callback: Callable | None = None,
                     tangent0: np.ndarray | None = None,
-                    chord_error: Callable | None = None) -> Branch:
+                    chord_error: Callable | None = None,
+                    until: Callable | None = None) -> Branch:
     """Trace the solution branch of ``fun`` from a solution ``y0`` until ``lam_end``.
 
     Parameters
@@ -262,6 +263,9 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         a ratio above 1 is rejected and retried smaller (down to ``4 ds_min``), and
         the next step is sized for a ratio of about 0.6 (the chord error grows like
         the step squared).
+    until : callable, optional
+        ``until(y) -> bool``: stop successfully (status 0) after the first accepted
+        point for which it is true (local re-traces).
 
     Returns
     -------
@@ -356,7 +360,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         br.n_iter.append(its)
         if callback is not None:
             callback(y_new[-1])
-        if y_new[-1] >= lam_end:
+        if y_new[-1] >= lam_end or (until is not None and until(y_new)):
             br.success = True
             br.status, br.message = 0, "reached the end of the range"
             return br

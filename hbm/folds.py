@@ -239,97 +239,140 @@ class ZigzagReport:
     before : int
         Turning points of the traced branch.
     merged : int
-        Pairs removed (each did not persist with ``refine`` times more samples).
+        Turning points removed (they vanished when the stretch was re-traced with
+        more samples).
     kept : int
-        Candidate pairs that persisted (physical folds).
+        Turning points of re-checked clusters that persisted.
     removed_points : int
-        Curve points of the merged zigzags dropped (their stretch went backwards).
+        Curve points dropped (coarse points replaced minus re-traced points).
+    folds : dict
+        ``{turning-point index: CurveEvent}`` for folds located on a finer re-trace.
+    refined : list of (f_start, f_end, points)
+        Stretches of the curve replaced by a finer re-trace (in Hz with ``to_hz``).
     """
 
     before: int = 0
     merged: int = 0
     kept: int = 0
     removed_points: int = 0
+    folds: dict = dataclasses.field(default_factory=dict)
+    refined: list = dataclasses.field(default_factory=list)
 
 
-def _pair_persists(fine: Callable, br: Branch, i1: int, i2: int,
-                   settings: ContinuationSettings) -> bool:
-    """Re-trace the stretch around turning points i1 < i2 with the finer problem
-    ``fine`` (same scaled unknowns) and say whether it still turns twice."""
-    a = max(i1 - 2, 0)
-    b = min(i2 + 1, len(br.y) - 1)
-    seg = br.y[a:b + 1]
-    lam_top = max(y[-1] for y in seg)
-    lam_bot = min(y[-1] for y in seg)
-    span = max(lam_top - lam_bot, 1e-12)
-    h = min(float(np.linalg.norm(q - p)) for p, q in zip(seg[:-1], seg[1:]))
-    t0 = br.tangent[a]
-    y0, ok, _, _ = newton(fine, br.y[a], settings, tangent=t0, y_pred=br.y[a])
+def _clusters(br: Branch, max_span: float) -> list[list[int]]:
+    """Runs of consecutive turning points whose stretches each span < max_span."""
+    tps = list(br.turning_points)
+    out, cur = [], tps[:1]
+    for a, b in zip(tps[:-1], tps[1:], strict=True):
+        lam = [br.y[i][-1] for i in range(a - 1, b + 1)]
+        if max(lam) - min(lam) < max_span:
+            cur.append(b)
+        else:
+            out.append(cur)
+            cur = [b]
+    if cur:
+        out.append(cur)
+    return out
+
+
+def _retrace(fine: Callable, br: Branch, a: int, b: int,
+             settings: ContinuationSettings) -> Branch | None:
+    """The branch of ``fine`` from point ``a`` of ``br`` until it passes point ``b``
+    (the plane through it normal to the chord a-b); None if that failed."""
+    d = br.y[b] - br.y[a]
+    span = float(np.linalg.norm(d))
+    d /= span
+    y0, ok, _, _ = newton(fine, br.y[a], settings, tangent=br.tangent[a],
+                          y_pred=br.y[a])
     if not ok:
-        return True  # cannot tell: keep the pair
-    local = dataclasses.replace(settings, ds_initial=max(h, 10 * settings.ds_min),
-                                ds_max=max(2 * h, 10 * settings.ds_min),
-                                max_steps=400)
-    sub = continue_branch(fine, y0, lam_top + 0.5 * span, local,
-                          lam_start=lam_bot - 2 * span, tangent0=t0)
-    if not sub.success:
-        return True
-    return len(sub.turning_points) >= 2
+        return None
+    seg = br.y[a:b + 1]
+    # the ordinary step sizes: tiny steps resolve (and turn at) every micro-kink
+    local = dataclasses.replace(settings, ds_initial=max(min(settings.ds_initial,
+                                                             span / 4),
+                                                         10 * settings.ds_min),
+                                max_steps=20 * (b - a) + 200)
+    lam = [y[-1] for y in seg]
+    width = max(lam) - min(lam)
+    sub = continue_branch(
+        fine, y0, max(lam) + 2 * width + 1.0, local, lam_start=min(lam) - 2 * width,
+        tangent0=br.tangent[a], until=lambda y: float(d @ (y - br.y[b])) > 0.0)
+    return sub if sub.success else None
 
 
-def merge_spurious_pairs(br: Branch, fine: Callable | None,
-                         settings: ContinuationSettings, max_span: float
+def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings,
+                         max_span: float, to_hz: Callable | None = None
                          ) -> ZigzagReport:
-    """Drop turning-point pairs of ``br`` that vanish with more samples (in place).
+    """Merge the zigzags of ``br`` that vanish with more samples (in place).
 
-    A candidate is two consecutive turning points whose backward stretch spans less
-    than ``max_span`` in lam. ``fine`` is the same problem with more AFT samples
-    (None: keep everything). A merged pair's points that went backwards in lam are
-    removed from the branch, so the frequencies stay monotonic across it.
+    Turning points closer than ``max_span`` in lam form clusters. Each cluster's
+    stretch is re-traced with the finer problems ``fines`` in turn (the same problem
+    with more AFT samples and the same scaled unknowns) until the re-trace has at most
+    one turning point or the problems run out; if the re-trace has fewer turning
+    points than the cluster, the stretch of the curve is replaced by it (its points
+    are then at the finer sampling, its folds located on it). Otherwise the cluster
+    is kept.
     """
     rep = ZigzagReport(before=len(br.turning_points))
-    if fine is None or len(br.turning_points) < 2:
+    if not fines or len(br.turning_points) < 2:
         return rep
-    tps = list(br.turning_points)
-    drop_tp, drop_pts = set(), set()
-    k = 0
-    while k + 1 < len(tps):
-        i1, i2 = tps[k], tps[k + 1]
-        lam = [br.y[i][-1] for i in range(i1 - 1, i2 + 1)]
-        if max(lam) - min(lam) >= max_span or _pair_persists(fine, br, i1, i2, settings):
-            if max(lam) - min(lam) < max_span:
-                rep.kept += 1
-            k += 1
+    npts = len(br.y)
+    parts = []  # (a, b, sub, fine): replace points a+1..b by sub.y[1:]
+    for cl in _clusters(br, max_span):
+        if len(cl) < 2:
             continue
-        rep.merged += 1
-        drop_tp |= {i1, i2}
-        ref = br.y[i1 - 1][-1]
-        forward = br.tangent[i1 - 1][-1] > 0
-        j = i1
-        while j < len(br.y) and ((br.y[j][-1] <= ref) if forward else
-                                 (br.y[j][-1] >= ref)):
-            drop_pts.add(j)
-            j += 1
-        k += 2
-    if not drop_tp:
+        a, b = max(cl[0] - 2, 0), min(cl[-1] + 1, npts - 1)
+        best = None
+        for fine in fines:
+            sub = _retrace(fine, br, a, b, settings)
+            if sub is None:
+                break
+            best = (a, b, sub, fine)
+            if len(sub.turning_points) <= 1:
+                break
+        if best is None or len(best[2].turning_points) >= len(cl):
+            rep.kept += len(cl)
+            continue
+        parts.append(best)
+        rep.merged += len(cl) - len(best[2].turning_points)
+    if not parts:
         return rep
-    keep = [i for i in range(len(br.y)) if i not in drop_pts]
-    new_index = {old: new for new, old in enumerate(keep)}
-    remaining = []
-    for tp in br.turning_points:
-        if tp in drop_tp:
-            continue
-        # a kept turning point's index moves with the dropped points before it
-        j = tp
-        while j < len(br.y) and j not in new_index:
-            j += 1
-        if j < len(br.y):
-            remaining.append(new_index[j])
-    br.y = [br.y[i] for i in keep]
-    br.tangent = [br.tangent[i] for i in keep]
-    br.jacobian = [br.jacobian[i] for i in keep]
-    br.n_iter = [br.n_iter[i] for i in keep]
-    br.turning_points = remaining
-    rep.removed_points = len(drop_pts)
-    return rep
+    y, tg, jac, nit, tps, folds = [], [], [], [], [], {}
+    start = 0
+    old_tp = set(br.turning_points)
 
+    def copy(lo, hi):  # coarse points lo..hi-1
+        for i in range(lo, hi):
+            if i in old_tp:
+                tps.append(len(y))
+            y.append(br.y[i])
+            tg.append(br.tangent[i])
+            jac.append(br.jacobian[i])
+            nit.append(br.n_iter[i])
+
+    for a, b, sub, fine in parts:
+        copy(start, a + 1)
+        offset = len(y) - 1  # sub point 0 is coarse point a
+        located = {}
+        if to_hz is not None and sub.turning_points:
+            located = {e.index: e for e in locate_folds(fine, sub, settings, to_hz)}
+        for k in range(1, len(sub.y)):
+            if k in sub.turning_points:
+                tps.append(len(y))
+                if k in located:
+                    folds[len(y)] = dataclasses.replace(located[k], index=len(y))
+            y.append(sub.y[k])
+            tg.append(sub.tangent[k])
+            jac.append(sub.jacobian[k])
+            nit.append(sub.n_iter[k])
+        rep.removed_points += (b - a) - (len(sub.y) - 1)
+        rep.refined.append((to_hz(br.y[a][-1]) if to_hz else br.y[a][-1],
+                            to_hz(br.y[b][-1]) if to_hz else br.y[b][-1],
+                            len(sub.y) - 1))
+        del offset
+        start = b + 1
+    copy(start, npts)
+    br.y, br.tangent, br.jacobian, br.n_iter = y, tg, jac, nit
+    br.turning_points = tps
+    rep.folds = folds
+    return rep
