@@ -96,7 +96,7 @@ def harness_loop(system, backend: str, fmu_path, periods: int) -> float:
 
 def systems():
     from fmu_src.mount_law import AxisParameters, MountParameters
-    from vehicle.models import rigid_engine, sdof
+    from hbm.systems import rigid_engine, sdof
 
     ax = AxisParameters(law="piecewise", friction=True, n0=10.0)
     s1 = sdof(70.0, MountParameters.from_axial(ax), "unbalance", 0.01)
@@ -169,7 +169,7 @@ def main(argv=None) -> int:
                     help="part 2 on the first 3 presets only")
     ap.add_argument("--skip-presets", action="store_true", help="part 1 only")
     args = ap.parse_args(argv)
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     with tempfile.TemporaryDirectory(prefix="drymount_bench_") as tmp:
         tmp = Path(tmp)

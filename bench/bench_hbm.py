@@ -55,7 +55,7 @@ def main():
 
     import hbm
     from fmu_src.mount_law import AxisParameters, MountParameters
-    from vehicle.models import quarter_car, rigid_engine, sdof
+    from hbm.systems import quarter_car, rigid_engine, sdof
 
     def fr_axis(n0):
         return AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True,

@@ -24,7 +24,7 @@ try:
 
     # pythonfmu 0.7.0's loader re-runs this file at every fmi2Instantiate and then
     # releases one reference to the module namespace it does not own (see
-    # drymount/fmu_build.py): hand it that reference, or a second instance crashes.
+    # fmu_build/builder.py): hand it that reference, or a second instance crashes.
     _ctypes.pythonapi.Py_IncRef(_ctypes.py_object(globals()))
 except (ImportError, AttributeError, OSError):  # no ctypes: hold a real reference
     globals().setdefault("_namespace_refs", []).append(globals())

@@ -21,13 +21,12 @@ listed, no traceback); 1 a numerical failure (what was computed is still written
 
 from __future__ import annotations
 
-import argparse
 import importlib
-import math
 import os
 import sys
-import textwrap
 from pathlib import Path
+
+from drymount.cli_parser import build_parser
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE"]
 
@@ -39,300 +38,10 @@ EXIT_FAILURE = 1
 EXIT_USAGE = 2
 EXIT_INTERRUPTED = 130
 
-STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump")
 
 
 class UsageError(Exception):
     """Bad command-line values found after parsing (exit status 2)."""
-
-
-# ======================================================================================
-# Argument types
-# ======================================================================================
-
-
-def _positive_float(text: str) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"must be a number > 0, got {text!r}") from None
-    if not (math.isfinite(x) and x > 0):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
-    return x
-
-
-def _int_at_least(minimum: int):
-    def parse(text: str) -> int:
-        try:
-            n = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"must be an integer >= {minimum}, got {text!r}") from None
-        if n < minimum:
-            raise argparse.ArgumentTypeError(
-                f"must be an integer >= {minimum}, got {n}")
-        return n
-
-    parse.__name__ = f"integer >= {minimum}"
-    return parse
-
-
-# ======================================================================================
-# Parser
-# ======================================================================================
-
-
-class _Formatter(argparse.RawDescriptionHelpFormatter):
-    """Keeps the layout of descriptions and examples; shows defaults."""
-
-    def _get_help_string(self, action):
-        text = action.help or ""
-        if ("%(default)" not in text and action.default not in (None, False,
-                                                                 argparse.SUPPRESS)
-                and action.option_strings):
-            text += " (default: %(default)s)"
-        return text
-
-
-def _examples(*lines: str) -> str:
-    return "examples:\n" + "\n".join(f"  {line}" for line in lines)
-
-
-def _add(sub, name: str, help_: str, description: str, examples: list[str]):
-    return sub.add_parser(name, help=help_, description=textwrap.dedent(description),
-                          epilog=_examples(*examples), formatter_class=_Formatter)
-
-
-def _harness_args(p, kind: str) -> None:
-    """Options shared by ``cosim`` and ``sweep``: step, FMU, output files."""
-    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
-                   help="fixed steps per excitation period (default: [cosim] "
-                        "steps_per_period, else the harness default)")
-    p.add_argument("--fmu", type=Path, default=None,
-                   help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing)")
-    p.add_argument("--out", type=Path, default=None,
-                   help=f"CSV file to write (default: <name>_{kind}.csv)")
-    p.add_argument("--plot", type=Path, default=None, help="plot file to write")
-
-
-def _config_arg(p):
-    p.add_argument("config", metavar="CONFIG",
-                   help="TOML configuration file (docs/config.md) or preset name "
-                        "(drymount presets list)")
-
-
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("drymount")
-    except PackageNotFoundError:  # running from a source tree without install
-        return "(not installed)"
-
-
-def build_parser() -> argparse.ArgumentParser:
-    """The ``drymount`` argument parser (subcommands in ``args.command``)."""
-    parser = argparse.ArgumentParser(
-        prog="drymount",
-        description=textwrap.dedent("""\
-            drymount: friction-damped engine mounts. An FMI 2.0 mount FMU, a vehicle
-            co-simulation harness and harmonic balance, for the systems of the thesis
-            "Design of an engine mount with dry friction damping".
-
-            CONFIG is a TOML file (docs/config.md) or a preset name."""),
-        epilog=_examples(
-            "drymount demo --out demo                # first look: report in demo/",
-            "drymount presets list",
-            "drymount hbm sdof_halved --out curve.csv --plot curve.png",
-            "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
-            "--plot sweep.png",
-            "drymount build-fmu --out FrictionMount.fmu",
-        ) + "\n\nexit status: 0 success, 1 numerical failure (results so far are "
-            "written), 2 bad usage or configuration",
-        formatter_class=_Formatter)
-    parser.add_argument("--version", action="version",
-                        version=f"drymount {_version()}")
-    parser.add_argument("--traceback", action="store_true",
-                        help="show the Python traceback of an unexpected error")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-
-    # presets ------------------------------------------------------------------
-    p = _add(sub, "presets", "list, show or export the shipped presets",
-             """\
-             The presets are the thesis's systems as TOML configurations. Every
-             value the thesis does not give is stated in a comment with its reason.
-             Export one to start your own configuration.""",
-             ["drymount presets list", "drymount presets show sdof_halved",
-              "drymount presets export six_dof_halved my_engine.toml"])
-    psub = p.add_subparsers(dest="action", metavar="ACTION", required=True)
-    psub.add_parser("list", help="names and descriptions of the presets",
-                    description="Print each preset's name and description.",
-                    epilog=_examples("drymount presets list"),
-                    formatter_class=_Formatter)
-    q = psub.add_parser("show", help="print a preset's TOML text",
-                        description="Print the TOML text of a preset, with its "
-                                    "comments.",
-                        epilog=_examples("drymount presets show quarter_car_halved"),
-                        formatter_class=_Formatter)
-    q.add_argument("name", metavar="NAME", help="preset name")
-    q = psub.add_parser("export", help="write a preset's TOML to a file",
-                        description="Write the TOML text of a preset to PATH, to edit "
-                                    "it into your own configuration.",
-                        epilog=_examples(
-                            "drymount presets export sdof_halved mine.toml",
-                            "drymount hbm mine.toml"),
-                        formatter_class=_Formatter)
-    q.add_argument("name", metavar="NAME", help="preset name")
-    q.add_argument("path", metavar="PATH", type=Path, help="file to write")
-    q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
-
-    # build-fmu ----------------------------------------------------------------
-    p = _add(sub, "build-fmu", "build the FrictionMount FMU (FMI 2.0 co-simulation)",
-             """\
-             Build FrictionMount.fmu, the mount law as an FMI 2.0 co-simulation FMU
-             (pythonfmu). The importer needs a Python 3 with the pythonfmu runtime on
-             the host; docs/fmu.md describes its variables.""",
-             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu"])
-    p.add_argument("--out", type=Path, default=None,
-                   help="FMU file to write (default: dist/FrictionMount.fmu under the "
-                        "current folder)")
-
-    # hbm ----------------------------------------------------------------------
-    p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
-             """\
-             Multi-harmonic balance with alternating frequency-time evaluation and
-             arc-length continuation from fmin to fmax (thesis Chapter 3,
-             eq. 3.51-3.66), following folds and marking unstable points. Writes a
-             CSV (freq_hz, for each DOF <dof>_amp and <dof>_peak, transmissibility,
-             stable) and optionally a plot. H = 1 is the thesis's single-harmonic
-             method.""",
-             ["drymount hbm sdof_halved --out curve.csv --plot curve.png",
-              "drymount hbm sdof_cubic --harmonics 1 --fmin 2 --fmax 14 --out h1.csv",
-              "drymount hbm my_engine.toml --harmonics 9"])
-    _config_arg(p)
-    p.add_argument("--harmonics", "-H", type=_int_at_least(1), default=None,
-                   help="number of harmonics H (default: [hbm] harmonics of CONFIG, 7)")
-    p.add_argument("--n-samples", type=_int_at_least(3), default=None,
-                   help="AFT samples per period (default: [hbm] n_samples, else auto)")
-    p.add_argument("--fmin", type=_positive_float, default=None,
-                   help="lowest frequency in Hz (default: [sweep] fmin_hz)")
-    p.add_argument("--fmax", type=_positive_float, default=None,
-                   help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--out", type=Path, default=None,
-                   help="CSV file to write (default: <name>_hbm.csv)")
-    p.add_argument("--plot", type=Path, default=None,
-                   help="plot file to write (.png, .pdf, .svg)")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-    _hbm_accuracy_args(p)
-
-    # cosim --------------------------------------------------------------------
-    p = _add(sub, "cosim", "time history co-simulated through the mount FMU",
-             """\
-             Fixed-step co-simulation of the bodies with one mount FMU instance per
-             mount (backend fmu, through fmpy) or the same mount law in-process
-             (backend native). Writes the time histories: time, every DOF and every
-             mount force.""",
-             ["drymount cosim sdof_halved --freq 5 --duration 4 --out run.csv",
-              "drymount cosim six_dof_halved --freq 7 --duration 3 --backend native "
-              "--out run.csv --plot run.png"])
-    _config_arg(p)
-    p.add_argument("--freq", type=_positive_float, default=None,
-                   help="excitation frequency in Hz (default: [cosim] freq_hz)")
-    p.add_argument("--duration", type=_positive_float, default=None,
-                   help="simulated time in s (default: [cosim] duration, else the "
-                        "harness default)")
-    p.add_argument("--backend", choices=("fmu", "native"), default=None,
-                   help="fmu: FMU instances through fmpy; native: in-process law "
-                        "(default: [cosim] backend)")
-    _harness_args(p, "cosim")
-
-    # sweep --------------------------------------------------------------------
-    p = _add(sub, "sweep", "stepped-sine sweep of co-simulated steady states",
-             """\
-             At each frequency, run until the period-to-period change is below the
-             tolerance, starting from the previous frequency's steady state (so jumps
-             show as on a test rig), and extract each DOF's fundamental amplitude and
-             peak and the transmissibility. Same CSV columns as `drymount hbm` (without
-             `stable`) plus `converged`. --hbm overlays a curve written by `drymount
-             hbm` on the plot.""",
-             ["drymount sweep sdof_halved --fmin 2 --fmax 14 --points 25 --backend "
-              "native --workers 2 --out sweep.csv --plot sweep.png",
-              "drymount hbm sdof_cubic --out curve.csv && drymount sweep sdof_cubic "
-              "--direction down --hbm curve.csv --plot down.png"])
-    _config_arg(p)
-    p.add_argument("--fmin", type=_positive_float, default=None,
-                   help="lowest frequency in Hz (default: [sweep] fmin_hz)")
-    p.add_argument("--fmax", type=_positive_float, default=None,
-                   help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--points", type=_int_at_least(2), default=None,
-                   help="number of frequencies (default: [sweep] points)")
-    p.add_argument("--spacing", choices=("linear", "log"), default=None,
-                   help="frequency spacing (default: [sweep] spacing)")
-    p.add_argument("--direction", choices=("up", "down"), default=None,
-                   help="sweep order (default: [sweep] direction)")
-    p.add_argument("--backend", choices=("fmu", "native"), default=None,
-                   help="default: [cosim] backend")
-    p.add_argument("--workers", type=_int_at_least(1), default=1,
-                   help="parallel processes")
-    _harness_args(p, "sweep")
-    p.add_argument("--hbm", type=Path, default=None, metavar="CURVE_CSV",
-                   help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
-
-    # validate -----------------------------------------------------------------
-    p = _add(sub, "validate", "co-simulation through the FMU against harmonic balance",
-             """\
-             For the single-DOF, quarter-car and 6-DOF presets with friction and the
-             cubic single DOF: a stepped sweep co-simulated through the FMU against
-             multi-harmonic HBM at the same frequencies. Writes validation.md (report
-             with plots) and points.csv; exit status 1 if a system fails its
-             tolerance.""",
-             ["drymount validate --quick --out validation",
-              "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
-    p.add_argument("--quick", action="store_true",
-                   help="fewer frequencies (still real runs), for CI")
-    p.add_argument("--out", type=Path, default=Path("validation"),
-                   help="report folder")
-    p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
-                   help="only these systems (sdof_friction, quarter_car_friction, "
-                        "six_dof_friction, sdof_cubic)")
-    p.add_argument("--inject", default=None, metavar="FIELD=FACTOR",
-                   help="scale a mount-law field on the HBM side only "
-                        "(proves that the check can fail), e.g. n0=1.5")
-
-    # study --------------------------------------------------------------------
-    p = _add(sub, "study", "the thesis's design studies (Chapter 4)",
-             """\
-             normal-force  single DOF, transmissibility for a range of n0
-                           (Figs. 4.1-4.4)
-             optimize-n0   the n0 minimising peak or RMS transmissibility (Sec. 4.2)
-             quarter-car   quarter car for a range of n0 (Figs. 4.6-4.9)
-             six-dof       6-DOF responses, lambda 1 and 1.2, relocated mount
-                           (Figs. 4.11-4.44)
-             jump          cubic single DOF: unstable branch and the jump (Fig. 3.7)
-             Each writes CSV files, plots and summary.md into --out.""",
-             ["drymount study normal-force --out study-nf",
-              "drymount study jump --out jump --quick"])
-    p.add_argument("name", metavar="NAME", choices=STUDY_NAMES,
-                   help="one of " + ", ".join(STUDY_NAMES))
-    p.add_argument("--out", type=Path, default=None,
-                   help="output folder (default: study-NAME)")
-    p.add_argument("--quick", action="store_true",
-                   help="fewer designs and coarser curves (seconds instead of minutes)")
-
-    # demo ---------------------------------------------------------------------
-    p = _add(sub, "demo", "the first-hour demo: FMU, HBM, co-simulation, report",
-             """\
-             Builds the FMU, computes the HBM curve of the friction-damped quarter car
-             against the original mount, co-simulates a few frequencies through the FMU
-             and writes demo.md with plots and CSV files. A couple of minutes on 2
-             cores.""",
-             ["drymount demo", "drymount demo --out /tmp/demo"])
-    p.add_argument("--out", type=Path, default=Path("demo"), help="report folder")
-    p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
-    return parser
 
 
 # ======================================================================================
@@ -354,25 +63,6 @@ def _load(spec):
     return resolve_config(spec)
 
 
-def _hbm_accuracy_args(p) -> None:
-    """Accuracy and step controls of `drymount hbm` (default: [hbm] of CONFIG)."""
-    g = p.add_argument_group("accuracy and steps (default: [hbm] of CONFIG, else hbm's)")
-    g.add_argument("--tol", type=_positive_float, default=None,
-                   help="wanted accuracy relative to the peak (default 1e-3): H and N "
-                        "are raised until the error estimate is below tol/2 (unless "
-                        "--harmonics/--n-samples fix them), and the step until reading "
-                        "between CSV rows stays within tol/2")
-    g.add_argument("--max-harmonics", type=_int_at_least(1), default=None,
-                   help="cap on H when --tol raises it (default 25)")
-    for flag, what in (("--ds-initial", "first"), ("--ds-min", "smallest"),
-                       ("--ds-max", "largest")):
-        g.add_argument(flag, type=_positive_float, default=None,
-                       help=f"{what} arc-length step (scaled: a sweep spans about 1)")
-    g.add_argument("--max-angle", type=_positive_float, default=None,
-                   help="largest angle between successive tangents, rad (default 0.15)")
-    g.add_argument("--log-freq", action="store_true", help="log frequency axis in --plot")
-
-
 def _write_with(path: Path, writer) -> Path:
     """Call ``writer(tmp_path)`` and move the file to ``path`` atomically."""
     from drymount.io import atomic_path
@@ -380,6 +70,17 @@ def _write_with(path: Path, writer) -> Path:
     with atomic_path(path) as tmp:
         writer(tmp)
     return path
+
+
+def _peak_text(name: str, freq_hz, transmissibility) -> str:
+    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value)."""
+    import numpy as np
+
+    t = np.asarray(transmissibility, dtype=float)
+    if not np.any(np.isfinite(t)):
+        return ""
+    i = int(np.nanargmax(t))
+    return f"{name}: peak transmissibility {t[i]:.4g} at {freq_hz[i]:.4g} Hz"
 
 
 def _band(args, cfg) -> tuple[float, float]:
@@ -419,7 +120,7 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
@@ -442,6 +143,7 @@ def cmd_hbm(args) -> int:
             "tol", "max_harmonics", "ds_initial", "ds_min", "ds_max", "max_angle")})
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    # --harmonics / --n-samples fix H / N; [hbm] values are where --tol starts
     fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=args.harmonics,
                                 n_samples=args.n_samples, options=opts,
                                 progress=not args.quiet)
@@ -457,11 +159,9 @@ def cmd_hbm(args) -> int:
     if len(fr.freq_hz):
         import numpy as np
 
-        t = np.asarray(fr.transmissibility, dtype=float)
-        if np.any(np.isfinite(t)):
-            i = int(np.nanargmax(t))
-            print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
-                  f"{fr.freq_hz[i]:.4g} Hz; {len(fr.turning_points)} turning point(s); "
+        peak = _peak_text(cfg.name, fr.freq_hz, fr.transmissibility)
+        if peak:
+            print(f"{peak}; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
             for direction in ("up", "down"):
                 events = [f"jumps at {f:.4g} Hz" if k >= 0 else
@@ -524,7 +224,7 @@ def cmd_cosim(args) -> int:
 
 
 def _fmu_path(path):
-    from drymount.fmu_build import ensure_fmu
+    from fmu_build import ensure_fmu
 
     return ensure_fmu(path)
 
@@ -621,12 +321,9 @@ def cmd_sweep(args) -> int:
         _write_with(args.plot, lambda p: res.plot(path=p, hbm=overlay))
         _info(f"wrote {args.plot}")
     conv = np.asarray(res.converged, dtype=bool)
-    t = np.asarray(res.transmissibility, dtype=float)
-    if np.any(np.isfinite(t)):
-        i = int(np.nanargmax(t))
-        print(f"{cfg.name}: peak transmissibility {t[i]:.4g} at "
-              f"{res.freq_hz[i]:.4g} Hz ({int(conv.sum())}/{len(conv)} frequencies "
-              f"converged)")
+    peak = _peak_text(cfg.name, res.freq_hz, res.transmissibility)
+    if peak:
+        print(f"{peak} ({int(conv.sum())}/{len(conv)} frequencies converged)")
     if not np.all(conv):
         bad = ", ".join(f"{f:g}" for f in np.asarray(res.freq_hz)[~conv])
         _err(f"no steady state reached at {bad} Hz (those rows have converged = 0 in "

@@ -40,7 +40,7 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
     import hbm
     import vehicle
     from drymount.config import load_preset
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -69,6 +69,16 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
     sw.to_csv(out / "cosim_friction.csv")
 
     _log("4/4 plots and report")
+    _plot(c_orig, c_fric, sw, out / "transmissibility.png")
+    numbers = _numbers(fmu, problems, c_orig, c_fric, sw, friction, t_start)
+    atomic_write_text(out / "demo.md", _report(numbers, fmu, problems, c_orig, c_fric,
+                                               friction))
+    _log(f"done in {numbers['seconds']:.1f} s: report {out / 'demo.md'}")
+    return numbers
+
+
+def _plot(c_orig, c_fric, sw, path: Path) -> None:
+    """Transmissibility of both HBM curves with the co-simulated points."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -92,10 +102,14 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    save_figure(fig, out / "transmissibility.png")
+    save_figure(fig, path)
     plt.close(fig)
 
-    # key numbers
+
+def _numbers(fmu, problems, c_orig, c_fric, sw, friction, t_start: float) -> dict:
+    """The demo's key numbers: peaks, their reduction, co-simulation vs HBM."""
+    import hbm
+
     tr_o = np.asarray(c_orig.transmissibility)
     tr_f = np.asarray(c_fric.transmissibility)
     i_o, i_f = int(np.nanargmax(tr_o)), int(np.nanargmax(tr_f))
@@ -103,7 +117,7 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
     hb = hbm.solve_frequencies(friction, np.array(COSIM_FREQS_HZ), harmonics=HARMONICS)
     err = np.abs(np.asarray(sw.transmissibility) - np.asarray(hb.transmissibility))
     rel = err / np.nanmax(tr_f)
-    numbers = dict(
+    return dict(
         fmu=str(fmu),
         fmu_problems=len(problems),
         peak_original=float(tr_o[i_o]), peak_original_hz=float(c_orig.freq_hz[i_o]),
@@ -112,6 +126,10 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
         cosim_max_err_rel_peak=float(np.nanmax(rel)),
         seconds=time.perf_counter() - t_start,
     )
+
+
+def _report(numbers: dict, fmu, problems, c_orig, c_fric, friction) -> str:
+    """``demo.md``."""
     n0 = [a.n0 for e in friction.elements for a in e.params.axes if a.friction]
     lines = [
         "# drymount demo: engine on a quarter car, original vs friction-damped mount",
@@ -136,9 +154,7 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
         "Files: `hbm_original.csv`, `hbm_friction.csv` (HBM curves), "
         "`cosim_friction.csv` (co-simulated steady states).",
     ]
-    atomic_write_text(out / "demo.md", "\n".join(lines) + "\n")
-    _log(f"done in {numbers['seconds']:.1f} s: report {out / 'demo.md'}")
-    return numbers
+    return "\n".join(lines) + "\n"
 
 
 def main(args: argparse.Namespace) -> int:

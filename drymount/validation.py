@@ -386,7 +386,7 @@ def write_report(results: list[CaseResult], out: Path, quick: bool,
 def run_validation(*, quick: bool = False, out="validation", inject: str | None = None,
                    cases=None, progress: bool = True) -> list[CaseResult]:
     """Run the cases (default :data:`CASES`), write the report, return the results."""
-    from drymount.fmu_build import ensure_fmu
+    from fmu_build import ensure_fmu
 
     cases = CASES if cases is None else cases
     fmu_path = ensure_fmu()

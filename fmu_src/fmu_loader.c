@@ -19,7 +19,7 @@
  *      FMI call to it.
  *
  * Failures are reported through the importer's logger (category "drymount") and
- * make fmi2Instantiate return NULL. The build (drymount/fmu_build.py) compiles this
+ * make fmi2Instantiate return NULL. The build (fmu_build/builder.py) compiles this
  * file with the paths of the building Python:
  *   cc -shared -fPIC -O2 -fvisibility=hidden -DDRYMOUNT_LIBPYTHON_PATH=... \
  *      -DDRYMOUNT_LIBPYTHON_SONAME=... -DDRYMOUNT_PYTHONHOME=... -ldl -lpthread

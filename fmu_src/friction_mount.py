@@ -2,7 +2,7 @@
 
 Every force comes from :mod:`mount_law` (imported relatively, so the same file works as
 ``fmu_src.friction_mount`` in the repository and as ``<unique package>.friction_mount``
-inside the FMU, see ``drymount.fmu_build``). This module adds the FMI variables, their
+inside the FMU, see ``fmu_build``). This module adds the FMI variables, their
 units, the model structure, parameter checks and the co-simulation protocol:
 
 * per communication step t_n -> t_n + h the master sets ``u_<axis>``, ``v_<axis>`` (and
@@ -38,59 +38,35 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
-from .mount_law import AXES, LAWS, AxisParameters, axis_force
+from .interface import (
+    BASE_UNITS,
+    CAPABILITIES,
+    DEFAULT_EXPERIMENT,
+    PARAMETER_FIELDS,
+    VARIABLES,
+)
+from .mount_law import AXES, LAWS, AxisParameters, axis_force, law_code, law_name
 
-try:  # written by drymount.fmu_build into the FMU's package; absent in the repository
+try:  # written by fmu_build into the FMU's package; absent in the repository
     from . import FMU_VERSION
 except ImportError:
     FMU_VERSION = "source"
 
-__all__ = ["FrictionMount", "UNITS", "BASE_UNITS"]
+__all__ = ["FrictionMount"]
 
-#: SI exponents of every unit the model description uses (FMI 2.0 ``BaseUnit``).
-BASE_UNITS = {
-    "m": {"m": 1},
-    "m/s": {"m": 1, "s": -1},
-    "N": {"kg": 1, "m": 1, "s": -2},
-    "N/m": {"kg": 1, "s": -2},
-    "N/m3": {"kg": 1, "m": -2, "s": -2},
-    "N.s/m": {"kg": 1, "s": -1},
-    "J": {"kg": 1, "m": 2, "s": -2},
-    "1": {},
-}
-
-# (field, FMI type, unit, description) of the parameters, in AxisParameters' order.
-_PARAMETERS = (
-    ("law", "Integer", None,
-     "elastic law: 0 = linear, 1 = cubic, 2 = piecewise, 3 = piecewise_asym"),
-    ("k1", "Real", "N/m", "linear (small-deflection) stiffness, >= 0"),
-    ("kc", "Real", "N/m3", "cubic stiffness (law 1), >= 0"),
-    ("k2", "Real", "N/m", "stiffness beyond the knee (laws 2, 3), >= 0"),
-    ("delta", "Real", "m", "knee deflection for u > 0 (and u < 0 with law 2), > 0"),
-    ("delta_neg", "Real", "m", "knee deflection magnitude for u < 0 with law 3, > 0"),
-    ("c", "Real", "N.s/m", "viscous damping, >= 0"),
-    ("friction", "Boolean", None, "whether the macro-slip (Jenkins) element exists"),
-    ("kf", "Real", "N/m", "contact stiffness of the Jenkins element, > 0 if friction"),
-    ("mu", "Real", "1", "friction coefficient, >= 0 (slip force Fs = mu * n)"),
-    ("n0", "Real", "N", "normal force on the contact, >= 0; start value of n_<axis>"),
-)
-
-#: Unit of every Real variable, by name (Integer and Boolean variables have none).
-UNITS: dict[str, str] = {}
-for _axis in AXES:
-    UNITS.update({f"{_axis}_{name}": unit for name, typ, unit, _ in _PARAMETERS
-                  if typ == "Real"})
-    UNITS.update({f"u_{_axis}": "m", f"v_{_axis}": "m/s", f"n_{_axis}": "N",
-                  f"F_{_axis}": "N", f"Ffr_{_axis}": "N", f"kt_{_axis}": "N/m",
-                  f"E_fr_{_axis}": "J", f"w_{_axis}": "m"})
-UNITS["E_fr"] = "J"
+_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean}
+_CAUSALITY = {c.name: c for c in Fmi2Causality}
+_VARIABILITY = {v.name: v for v in Fmi2Variability}
+_INITIAL = {i.name: i for i in Fmi2Initial}
+_PARAMETER_NAMES = tuple(name for name, *_ in PARAMETER_FIELDS)
 
 # Declared ranges of the parameters (strict bounds such as delta > 0 and the rule for
 # kf are in the descriptions and checked at initialization).
 _BOUNDS = {"law": {"min": "0", "max": str(len(LAWS) - 1)}}
-_BOUNDS.update({name: {"min": "0"} for name, typ, *_ in _PARAMETERS if typ == "Real"})
+_BOUNDS.update({name: {"min": "0"} for name, typ, *_ in PARAMETER_FIELDS
+                if typ == "Real"})
 
-# Indices into the axis_force result tuple.
+# Indices into the AxisForce result (mount_law.axis_force).
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
 
 
@@ -155,22 +131,23 @@ class FrictionMount(Fmi2Slave):
         # pythonfmu's native wrapper passes a `logger` handle; Python callers do not
         self._native = "logger" in kwargs
         self.default_experiment = DefaultExperiment(
-            start_time=0.0, stop_time=1.0, step_size=1e-4)
-        defaults = AxisParameters()
+            start_time=DEFAULT_EXPERIMENT["startTime"],
+            stop_time=DEFAULT_EXPERIMENT["stopTime"],
+            step_size=DEFAULT_EXPERIMENT["stepSize"])
         # Parameters as plain attributes named like the FMU variables.
-        for axis in AXES:
-            for name, _, _, _ in _PARAMETERS:
-                value = defaults.law_code if name == "law" else getattr(defaults, name)
-                setattr(self, f"{axis}_{name}", value)
+        for var in VARIABLES:
+            if var.causality == "parameter":
+                setattr(self, var.name, var.start)
         # Inputs, committed state and the per-axis evaluation cache, in AXES order.
+        n0 = [self._start(f"n_{axis}") for axis in AXES]
         self._u = [0.0, 0.0, 0.0]
         self._v = [0.0, 0.0, 0.0]
-        self._n = [float(defaults.n0)] * 3
+        self._n = n0
         self._n_set = [False, False, False]  # n follows <axis>_n0 until set
         self._w = [0.0, 0.0, 0.0]
         self._e = [0.0, 0.0, 0.0]  # committed dissipated energy per axis, J
         self._res = [None, None, None]
-        self._coef = None  # per-axis tuples of checked parameters, see _prepare()
+        self._axes = None  # per-axis checked AxisParameters, see _prepare()
         self._register_all()
         by_name = {var.name: vr for vr, var in self.vars.items()}
         self._fast_inputs = {by_name[f"{q}_{axis}"]: (store, j)
@@ -180,71 +157,46 @@ class FrictionMount(Fmi2Slave):
                               for j, axis in enumerate(AXES)
                               for name, idx in (("F", _F), ("Ffr", _FFR), ("kt", _KT))}
 
+    @staticmethod
+    def _start(name: str):
+        return next(v.start for v in VARIABLES if v.name == name)
+
     # ------------------------------------------------------------------ variables
+    def _accessors(self, name: str):
+        """``(getter, setter)`` of the FMU variable ``name`` (setter None: output)."""
+        if name == "E_fr":
+            return self._energy_total, None
+        quantity, _, axis = name.rpartition("_")
+        if axis not in AXES:  # a parameter <axis>_<field>
+            return ((lambda a=name: getattr(self, a)),
+                    (lambda value, a=name: self._set_parameter(a, value)))
+        j = AXES.index(axis)
+        inputs = {"u": self._u, "v": self._v, "w": self._w}
+        if quantity in inputs:
+            store = inputs[quantity]
+            return ((lambda: store[j]),
+                    (lambda value: self._set_input(store, j, value)))
+        if quantity == "n":
+            return ((lambda: self._normal_force(j)),
+                    (lambda value: self._set_normal_force(j, value)))
+        if quantity == "E_fr":
+            return (lambda: self._e[j] + self._axis(j)[_DISS]), None
+        idx = {"F": _F, "Ffr": _FFR, "kt": _KT, "slip": _SLIP}[quantity]
+        return (lambda: self._axis(j)[idx]), None
+
     def _register_all(self) -> None:
-        fixed, par = Fmi2Variability.fixed, Fmi2Causality.parameter
-        types = {"Real": Real, "Integer": Integer, "Boolean": Boolean}
-        for axis in AXES:
-            for name, typ, _, text in _PARAMETERS:
-                attr = f"{axis}_{name}"
-                self.register_variable(types[typ](
-                    attr, causality=par, variability=fixed,
-                    description=f"{axis}: {text}",
-                    getter=(lambda a=attr: getattr(self, a)),
-                    setter=(lambda value, a=attr: self._set_parameter(a, value))))
-        inp, cont = Fmi2Causality.input, Fmi2Variability.continuous
-        for j, axis in enumerate(AXES):
-            self.register_variable(Real(
-                f"u_{axis}", causality=inp, variability=cont,
-                description=f"{axis}: deflection, engine side minus chassis side",
-                getter=lambda j=j: self._u[j],
-                setter=lambda value, j=j: self._set_input(self._u, j, value)))
-            self.register_variable(Real(
-                f"v_{axis}", causality=inp, variability=cont,
-                description=f"{axis}: deflection rate d(u_{axis})/dt",
-                getter=lambda j=j: self._v[j],
-                setter=lambda value, j=j: self._set_input(self._v, j, value)))
-            self.register_variable(Real(
-                f"n_{axis}", causality=inp, variability=cont,
-                description=(f"{axis}: normal force of the friction contact; equals "
-                             f"{axis}_n0 until set; negative = lost contact (Fs = 0)"),
-                getter=lambda j=j: self._normal_force(j),
-                setter=lambda value, j=j: self._set_normal_force(j, value)))
-        out = Fmi2Causality.output
-        for j, axis in enumerate(AXES):
-            for name, idx, text in (
-                ("F", _F, "total force, positive = tension (chassis pulled along "
-                          "+axis, engine feels -F)"),
-                ("Ffr", _FFR, "friction force of the Jenkins element"),
-                ("kt", _KT, "tangent stiffness dF/du (damping tangent dF/dv is c)"),
-            ):
-                self.register_variable(Real(
-                    f"{name}_{axis}", causality=out, variability=cont,
-                    description=f"{axis}: {text}",
-                    getter=lambda j=j, idx=idx: self._axis(j)[idx]))
-            self.register_variable(Boolean(
-                f"slip_{axis}", causality=out, variability=Fmi2Variability.discrete,
-                description=f"{axis}: true while the friction slider slips",
-                getter=lambda j=j: self._axis(j)[_SLIP]))
-            self.register_variable(Real(
-                f"E_fr_{axis}", causality=out, variability=cont,
-                description=f"{axis}: cumulative energy dissipated by friction",
-                getter=lambda j=j: self._e[j] + self._axis(j)[_DISS]))
-        self.register_variable(Real(
-            "E_fr", causality=out, variability=cont,
-            description="cumulative energy dissipated by friction, all axes",
-            getter=self._energy_total))
-        for j, axis in enumerate(AXES):
-            self.register_variable(Real(
-                f"w_{axis}", causality=Fmi2Causality.local, variability=cont,
-                initial=Fmi2Initial.exact,
-                description=f"{axis}: committed slider position of the Jenkins element",
-                getter=lambda j=j: self._w[j],
-                setter=lambda value, j=j: self._set_input(self._w, j, value)))
+        """Register every variable of the interface table, in its order."""
+        for var in VARIABLES:
+            getter, setter = self._accessors(var.name)
+            extra = {} if var.initial is None else {"initial": _INITIAL[var.initial]}
+            self.register_variable(_TYPES[var.type](
+                var.name, causality=_CAUSALITY[var.causality],
+                variability=_VARIABILITY[var.variability],
+                description=var.description, getter=getter, setter=setter, **extra))
 
     def _set_parameter(self, attr: str, value) -> None:
         setattr(self, attr, value)
-        self._coef = None
+        self._axes = None
         self._res = [None, None, None]
 
     def _set_input(self, store: list, j: int, value: float) -> None:
@@ -269,25 +221,22 @@ class FrictionMount(Fmi2Slave):
         return ValueError(message)
 
     def _prepare(self) -> None:
-        """Check every parameter once; keep plain tuples for the per-step law calls."""
-        problems, coef = [], []
+        """Check every parameter once; keep the checked AxisParameters per axis."""
+        problems, axes = [], []
         for axis in AXES:
-            values = {name: getattr(self, f"{axis}_{name}") for name, *_ in _PARAMETERS}
+            values = {name: getattr(self, f"{axis}_{name}")
+                      for name in _PARAMETER_NAMES}
             code = values["law"]
-            if isinstance(code, int) and not isinstance(code, bool) and 0 <= code < len(
-                    LAWS):
-                values["law"] = LAWS[code]
-            else:
-                allowed = ", ".join(f"{i} = {name}" for i, name in enumerate(LAWS))
+            values["law"] = law_name(code)
+            if values["law"] is None:
+                allowed = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
                 problems.append(f"`{axis}_law` must be one of {allowed}, got {code!r}")
                 values["law"] = LAWS[0]
             # problems() only reads attributes: run it on the raw values so that every
             # problem of every axis is reported with the FMU variable name.
             problems += AxisParameters.problems(SimpleNamespace(**values), f"{axis}_")
             if not problems:
-                p = AxisParameters(**values)
-                coef.append((p.law_code, p.k1, p.kc, p.k2, p.delta, p.delta_neg, p.c,
-                             p.kf if p.friction else 0.0, p.mu if p.friction else 0.0))
+                axes.append(AxisParameters(**values))
         if problems:
             raise self._fail(
                 "FrictionMount: invalid parameters: " + "; ".join(problems))
@@ -295,7 +244,7 @@ class FrictionMount(Fmi2Slave):
         for j, axis in enumerate(AXES):
             if not self._n_set[j]:
                 self._n[j] = getattr(self, f"{axis}_n0")
-        self._coef = coef
+        self._axes = axes
 
     # ------------------------------------------------------------------ the law
     def _axis(self, j: int) -> tuple:
@@ -307,7 +256,7 @@ class FrictionMount(Fmi2Slave):
         return res
 
     def _evaluate(self, j: int) -> tuple:
-        if self._coef is None:
+        if self._axes is None:
             self._prepare()
         u, v, n = self._u[j], self._v[j], self._n[j]  # n synced by _prepare()
         if not (math.isfinite(u) and math.isfinite(v) and math.isfinite(n)):
@@ -315,10 +264,10 @@ class FrictionMount(Fmi2Slave):
             raise self._fail(
                 f"FrictionMount: inputs of axis {axis} must be finite, got "
                 f"u_{axis}={u!r}, v_{axis}={v!r}, n_{axis}={n!r}")
-        law, k1, kc, k2, delta, delta_neg, c, kf, mu = self._coef[j]
+        p = self._axes[j]
         # A negative normal force means lost contact: Fs = mu * max(n, 0).
-        fs = mu * n if n > 0.0 else 0.0
-        res = axis_force(u, v, self._w[j], law, k1, kc, k2, delta, delta_neg, c, kf, fs)
+        fs = p.mu * n if n > 0.0 else 0.0
+        res = axis_force(u, v, self._w[j], p, fs)
         if not (math.isfinite(res[_F]) and math.isfinite(res[_KT])):
             axis = AXES[j]
             raise self._fail(f"FrictionMount: force of axis {axis} overflowed at "
@@ -365,7 +314,7 @@ class FrictionMount(Fmi2Slave):
                 by_name[name].setter(value)
         self._e = [float(x) for x in state["_E_committed"]]
         self._n_set = [bool(x) for x in state["_n_set"]]
-        self._coef = None
+        self._axes = None
         self._res = [None, None, None]
 
     @_guarded
@@ -407,11 +356,8 @@ class FrictionMount(Fmi2Slave):
         """pythonfmu's model description plus units, capabilities, model structure."""
         root = super().to_xml(model_options or {})
         cosim = root.find("CoSimulation")
-        cosim.set("needsExecutionTool", "false")
-        cosim.set("canHandleVariableCommunicationStepSize", "true")
-        cosim.set("canBeInstantiatedOnlyOncePerProcess", "false")
-        cosim.set("canGetAndSetFMUstate", "true")
-        cosim.set("canSerializeFMUstate", "true")
+        for flag, value in CAPABILITIES.items():
+            cosim.set(flag, "true" if value else "false")
         # UnitDefinitions follows the CoSimulation element (FMI 2.0 schema order).
         units = Element("UnitDefinitions")
         for name, exps in BASE_UNITS.items():
@@ -419,9 +365,10 @@ class FrictionMount(Fmi2Slave):
                        {k: str(e) for k, e in exps.items()})
         root.insert(list(root).index(cosim) + 1, units)
         index = {}
+        unit_of = {var.name: var.unit for var in VARIABLES}
         for i, sv in enumerate(root.find("ModelVariables"), start=1):
             index[sv.get("name")] = str(i)
-            unit = UNITS.get(sv.get("name"))
+            unit = unit_of.get(sv.get("name"))
             if unit is not None:
                 sv.find("Real").set("unit", unit)
             bounds = _BOUNDS.get(sv.get("name").partition("_")[2])

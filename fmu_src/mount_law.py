@@ -38,29 +38,159 @@ References: thesis eq. 2.10-2.13 (Jenkins element), 2.15-2.20 (elastic laws), 4.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
+from typing import NamedTuple
 
 __all__ = [
     "AXES",
     "LAWS",
-    "LAW_CODES",
+    "ELASTIC_LAWS",
+    "ElasticLaw",
+    "register_law",
+    "law_code",
+    "law_name",
     "AxisParameters",
     "MountParameters",
     "ParameterError",
+    "AxisForce",
+    "SliderStep",
     "elastic_force",
     "jenkins_update",
     "axis_force",
-    "axis_force_p",
-    "mount_force",
 ]
 
 #: Names of the three local axes of a mount, in the order used everywhere.
 AXES = ("axial", "radial1", "radial2")
-#: Names of the elastic laws; the FMU's integer parameter ``<axis>_law`` is the index.
-LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
-LAW_CODES = {name: code for code, name in enumerate(LAWS)}
 
-LINEAR, CUBIC, PIECEWISE, PIECEWISE_ASYM = range(4)
+
+# --------------------------------------------------------------------------------------
+# The law registry: each elastic law once. The FMU's integer parameter ``<axis>_law``
+# is the position of the law in this registry (law_code / law_name below are the one
+# place that maps the two); append new laws at the end.
+# --------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ElasticLaw:
+    """One elastic law of a mount axis (thesis eq. 2.15-2.20).
+
+    Attributes
+    ----------
+    name : str
+        The value of ``AxisParameters.law``.
+    summary : str
+        One line for documentation and error messages.
+    uses : tuple of str
+        ``AxisParameters`` fields the law reads besides ``k1`` and ``c`` (a
+        configuration must give them).
+    force : callable
+        ``force(u, p) -> (F_el, dF_el/du)`` for a deflection ``u`` (m) and the axis
+        parameters ``p``.
+    knees : callable
+        ``knees(p) -> tuple of deflections (m)`` where the law has a kink (events
+        of an event-exact integrator); empty for smooth laws.
+    nonlinear : callable
+        ``nonlinear(p) -> bool``: whether ``F_el - k1 u`` is not identically zero.
+    stiffest : callable
+        ``stiffest(p) -> float``: the largest tangent stiffness of the piecewise-
+        linear part, N/m (``k1`` for smooth laws; a step-size bound, not a bound of
+        the cubic's growing tangent).
+    """
+
+    name: str
+    summary: str
+    uses: tuple[str, ...]
+    force: Callable[[float, AxisParameters], tuple[float, float]]
+    knees: Callable[[AxisParameters], tuple[float, ...]]
+    nonlinear: Callable[[AxisParameters], bool]
+    stiffest: Callable[[AxisParameters], float]
+
+
+#: The registered elastic laws by name, in FMU code order.
+ELASTIC_LAWS: dict[str, ElasticLaw] = {}
+#: Names of the elastic laws, in FMU code order.
+LAWS: tuple[str, ...] = ()
+
+
+def register_law(law: ElasticLaw) -> ElasticLaw:
+    """Add ``law`` to :data:`ELASTIC_LAWS` (its FMU code is the next integer)."""
+    global LAWS
+    if law.name in ELASTIC_LAWS:
+        raise ValueError(f"elastic law {law.name!r} is registered already")
+    ELASTIC_LAWS[law.name] = law
+    LAWS = tuple(ELASTIC_LAWS)
+    return law
+
+
+def law_code(name: str) -> int:
+    """The FMU's integer ``<axis>_law`` of the law ``name``."""
+    return LAWS.index(name)
+
+
+def law_name(code) -> str | None:
+    """The law of the FMU's integer ``<axis>_law`` = ``code``; None if invalid."""
+    if isinstance(code, int) and not isinstance(code, bool) and 0 <= code < len(LAWS):
+        return LAWS[code]
+    return None
+
+
+def _linear(u: float, p: AxisParameters) -> tuple[float, float]:
+    k1 = p.k1
+    return k1 * u, k1
+
+
+def _cubic(u: float, p: AxisParameters) -> tuple[float, float]:
+    k1, kc = p.k1, p.kc
+    return k1 * u + kc * u * u * u, k1 + 3.0 * kc * u * u
+
+
+def _knee_spring(u: float, k1: float, k2: float, delta: float, dneg: float
+                 ) -> tuple[float, float]:
+    """A linear spring plus a spring (k2 - k1) behind gaps at +delta and -dneg."""
+    if u > delta:
+        return k1 * u + (k2 - k1) * (u - delta), k2
+    if u < -dneg:
+        return k1 * u + (k2 - k1) * (u + dneg), k2
+    return k1 * u, k1
+
+
+def _piecewise(u: float, p: AxisParameters) -> tuple[float, float]:
+    return _knee_spring(u, p.k1, p.k2, p.delta, p.delta)
+
+
+def _piecewise_asym(u: float, p: AxisParameters) -> tuple[float, float]:
+    return _knee_spring(u, p.k1, p.k2, p.delta, p.delta_neg)
+
+
+def _no_knees(p: AxisParameters) -> tuple[float, ...]:
+    return ()
+
+
+def _k1(p: AxisParameters) -> float:
+    return p.k1
+
+
+def _stiffer(p: AxisParameters) -> float:
+    return max(p.k1, p.k2)
+
+
+def _gap(p: AxisParameters) -> bool:
+    return p.k2 != p.k1
+
+
+register_law(ElasticLaw(
+    "linear", "k1 u", (), _linear, _no_knees, lambda p: False, _k1))
+register_law(ElasticLaw(
+    "cubic", "k1 u + kc u^3 (eq. 2.15)", ("kc",), _cubic, _no_knees,
+    lambda p: p.kc != 0.0, _k1))
+register_law(ElasticLaw(
+    "piecewise", "k1 u, k2 beyond |u| > delta (symmetric, eq. 3.30)",
+    ("k2", "delta"), _piecewise, lambda p: (p.delta, -p.delta), _gap, _stiffer))
+register_law(ElasticLaw(
+    "piecewise_asym", "as piecewise, knee at +delta for u > 0, -delta_neg for u < 0",
+    ("k2", "delta", "delta_neg"), _piecewise_asym,
+    lambda p: (p.delta, -p.delta_neg), _gap, _stiffer))
 
 
 class ParameterError(ValueError):
@@ -131,7 +261,7 @@ class AxisParameters:
     def problems(self, prefix: str = "") -> list[str]:
         """Every problem of these parameters, each naming field, value and rule."""
         out = []
-        if self.law not in LAW_CODES:
+        if self.law not in ELASTIC_LAWS:
             out.append(f"`{prefix}law` must be one of {', '.join(LAWS)}, "
                        f"got {self.law!r}")
         for name, rule in (
@@ -157,8 +287,9 @@ class AxisParameters:
         return out
 
     @property
-    def law_code(self) -> int:
-        return LAW_CODES[self.law]
+    def elastic(self) -> ElasticLaw:
+        """The registered :class:`ElasticLaw` named by ``law``."""
+        return ELASTIC_LAWS[self.law]
 
     @property
     def fs(self) -> float:
@@ -237,28 +368,52 @@ class MountParameters:
 # --------------------------------------------------------------------------------------
 
 
-def elastic_force(u: float, law: int, k1: float, kc: float, k2: float,
-                  delta: float, delta_neg: float) -> tuple[float, float]:
-    """Elastic force and tangent stiffness ``(F_el, dF_el/du)`` at deflection ``u``.
+class AxisForce(NamedTuple):
+    """One axis's force for a trial motion (:func:`axis_force`); nothing committed.
 
-    ``law`` is the integer code of ``LAWS``. Thesis eq. 2.15-2.20; the piecewise law
-    is symmetric (eq. 3.30) unless ``law`` is ``piecewise_asym``.
+    Attributes
+    ----------
+    force : float
+        Total force, N.
+    friction_force : float
+        Force of the Jenkins element, N.
+    w_new : float
+        Slider position after the increment, m.
+    tangent : float
+        dF/du, N/m (the damping tangent dF/dv is ``c``).
+    slipping : bool
+        Whether the slider slips.
+    dissipated : float
+        Energy the slider dissipates from ``w`` to ``w_new``, J (``Fs |w_new - w|``).
     """
-    if law == LINEAR:
-        return k1 * u, k1
-    if law == CUBIC:
-        return k1 * u + kc * u * u * u, k1 + 3.0 * kc * u * u
-    # piecewise: a linear spring plus a spring (k2 - k1) behind a gap (eq. 3.30)
-    if u > delta:
-        return k1 * u + (k2 - k1) * (u - delta), k2
-    dneg = delta_neg if law == PIECEWISE_ASYM else delta
-    if u < -dneg:
-        return k1 * u + (k2 - k1) * (u + dneg), k2
-    return k1 * u, k1
+
+    force: float
+    friction_force: float
+    w_new: float
+    tangent: float
+    slipping: bool
+    dissipated: float
 
 
-def jenkins_update(u: float, w: float, kf: float, fs: float
-                   ) -> tuple[float, float, float, bool]:
+class SliderStep(NamedTuple):
+    """Return map of the macro-slip element (:func:`jenkins_update`)."""
+
+    force: float
+    w_new: float
+    tangent: float
+    slipping: bool
+
+
+def elastic_force(u: float, p: AxisParameters) -> tuple[float, float]:
+    """Elastic force and tangent stiffness ``(F_el, dF_el/du)`` of axis ``p`` at ``u``.
+
+    Looks the law up by its name ``p.law`` in :data:`ELASTIC_LAWS` (thesis eq.
+    2.15-2.20).
+    """
+    return ELASTIC_LAWS[p.law].force(u, p)
+
+
+def jenkins_update(u: float, w: float, kf: float, fs: float) -> SliderStep:
     """Return map of the macro-slip element for a new deflection ``u``.
 
     Parameters
@@ -274,9 +429,10 @@ def jenkins_update(u: float, w: float, kf: float, fs: float
 
     Returns
     -------
-    force, w_new, dforce_du, slipping
-        Friction force in N, slider position after the increment in m, consistent
-        tangent in N/m (kf when stuck, 0 when slipping) and whether it slips.
+    SliderStep
+        ``(force, w_new, tangent, slipping)``: friction force in N, slider position
+        after the increment in m, consistent tangent in N/m (kf when stuck, 0 when
+        slipping) and whether it slips.
 
     Notes
     -----
@@ -284,46 +440,26 @@ def jenkins_update(u: float, w: float, kf: float, fs: float
     """
     trial = kf * (u - w)
     if trial > fs:
-        return fs, u - fs / kf, 0.0, True
+        return SliderStep(fs, u - fs / kf, 0.0, True)
     if trial < -fs:
-        return -fs, u + fs / kf, 0.0, True
-    return trial, w, kf, False
+        return SliderStep(-fs, u + fs / kf, 0.0, True)
+    return SliderStep(trial, w, kf, False)
 
 
-def axis_force(u: float, v: float, w: float, law: int, k1: float, kc: float,
-               k2: float, delta: float, delta_neg: float, c: float,
-               kf: float, fs: float) -> tuple[float, float, float, float, bool, float]:
+def axis_force(u: float, v: float, w: float, p: AxisParameters,
+               fs: float | None = None) -> AxisForce:
     """Total force of one axis for a trial motion, without committing anything.
 
-    ``kf <= 0`` means no friction element. Returns
-    ``(force, friction_force, w_new, dforce_du, slipping, dissipated)``: total force in
-    N, friction force in N, slider position after the increment in m, tangent
-    stiffness dF/du in N/m (the damping tangent dF/dv is ``c``), whether the slider
-    slips, and the energy the slider dissipates in the increment from ``w`` to
-    ``w_new`` in J (``fs * |w_new - w|``).
+    ``u`` deflection (m), ``v`` its rate (m/s), ``w`` the committed slider position
+    (m), ``p`` the axis; ``fs`` overrides the slip force ``p.fs`` (the FMU's
+    normal-force input). Without a friction element (``p.friction`` false) the slider
+    is ignored.
     """
-    f_el, k_el = elastic_force(u, law, k1, kc, k2, delta, delta_neg)
-    if kf > 0.0:
-        f_fr, w_new, k_fr, slipping = jenkins_update(u, w, kf, fs)
-        return (f_el + c * v + f_fr, f_fr, w_new, k_el + k_fr, slipping,
-                fs * abs(w_new - w))
-    return f_el + c * v, 0.0, w, k_el, False, 0.0
-
-
-def axis_force_p(u: float, v: float, w: float, p: AxisParameters,
-                 fs: float | None = None
-                 ) -> tuple[float, float, float, float, bool, float]:
-    """:func:`axis_force` with an :class:`AxisParameters`; ``fs`` overrides mu * n0."""
-    return axis_force(u, v, w, p.law_code, p.k1, p.kc, p.k2, p.delta, p.delta_neg,
-                      p.c, p.kf if p.friction else 0.0, p.fs if fs is None else fs)
-
-
-def mount_force(u, v, w, p: MountParameters):
-    """Evaluate all three axes of a mount: lists of the six :func:`axis_force` results.
-
-    ``u``, ``v``, ``w`` are length-3 sequences in the order of ``AXES``. Returns
-    ``(force, friction_force, w_new, dforce_du, slipping, dissipated)``, each a list of
-    three values.
-    """
-    results = [axis_force_p(u[j], v[j], w[j], p.axes[j]) for j in range(3)]
-    return tuple([r[i] for r in results] for i in range(6))
+    f_el, k_el = ELASTIC_LAWS[p.law].force(u, p)
+    if p.friction:
+        if fs is None:
+            fs = p.fs
+        f_fr, w_new, k_fr, slipping = jenkins_update(u, w, p.kf, fs)
+        return AxisForce(f_el + p.c * v + f_fr, f_fr, w_new, k_el + k_fr, slipping,
+                         fs * abs(w_new - w))
+    return AxisForce(f_el + p.c * v, 0.0, w, k_el, False, 0.0)

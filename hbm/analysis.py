@@ -18,18 +18,19 @@ import sys
 import numpy as np
 
 from hbm.aft import default_n_samples
-from hbm.continuation import Branch, continue_branch, newton
-from hbm.error_estimate import ErrorEstimate, estimate_errors
-from hbm.folds import CurveEvent, EventKind, locate_folds, locate_peaks, \
-    merge_spurious_pairs
+from hbm.continuation import Branch, Status, continue_branch, newton
+from hbm.error_estimate import estimate_errors
+from hbm.folds import CurveEvent, locate_folds, locate_peaks, merge_spurious_pairs
 from hbm.linear import linear_frf
 from hbm.options import HBMOptions
 from hbm.residual import HarmonicBalance
 from hbm.result import FrequencyResponse, MarkedPoint
+from hbm.segments import Restart, clip, join
 from hbm.stability import is_stable
 from hbm.system import System
 
-__all__ = ["frequency_response", "solve_frequencies", "build_problem"]
+__all__ = ["frequency_response", "solve_frequencies", "build_problem",
+           "resolve_options", "postprocess"]
 
 #: The error estimate re-solves every ESTIMATE_STRIDE-th point (and the points around
 #: turning points); the points between get the larger of their neighbours' estimates.
@@ -48,7 +49,10 @@ def _check_range(fmin_hz, fmax_hz):
         raise ValueError("; ".join(problems))
 
 
-def _options(options, harmonics, n_samples) -> HBMOptions:
+def resolve_options(options, harmonics, n_samples) -> tuple[int, int | None,
+                                                            HBMOptions]:
+    """``(H, n_samples, options)``: explicit arguments over ``options`` (default
+    :class:`HBMOptions`)."""
     if options is None:
         options = HBMOptions()
     elif not isinstance(options, HBMOptions):
@@ -307,8 +311,10 @@ def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
             [_marked(prob, e, opts.n_peak) for e in peaks])
 
 
-def _postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
-                 turning, located=None) -> FrequencyResponse:
+def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
+                turning, located=None) -> FrequencyResponse:
+    """The :class:`FrequencyResponse` of the scaled points ``ys`` of ``prob``, with
+    its folds (``located``: those already located on a finer re-trace) and peaks."""
     hb = prob.hb
     sysm = hb.system
     n, m, H = hb.n, hb.m, hb.H
@@ -364,7 +370,7 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     Parameters
     ----------
     system : System
-        The model (:mod:`vehicle.models` builds the thesis's three).
+        The model (:mod:`hbm.systems` builds the thesis's three).
     fmin_hz, fmax_hz : float
         Frequency range, Hz, ``0 < fmin_hz < fmax_hz``.
     harmonics : int, optional
@@ -398,7 +404,7 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> ax = AxisParameters(law="linear", friction=True, n0=20.0)
     >>> s = sdof(70.0, MountParameters(axial=ax), excitation="force", amplitude=40.0)
     >>> r = frequency_response(s, 2.0, 15.0, harmonics=1)
@@ -406,34 +412,31 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     (True, 2.0, 15.0)
     """
     _check_range(fmin_hz, fmax_hz)
-    H, N, opts = _options(options, harmonics, n_samples)
+    H, N, opts = resolve_options(options, harmonics, n_samples)
     pin_h = harmonics is not None or closed_form is True
     pin_n = n_samples is not None
     floor, raised = None, []
     while True:
-        result, prob, br = _trace_retrying(system, fmin_hz, fmax_hz, H, N, closed_form,
-                                           opts, progress, floor)
-        est = _estimate(system, fmin_hz, fmax_hz, prob, br, opts)
-        if est is not None:
-            result.set_errors(est)
-        if est is None or opts.tol is None or not result.success:
+        result = _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
+                        floor)
+        if opts.tol is None or not result.success:
             break
-        err = sum(est.max())
+        trunc, samp = _nanmax(result.error_truncation), _nanmax(result.error_sampling)
         goal = 0.5 * opts.tol
-        if err <= goal:
+        if trunc + samp <= goal:
             result.tol_met = True
             break
-        H_new, N_new, why = _next_resolution(prob.hb, est, goal, opts, pin_h, pin_n)
+        H_new, N_new, why = _next_resolution(result, trunc, samp, goal, opts, pin_h,
+                                             pin_n)
         if H_new is None:
             result.tol_met = False
-            result.message += (f"; the error estimate {err:.2g} of peak exceeds tol/2 "
-                               f"= {goal:.2g} and {why}")
+            result.message += (f"; the error estimate {trunc + samp:.2g} of peak "
+                               f"exceeds tol/2 = {goal:.2g} and {why}")
             break
-        raised.append(f"H = {prob.hb.H}, N = {prob.hb.n_samples}: estimate {err:.2g}")
+        raised.append(f"H = {result.harmonics}, N = {result.n_samples}: estimate "
+                      f"{trunc + samp:.2g}")
         floor = np.nanmax(result.amplitude, axis=0)
         H, N = H_new, N_new
-        if closed_form is None and H > 1:
-            closed_form = None  # automatic: AFT from H = 2 on
     if raised:
         result.message += (f"; H and N raised to {result.harmonics}, "
                            f"{result.n_samples} for tol = {opts.tol:g} (from "
@@ -441,14 +444,108 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     return result
 
 
-def _estimate(system, fmin_hz, fmax_hz, prob, br, opts) -> ErrorEstimate | None:
-    """Error estimates of the traced points (None if not wanted or no points).
+def _nanmax(a) -> float:
+    a = np.asarray(a, float)
+    a = a[np.isfinite(a)]
+    return float(a.max()) if a.size else float("nan")
+
+
+def _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress, floor
+           ) -> FrequencyResponse:
+    """One curve at (H, N), restarted past stalls (``opts.max_restarts``)."""
+    if opts.max_restarts == 0:
+        return _refined(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
+                        floor)
+    # Restarts: a new segment past the highest frequency reached, clipped to the band
+    f0, parts, restarts = float(fmin_hz), [], []
+    while True:
+        fr = _refined(system, f0, fmax_hz, H, N, closed_form, opts, progress, floor)
+        parts.append(clip(fr, float(fmin_hz), float(fmax_hz)))
+        top = float(np.max(fr.freq_hz)) if len(fr.freq_hz) else f0
+        if fr.success or top >= fmax_hz * (1 - 1e-9) or \
+                len(restarts) >= opts.max_restarts:
+            break
+        f_next = max(top, f0) * opts.restart_factor
+        if f_next >= fmax_hz:
+            break
+        restarts.append(Restart(f_next, fr.message))
+        f0 = f_next
+    return join(parts, restarts, float(fmax_hz))
+
+
+def _next_resolution(result: FrequencyResponse, trunc: float, samp: float,
+                     goal: float, opts: HBMOptions, pin_h: bool, pin_n: bool):
+    """``(H, N, "")`` to trace next so the error estimate falls below ``goal``
+    (truncation ~ H^-1.5, sampling ~ N^-2), or ``(None, None, why not)``."""
+    if not (math.isfinite(trunc) and math.isfinite(samp)):
+        return None, None, "the estimate failed at some points"
+    H = result.harmonics
+    N = result.n_samples if not result.closed_form else default_n_samples(H)
+    H_new, N_new = H, N
+    if trunc > 0.5 * goal and not pin_h:
+        want = math.ceil(H * (trunc / (0.5 * goal)) ** (1 / 1.5))
+        H_new = min(opts.max_harmonics, max(H + 2, min(want, 2 * H + 1)))
+        if pin_n:
+            H_new = max(H, min(H_new, (N - 1) // 2))  # N > 2H stays true
+    if samp > 0.5 * goal and not pin_n:
+        N_new = N << max(1, math.ceil(0.5 * math.log2(samp / (0.5 * goal))))
+    if H_new != H and not pin_n:
+        # the sampling error depends on N (where the kinks fall), hardly on N / H
+        N_new = max(N_new, default_n_samples(H_new))
+    N_new = min(N_new, opts.max_samples)
+    if N_new <= 2 * H_new:
+        N_new = N
+    if H_new == H and N_new <= N:
+        if pin_h and pin_n:
+            why = f"H = {H} and N = {N} were fixed by the caller"
+        elif pin_h and trunc > samp:
+            why = f"H = {H} was fixed by the caller (truncation {trunc:.2g})"
+        else:
+            why = (f"H = {H}, N = {N} are at the caps max_harmonics = "
+                   f"{opts.max_harmonics}, max_samples = {opts.max_samples} "
+                   f"(truncation {trunc:.2g}, sampling {samp:.2g})")
+        return None, None, why
+    return H_new, N_new, ""
+
+
+def _refined(system: System, fmin_hz: float, fmax_hz: float, H: int, N, closed_form,
+             opts: HBMOptions, progress: bool, floor=None) -> FrequencyResponse:
+    """One curve from ``fmin_hz`` to ``fmax_hz`` with its error estimates; traced
+    again with twice the AFT samples (at most ``opts.refine_samples`` times) when it
+    dead-ends or stalls at a kink of the sampled residual (the kinks shrink with more
+    samples) or finds no start (then also with a 4x smaller first step)."""
+    prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
+    result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
+    history = []
+    refine = 0
+    while (not result.success and result.status in (Status.STEP_TOO_SMALL,
+                                                    Status.RETRACED, Status.NO_START)
+           and not prob.hb.closed_form and refine < opts.refine_samples):
+        refine += 1
+        history.append(f"with {prob.hb.n_samples} AFT samples {result.message}")
+        if result.status is Status.NO_START:
+            opts = dataclasses.replace(opts, ds_initial=max(opts.ds_initial / 4,
+                                                            opts.ds_min))
+        prob = build_problem(system, fmin_hz, fmax_hz, H, 2 * prob.hb.n_samples,
+                             closed_form)
+        result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
+    if history:
+        first = any("no solution at fmin" in h for h in history)
+        result.message += (f" (AFT samples raised to {prob.hb.n_samples}"
+                           + (f", first step {opts.ds_initial:g}" if first else "")
+                           + ": " + "; ".join(history) + ")")
+    _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result)
+    return result
+
+
+def _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result) -> None:
+    """Error estimates of the traced points into ``result`` (if wanted).
 
     Re-solved at every ``ESTIMATE_STRIDE``-th point, at the ends and around the
     turning points; a point in between gets the larger estimate of the two re-solved
     points around it (a per-segment estimate)."""
     if not (opts.error_estimate or opts.tol is not None) or not br.y:
-        return None
+        return
 
     def make(H, N, cf):
         return build_problem(system, fmin_hz, fmax_hz, H, N, cf)
@@ -462,77 +559,14 @@ def _estimate(system, fmin_hz, fmax_hz, prob, br, opts) -> ErrorEstimate | None:
         for a, b in zip(pts[:-1], pts[1:], strict=True):
             if b - a > 1:
                 arr[a + 1:b] = np.maximum(arr[a], arr[b])  # NaN if either failed
-    return est
-
-
-def _next_resolution(hb: HarmonicBalance, est: ErrorEstimate, goal: float,
-                     opts: HBMOptions, pin_h: bool, pin_n: bool):
-    """``(H, N, "")`` to trace next so the error estimate falls below ``goal``
-    (truncation ~ H^-1.5, sampling ~ N^-1), or ``(None, None, why not)``."""
-    trunc, samp = est.max()
-    if not (math.isfinite(trunc) and math.isfinite(samp)):
-        return None, None, "the estimate failed at some points"
-    H, N = hb.H, (hb.n_samples if not hb.closed_form else default_n_samples(hb.H))
-    H_new, N_new = H, N
-    if trunc > 0.5 * goal and not pin_h:
-        want = math.ceil(H * (trunc / (0.5 * goal)) ** (1 / 1.5))
-        H_new = min(opts.max_harmonics, max(H + 2, min(want, 2 * H + 1)))
-        if pin_n:
-            H_new = max(H, min(H_new, (N - 1) // 2))  # N > 2H stays true
-    if samp > 0.5 * goal and not pin_n:
-        # sampling error ~ N^-2 or faster (kinks located between samples)
-        N_new = N << max(1, math.ceil(0.5 * math.log2(samp / (0.5 * goal))))
-    if H_new != H and not pin_n:
-        # the sampling error depends on N (where the kinks fall), hardly on N / H
-        N_new = max(N_new, default_n_samples(H_new))
-    N_new = min(N_new, opts.max_samples)
-    if N_new <= 2 * H_new:
-        N_new = N
-    if (H_new, N_new) == (H, N) or (H_new == H and N_new <= N):
-        if pin_h and pin_n:
-            why = f"H = {H} and N = {N} were fixed by the caller"
-        elif pin_h and trunc > samp:
-            why = f"H = {H} was fixed by the caller (truncation {trunc:.2g})"
-        else:
-            why = (f"H = {H}, N = {N} are at the caps max_harmonics = "
-                   f"{opts.max_harmonics}, max_samples = {opts.max_samples} "
-                   f"(truncation {trunc:.2g}, sampling {samp:.2g})")
-        return None, None, why
-    return H_new, N_new, ""
-
-
-def _trace_retrying(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
-                    floor):
-    """One curve at (H, N), traced again with twice the samples (at most
-    ``opts.refine_samples`` times) after a stall, a dead end at a kink of the sampled
-    (AFT) residual or a failed start (then also with a 4x smaller first step); the
-    message says so. Returns ``(result, problem, branch)``."""
-    prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
-    result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
-    history = []
-    refine = 0
-    while (not result.success and result.status in (1, 6, 7)
-           and not prob.hb.closed_form and refine < opts.refine_samples):
-        refine += 1
-        history.append(f"with {prob.hb.n_samples} AFT samples {result.message}")
-        if result.status == 6:
-            opts = dataclasses.replace(opts, ds_initial=max(opts.ds_initial / 4,
-                                                            opts.ds_min))
-        prob = build_problem(system, fmin_hz, fmax_hz, H, 2 * prob.hb.n_samples,
-                             closed_form)
-        result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
-    if history:
-        result.message += (f" (AFT samples raised to {prob.hb.n_samples}"
-                           + (f", first step {opts.ds_initial:g}" if any(
-                               "no solution at fmin" in h for h in history) else "")
-                           + ": " + "; ".join(history) + ")")
-    return result, prob, br
+    result.set_errors(est)
 
 
 def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
            progress: bool, floor=None):
-    """One continuation of ``prob`` from ``fmin_hz`` to ``fmax_hz``; spurious
-    turning-point pairs merged. Returns ``(FrequencyResponse, Branch)``."""
+    """One continuation of ``prob`` from ``fmin_hz`` to ``fmax_hz`` (steps within the
+    chord tolerance with ``opts.tol``), spurious turning points merged. Returns
+    ``(FrequencyResponse, Branch)``."""
     H = prob.hb.H
     settings = opts.continuation_settings()
     chord = None if opts.tol is None else _chord_error_fn(prob, 0.5 * opts.tol, floor)
@@ -548,9 +582,10 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
     try:
         y0, its0, msg = _start(prob, fmin_hz, settings)
         if y0 is None:
-            br = Branch(status=6, message=f"no solution at fmin = {fmin_hz} Hz ({msg})",
+            br = Branch(status=Status.NO_START,
+                        message=f"no solution at fmin = {fmin_hz} Hz ({msg})",
                         n_newton=its0)
-            return _postprocess(prob, [], opts, br, []), br
+            return postprocess(prob, [], opts, br, []), br
         done = [fmin_hz]
 
         def callback(lam):
@@ -572,7 +607,7 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
         if bar is not None:
             bar.close()
     zz = _merge_zigzags(prob, br, opts)
-    result = _postprocess(prob, br.y, opts, br, br.turning_points, zz.folds)
+    result = postprocess(prob, br.y, opts, br, br.turning_points, zz.folds)
     result.turning_points_merged = zz.merged
     if zz.refined:
         result.message += "; " + "; ".join(
@@ -620,7 +655,7 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
     if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
         raise ValueError(f"`freqs_hz` must be a non-empty 1-D array of finite "
                          f"frequencies > 0 Hz, got {freqs_hz!r}")
-    H, N, opts = _options(options, harmonics, n_samples)
+    H, N, opts = resolve_options(options, harmonics, n_samples)
     fmin, fmax = float(f.min()), float(f.max())
     if fmax == fmin:
         fmax = fmin * 1.5
@@ -653,7 +688,8 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
             if ok:
                 break
         if not ok:
-            br.status, br.message = 1, f"no convergence at {fi:.6g} Hz ({msg})"
+            br.status = Status.NO_CONVERGENCE
+            br.message = f"no convergence at {fi:.6g} Hz ({msg})"
             break
         ys.append(y)
         br.n_iter.append(its)
@@ -667,9 +703,9 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
             dy = None
         y_prev = y
     else:
-        br.success, br.status, br.message = True, 0, "solved at every frequency"
-    result = _postprocess(prob, ys, opts, br, [])
-    est = _estimate(system, fmin, fmax, prob, br, opts) if opts.error_estimate else None
-    if est is not None:
-        result.set_errors(est)
+        br.success, br.status = True, Status.DONE
+        br.message = "solved at every frequency"
+    result = postprocess(prob, ys, opts, br, [])
+    if opts.error_estimate:
+        _estimate(system, fmin, fmax, prob, br, opts, result)
     return result

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hbm.analysis import _options, _postprocess, build_problem
-from hbm.continuation import Branch, newton
+from hbm.analysis import build_problem, postprocess, resolve_options
+from hbm.continuation import Branch, Status, newton
 from hbm.result import FrequencyResponse
 from hbm.stability import is_stable
 from hbm.system import System
@@ -46,7 +46,7 @@ def solutions_at(system: System, curve: FrequencyResponse, freq_hz: float, prob=
     Returns a list of ``(y, stable, n_newton)`` in the scaled unknowns of ``prob``
     (built from ``system`` with the curve's harmonics if not given).
     """
-    H, N, opts = _options(options, curve.harmonics, curve.n_samples or None)
+    H, N, opts = resolve_options(options, curve.harmonics, curve.n_samples or None)
     if prob is None:
         f = np.asarray(curve.freq_hz)
         prob = build_problem(system, float(min(f.min(), freq_hz)),
@@ -104,7 +104,7 @@ def solve_on_branch(system: System, freqs_hz, curve: FrequencyResponse,
     if f.shape != target.shape:
         raise ValueError(f"`near_amplitude` must have the shape of `freqs_hz` "
                          f"{f.shape}, got {target.shape}")
-    H, N, opts = _options(options, curve.harmonics, curve.n_samples or None)
+    H, N, opts = resolve_options(options, curve.harmonics, curve.n_samples or None)
     fc = np.asarray(curve.freq_hz)
     prob = build_problem(system, float(min(fc.min(), f.min())),
                          float(max(fc.max(), f.max())), H, N, curve.closed_form)
@@ -115,7 +115,8 @@ def solve_on_branch(system: System, freqs_hz, curve: FrequencyResponse,
         sols = solutions_at(system, curve, float(fk), prob=prob, options=opts)
         br.n_steps += 1
         if not sols:
-            br.status, br.message = 1, f"no HBM solution found at {fk:.6g} Hz"
+            br.status = Status.NO_CONVERGENCE
+            br.message = f"no HBM solution found at {fk:.6g} Hz"
             break
 
         def amp(y):
@@ -129,8 +130,36 @@ def solve_on_branch(system: System, freqs_hz, curve: FrequencyResponse,
         br.n_iter.append(its)
         ys.append(y)
     else:
-        br.success, br.status, br.message = True, 0, "solved at every frequency"
-    return _postprocess(prob, ys, opts, br, [])
+        br.success, br.status = True, Status.DONE
+        br.message = "solved at every frequency"
+    return postprocess(prob, ys, opts, br, [])
+
+
+def _shaped(value, name: str, shape: tuple, dtype=float):
+    """``value`` as an array of ``shape`` (None stays None); a clear error if not."""
+    if value is None:
+        return None
+    out = np.asarray(value, dtype=dtype)
+    if out.shape != shape:
+        raise ValueError(f"`{name}` must have shape {shape}, got {out.shape}")
+    return out
+
+
+def _start_coefficients(hb, phasor, static, coefficients) -> np.ndarray:
+    """Newton's start (m, n): the fundamental from ``phasor`` (sine convention), the
+    static term from ``static``, or all of ``coefficients`` (n_dof, 2K+1) truncated
+    or zero-padded to H."""
+    X = np.zeros((hb.m, hb.n))
+    X[1] = phasor.imag  # cos1
+    X[2] = phasor.real  # sin1
+    if static is not None:
+        X[0] = static
+    if coefficients is not None:
+        c = np.asarray(coefficients, dtype=float).T  # (2K+1, n_dof)
+        r = min(c.shape[0], hb.m)
+        X[:] = 0.0
+        X[:r] = c[:r]
+    return X
 
 
 def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
@@ -168,23 +197,11 @@ def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
         the operating point and so the amplitude. Default: zero (HBM convention).
     """
     f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
-    P = np.asarray(phasors, dtype=complex)
-    if P.shape != (f.size, system.n_dof):
-        raise ValueError(f"`phasors` must have shape {(f.size, system.n_dof)}, got "
-                         f"{P.shape}")
-    H, N, opts = _options(options, harmonics, n_samples)
+    P = _shaped(phasors, "phasors", (f.size, system.n_dof), complex)
+    static = _shaped(static, "static", (f.size, system.n_dof))
+    sliders = _shaped(sliders, "sliders", (f.size, len(system.elements), 3))
+    H, N, opts = resolve_options(options, harmonics, n_samples)
     fmin, fmax = float(f.min()), float(max(f.max(), 1.001 * f.min()))
-    if static is not None:
-        static = np.asarray(static, dtype=float)
-        if static.shape != (f.size, system.n_dof):
-            raise ValueError(f"`static` must have shape {(f.size, system.n_dof)}, "
-                             f"got {static.shape}")
-    if sliders is not None:
-        sliders = np.asarray(sliders, dtype=float)
-        if sliders.shape != (f.size, len(system.elements), 3):
-            raise ValueError(f"`sliders` must have shape "
-                             f"{(f.size, len(system.elements), 3)}, got "
-                             f"{sliders.shape}")
     settings = opts.continuation_settings()
     br = Branch()
     points, failed = [], []
@@ -193,33 +210,25 @@ def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
         if sliders is not None:  # each point marches from its own slider state
             prob = build_problem(system, fmin, fmax, H, N, closed_form, sliders[k])
         hb = prob.hb
-        X = np.zeros((hb.m, hb.n))
-        X[1] = pk.imag  # cos1
-        X[2] = pk.real  # sin1
-        if static is not None:
-            X[0] = static[k]
-        if coefficients is not None:
-            c = np.asarray(coefficients[k], dtype=float).T  # (2K+1, n_dof)
-            r = min(c.shape[0], hb.m)
-            X[:] = 0.0
-            X[:r] = c[:r]
+        X = _start_coefficients(hb, pk, None if static is None else static[k],
+                                None if coefficients is None else coefficients[k])
         y, ok, its, _ = newton(prob, prob.y_of(X.ravel(), 2 * np.pi * fk), settings,
                                fixed=hb.size)
         br.n_newton += its
         br.n_steps += 1
         if ok:
             one = Branch(n_iter=[its], success=True)
-            points.append(_postprocess(prob, [y], opts, one, []))
+            points.append(postprocess(prob, [y], opts, one, []))
         else:
             failed.append(fk)
     if failed:
-        br.status = 1
+        br.status = Status.NO_CONVERGENCE
         br.message = ("Newton did not converge at " +
                       ", ".join(f"{v:.6g}" for v in failed) + " Hz")
     else:
         br.success, br.message = True, "solved at every frequency"
     if not points:
-        return _postprocess(prob, [], opts, br, [])
+        return postprocess(prob, [], opts, br, [])
     first = points[0]
 
     def cat(name):

@@ -35,7 +35,8 @@ import math
 
 import numpy as np
 
-from hbm.elements import CUBIC, PIECEWISE, NonlinearAxes
+from hbm.elements import NonlinearAxes
+from hbm.laws import hbm_law
 
 __all__ = ["cubic_coefficients", "gap_coefficients", "jenkins_coefficients",
            "closed_form_forces"]
@@ -126,28 +127,13 @@ def closed_form_forces(U: np.ndarray, ax: NonlinearAxes
         d = [[0.0] * 3 for _ in range(3)]
         gs = gc = dgs = dgc = 0.0  # equivalent stiffness/damping and d/dX
         k0 = dk0 = 0.0  # static tangent at U0 = 0 and its d/dX
-        law = ax.law_list[a]
-        if law == CUBIC:
-            kc = ax.kc_list[a]
-            # exact H = 1 projection of kc (U0 + Uc cos + Us sin)^3
-            F[0][a] += kc * (u0**3 + 1.5 * u0 * x * x)
-            d[0][0] += kc * (3 * u0 * u0 + 1.5 * x * x)
-            d[0][1] += kc * 3 * u0 * uc
-            d[0][2] += kc * 3 * u0 * us
-            gs += kc * (3 * u0 * u0 + 0.75 * x * x)
-            dgs += kc * 1.5 * x
-            # the u0-dependence of g_s enters the harmonic rows directly
-            d[1][0] += kc * 6 * u0 * uc
-            d[2][0] += kc * 6 * u0 * us
-        elif law == PIECEWISE and x > ax.delta_list[a]:
-            dl = ax.delta_list[a]
-            dk = ax.dk_list[a]
-            a1 = math.asin(dl / x)
-            ca1 = math.cos(a1)
-            gs += dk * (pi - 2 * a1 - math.sin(2 * a1)) / pi
-            dgs += 4 * dk * ca1 * dl / (pi * x * x)
-            k0 += dk * (1.0 - 2 * a1 / pi)
-            dk0 += 2 * dk * dl / (pi * x * x * ca1)
+        # the elastic law's terms (hbm.laws, by name), then the Jenkins element's
+        terms = hbm_law(ax.law[a]).closed_form(a, ax, u0, uc, us, x, d)
+        F[0][a] += terms.f0
+        gs += terms.gs
+        dgs += terms.dgs
+        k0 += terms.k0
+        dk0 += terms.dk0
         kf, fs = ax.kf_list[a], ax.fs_list[a]
         if kf > 0.0:
             if kf * x > fs:

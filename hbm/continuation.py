@@ -24,33 +24,61 @@ the reason; it never raises once the work has started.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-
-import math
+from enum import Enum
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["ContinuationSettings", "Branch", "newton", "continue_branch"]
+__all__ = ["ContinuationSettings", "Branch", "Status", "NewtonResult", "newton",
+           "continue_branch"]
+
+
+class Status(Enum):
+    """How a continuation or a set of Newton solves ended (``Branch.status``,
+    ``FrequencyResponse.status``)."""
+
+    DONE = "done"                           # reached the end / solved everywhere
+    STEP_TOO_SMALL = "step_too_small"       # step size fell below ds_min
+    TOO_MANY_STEPS = "too_many_steps"       # max_steps reached
+    TURNED_BACK = "turned_back"             # left the range below its start
+    EVALUATION_FAILED = "evaluation_failed"  # non-finite residual, no tangent
+    NO_START = "no_start"                   # no solution at the first frequency
+    RETRACED = "retraced"                   # the branch turned back onto itself
+    NO_CONVERGENCE = "no_convergence"       # Newton failed at a given frequency
 
 
 @dataclass(frozen=True)
 class ContinuationSettings:
-    """Settings in scaled units (see :class:`hbm.options.HBMOptions`)."""
+    """Settings in scaled units. The user-facing defaults are those of
+    :class:`hbm.options.HBMOptions` (the one source; it builds these); the last three
+    are internal to the corrector."""
 
-    ds_initial: float = 0.02
-    ds_min: float = 1e-6
-    ds_max: float = 0.15
-    n_norm: int = 4
-    max_newton: int = 12
-    tol_residual: float = 1e-10
-    tol_step: float = 1e-6
-    max_steps: int = 20000
-    max_growth: float = 2.0
-    max_angle: float = 0.15
+    ds_initial: float
+    ds_min: float
+    ds_max: float
+    n_norm: int
+    max_newton: int
+    tol_residual: float
+    tol_step: float
+    max_steps: int
+    max_growth: float
+    max_angle: float
     min_damping: float = 1.0 / 64
     corner_ds: float = 1e-3
     max_correction: float = 1.0
+
+
+class NewtonResult(NamedTuple):
+    """Result of :func:`newton`: the last iterate, whether it converged, the
+    iterations used and why it did not converge (empty when it did)."""
+
+    y: np.ndarray
+    converged: bool
+    n_iter: int
+    message: str
 
 
 @dataclass
@@ -68,9 +96,7 @@ class Branch:
     turning_points : list of int
         Indices ``i`` such that ``d lam / ds`` changes sign between points i-1 and i.
     success, status, message, n_newton, n_steps
-        ``status``: 0 reached the end, 1 step size below ``ds_min``, 2 too many steps,
-        3 left the parameter range backwards, 4 the evaluation failed (non-finite),
-        7 the branch turned back onto itself (retraced points are dropped).
+        ``status``: a :class:`Status` (``RETRACED``: retraced points are dropped).
     """
 
     y: list = field(default_factory=list)
@@ -79,7 +105,7 @@ class Branch:
     n_iter: list = field(default_factory=list)
     turning_points: list = field(default_factory=list)
     success: bool = False
-    status: int = 0
+    status: Status = Status.DONE
     message: str = ""
     n_newton: int = 0
     n_steps: int = 0
@@ -99,7 +125,7 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
     ``tangent . (y - y_pred) = 0`` (the linearised form of the thesis's sphere,
     eq. 3.58-3.65) closes the system.
 
-    Returns ``(y, converged, n_iter, message)``.
+    Returns a :class:`NewtonResult` ``(y, converged, n_iter, message)``.
     """
     y = np.array(y0, dtype=float)
     last = np.inf
@@ -127,11 +153,11 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
 
     R, J, msg = evaluate(y)
     if R is None:
-        return y, False, 0, msg
+        return NewtonResult(y, False, 0, msg)
     r = _norm(R)
     for it in range(settings.max_newton + 1):
         if r <= settings.tol_residual and last <= settings.tol_step:
-            return y, True, it, ""
+            return NewtonResult(y, True, it, "")
         if it == settings.max_newton:
             break
         try:
@@ -144,7 +170,7 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
                 b = np.append(-R, -g)
                 step = np.linalg.solve(A, b)
         except np.linalg.LinAlgError:
-            return y, False, it, "singular Jacobian"
+            return NewtonResult(y, False, it, "singular Jacobian")
         # Backtracking on |R|^2 (+ the arc-length equation squared): the residual of
         # the AFT is only piecewise smooth (knees, stick-slip switches at samples), and
         # full Newton steps can cycle between two pieces around a kink.
@@ -157,13 +183,13 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
                                       or alpha <= settings.min_damping):
                 break
             if R_try is None and alpha <= settings.min_damping:
-                return y, False, it + 1, msg
+                return NewtonResult(y, False, it + 1, msg)
             alpha *= 0.5
         y, R, J = y_try, R_try, J_try
         r = _norm(R)
         last = alpha * _norm(step)
-    return y, False, settings.max_newton, (
-        f"no convergence in {settings.max_newton} iterations (residual {r:.3g})")
+    return NewtonResult(y, False, settings.max_newton, (
+        f"no convergence in {settings.max_newton} iterations (residual {r:.3g})"))
 
 
 def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False):
@@ -252,7 +278,7 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         The last point is corrected onto ``lam = lam_end``.
     settings : ContinuationSettings
     lam_start : float, optional
-        Stop (status 3) if the branch returns below it.
+        Stop (``Status.TURNED_BACK``) if the branch returns below it.
     callback : callable, optional
         ``callback(lam)`` after every accepted point (progress bar).
     tangent0 : ndarray, optional
@@ -264,94 +290,46 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
         the next step is sized for a ratio of about 0.6 (the chord error grows like
         the step squared).
     until : callable, optional
-        ``until(y) -> bool``: stop successfully (status 0) after the first accepted
-        point for which it is true (local re-traces).
+        ``until(y) -> bool``: stop successfully (``Status.DONE``) after the first
+        accepted point for which it is true (local re-traces).
 
     Returns
     -------
     Branch
     """
     br = Branch()
-    n = y0.size - 1
     y = np.array(y0, dtype=float)
-    try:
-        R, J = fun(y)
-    except Exception as exc:  # noqa: BLE001 - work started: report, never raise
-        br.status, br.message = 4, f"evaluation failed at the start point: {exc}"
-        return br
-    e = np.zeros(n + 1)
-    e[-1] = 1.0
-    t = tangent_at(J, e if tangent0 is None else tangent0)
+    t = _start(fun, y, br, tangent0)
     if t is None:
-        br.status, br.message = 4, "singular Jacobian at the start point"
         return br
-    br.y.append(y.copy())
-    br.tangent.append(t)
-    br.jacobian.append(J)
-    br.n_iter.append(0)
     ds = settings.ds_initial
     lam_span = abs(lam_end - y[-1])
     lam_low = (lam_start if lam_start is not None else y[-1]) - 0.05 * lam_span
     while True:
         if br.n_steps >= settings.max_steps:
-            br.status, br.message = 2, f"stopped after max_steps = {settings.max_steps}"
+            br.status = Status.TOO_MANY_STEPS
+            br.message = f"stopped after max_steps = {settings.max_steps}"
             return br
         br.n_steps += 1
-        y_pred = y + ds * t
-        y_new, ok, its, msg = newton(fun, y_pred, settings, tangent=t, y_pred=y_pred)
-        br.n_newton += its
-        if ok and _norm(y_new - y_pred) > settings.max_correction * ds:
-            # converged far from the prediction: probably onto another branch
-            ok, msg = False, "corrector jumped away from the prediction"
-        corner = None
-        if not ok and ds <= settings.corner_ds:
-            y_c, its_c, corner = _corner_step(fun, y, t, ds, settings, br.y[-4:])
-            br.n_newton += its_c
-            if corner is not None:
-                y_new, ok, its = y_c, True, its_c
-        if not ok:
+        step = _step(fun, y, t, ds, settings, br)
+        if step.failure is not None:
             ds *= 0.5
             if ds < settings.ds_min:
-                br.status = 1
+                br.status = step.status
                 br.message = (f"step size below ds_min = {settings.ds_min:g} at "
-                              f"lam = {y[-1]:.6g} ({msg})")
+                              f"lam = {y[-1]:.6g} ({step.failure})"
+                              if step.status is Status.STEP_TOO_SMALL
+                              else step.failure)
                 return br
             continue
-        try:
-            R, J = fun(y_new)
-            # after a corner the new piece's direction gives the orientation
-            t_new = tangent_at(J, t if corner is None else corner)
-        except Exception as exc:  # noqa: BLE001
-            t_new = None
-            msg = str(exc)
-        if t_new is None:
-            ds *= 0.5
-            if ds < settings.ds_min:
-                br.status, br.message = 4, f"tangent failed at lam = {y_new[-1]:.6g}"
-                return br
+        y_new, t_new, J, its = step.y, step.t, step.J, step.n_iter
+        ratio = 0.0 if chord_error is None else chord_error(y, t, y_new, t_new)
+        if ratio > 1.0 and ds > 4 * settings.ds_min:
+            ds = max(ds * max(0.2, 0.8 / math.sqrt(ratio)), 2 * settings.ds_min)
             continue
-        ratio = 0.0
-        if chord_error is not None:
-            ratio = chord_error(y, t, y_new, t_new)
-            if ratio > 1.0 and ds > 4 * settings.ds_min:
-                ds = max(ds * max(0.2, 0.8 / math.sqrt(ratio)), 2 * settings.ds_min)
-                continue
         if y_new[-1] >= lam_end:
-            # land exactly on lam_end: natural-parameter Newton from the secant
-            frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
-            y_end = y + frac * (y_new - y)
-            y_end[-1] = lam_end
-            y_c, ok_end, its, _ = newton(fun, y_end, settings, fixed=n)
-            br.n_newton += its
-            if ok_end:
-                y_new = y_c
-                try:
-                    J_end = fun(y_new)[1]
-                    t_end = tangent_at(J_end, t)
-                except Exception:  # noqa: BLE001
-                    t_end = None
-                if t_end is not None:
-                    t_new, J = t_end, J_end
+            y_new, t_new, J, its = _land(fun, y, y_new, t, t_new, J, lam_end,
+                                         settings, br)
         if t_new[-1] * t[-1] < 0.0:
             br.turning_points.append(len(br.y))
         br.y.append(y_new.copy())
@@ -362,43 +340,148 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
             callback(y_new[-1])
         if y_new[-1] >= lam_end or (until is not None and until(y_new)):
             br.success = True
-            br.status, br.message = 0, "reached the end of the range"
+            br.status, br.message = Status.DONE, "reached the end of the range"
             return br
-        if br.turning_points and len(br.y) - br.turning_points[-1] <= 400:
-            # A branch that turns back onto itself (it can, at a kink of the sampled
-            # nonsmooth problem or at a branch point of a symmetric system) would
-            # retrace the curve: stop when a point falls back onto the part traced
-            # before the last turning point, and say so.
-            # "onto": within 5 % of the nearest old chord (the chords' own error
-            # from the curvature), away from the fold (arc > 0.2 scaled units)
-            k = br.turning_points[-1]
-            old = br.y[max(0, k - 400):k - 2]
-            retrace = False
-            if len(old) >= 2 and _norm(br.y[-1] - br.y[k]) > 0.2:
-                dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True)
-                retrace = dist < 0.05 * seg + 1e-9
-            if retrace:
-                f_tp = br.y[k][-1]
-                del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
-                del br.n_iter[k + 1:]
-                br.turning_points.pop()
-                br.status = 7
-                br.message = (f"the branch turns back onto itself at lam = {f_tp:.6g} "
-                              f"(a dead end of the sampled nonsmooth problem or a "
-                              f"branch point; try more samples or harmonics)")
-                return br
+        if _retraced(br):
+            return br
         if y_new[-1] < lam_low:
-            br.status = 3
+            br.status = Status.TURNED_BACK
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
             return br
-        # eq. 3.66, bounded growth; plus a curvature limit: the angle between
-        # successive tangents should not exceed max_angle (resolves peaks and folds)
-        fac = np.sqrt(settings.n_norm / max(its, 1))
-        angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
-        if angle > 0.0:
-            fac = min(fac, max(settings.max_angle / angle, 0.5))
-        if ratio > 0.0:
-            fac = min(fac, max(0.2, math.sqrt(0.6 / ratio)))
-        ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
-        ds = max(ds, settings.ds_min)
+        ds = _next_ds(ds, its, t, t_new, settings, ratio)
         y, t = y_new, t_new
+
+
+def _start(fun: Callable, y: np.ndarray, br: Branch,
+           direction: np.ndarray | None = None) -> np.ndarray | None:
+    """Record the start point of the branch; its tangent towards larger lam (or along
+    ``direction``), or None (``br`` says why)."""
+    n = y.size - 1
+    try:
+        R, J = fun(y)
+    except Exception as exc:  # noqa: BLE001 - work started: report, never raise
+        br.status = Status.EVALUATION_FAILED
+        br.message = f"evaluation failed at the start point: {exc}"
+        return None
+    e = np.zeros(n + 1)
+    e[-1] = 1.0
+    t = tangent_at(J, e if direction is None else direction)
+    if t is None:
+        br.status = Status.EVALUATION_FAILED
+        br.message = "singular Jacobian at the start point"
+        return None
+    br.y.append(y.copy())
+    br.tangent.append(t)
+    br.jacobian.append(J)
+    br.n_iter.append(0)
+    return t
+
+
+class _Step(NamedTuple):
+    """One predictor-corrector step: the new point, its tangent and Jacobian, or why
+    it failed (``failure`` is not None; ``status`` if the step size runs out)."""
+
+    y: np.ndarray | None
+    t: np.ndarray | None
+    J: np.ndarray | None
+    n_iter: int
+    failure: str | None = None
+    status: Status = Status.STEP_TOO_SMALL
+
+
+def _step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
+          settings: ContinuationSettings, br: Branch) -> _Step:
+    """Tangent predictor of length ``ds``, pseudo-arclength corrector, a corner step
+    when the corrector fails at a small step; the tangent at the new point."""
+    y_pred = y + ds * t
+    y_new, ok, its, msg = newton(fun, y_pred, settings, tangent=t, y_pred=y_pred)
+    br.n_newton += its
+    if ok and _norm(y_new - y_pred) > settings.max_correction * ds:
+        # converged far from the prediction: probably onto another branch
+        ok, msg = False, "corrector jumped away from the prediction"
+    corner = None
+    if not ok and ds <= settings.corner_ds:
+        y_c, its_c, corner = _corner_step(fun, y, t, ds, settings, br.y[-4:])
+        br.n_newton += its_c
+        if corner is not None:
+            y_new, ok, its = y_c, True, its_c
+    if not ok:
+        return _Step(None, None, None, its, msg)
+    try:
+        R, J = fun(y_new)
+        # after a corner the new piece's direction gives the orientation
+        t_new = tangent_at(J, t if corner is None else corner)
+    except Exception:  # noqa: BLE001
+        t_new = None
+    if t_new is None:
+        return _Step(None, None, None, its, f"tangent failed at lam = {y_new[-1]:.6g}",
+                     Status.EVALUATION_FAILED)
+    return _Step(y_new, t_new, J, its)
+
+
+def _land(fun: Callable, y, y_new, t, t_new, J, lam_end: float,
+          settings: ContinuationSettings, br: Branch):
+    """A step past ``lam_end``: land exactly on it by natural-parameter Newton from
+    the secant; ``(y, tangent, J, Newton iterations of the landing)`` (the step's
+    point, tangent and Jacobian if it fails)."""
+    n = y.size - 1
+    frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
+    y_end = y + frac * (y_new - y)
+    y_end[-1] = lam_end
+    y_c, ok_end, its, _ = newton(fun, y_end, settings, fixed=n)
+    br.n_newton += its
+    if ok_end:
+        y_new = y_c
+        try:
+            J_end = fun(y_new)[1]
+            t_end = tangent_at(J_end, t)
+        except Exception:  # noqa: BLE001
+            t_end = None
+        if t_end is not None:
+            t_new, J = t_end, J_end
+    return y_new, t_new, J, its
+
+
+def _retraced(br: Branch) -> bool:
+    """Whether the last point fell back onto the part traced before the last turning
+    point; if so, the retraced points are dropped and ``br`` says so.
+
+    A branch can turn back onto itself at a kink of the sampled nonsmooth problem or
+    at a branch point of a symmetric system. "Onto": within 5 % of the nearest old
+    chord (the chords' own error from the curvature), away from the fold (arc > 0.2
+    scaled units), within 400 points of it.
+    """
+    if not br.turning_points or len(br.y) - br.turning_points[-1] > 400:
+        return False
+    k = br.turning_points[-1]
+    old = br.y[max(0, k - 400):k - 2]
+    if len(old) < 2 or _norm(br.y[-1] - br.y[k]) <= 0.2:
+        return False
+    dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True)
+    if not dist < 0.05 * seg + 1e-9:
+        return False
+    f_tp = br.y[k][-1]
+    del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
+    del br.n_iter[k + 1:]
+    br.turning_points.pop()
+    br.status = Status.RETRACED
+    br.message = (f"the branch turns back onto itself at lam = {f_tp:.6g} "
+                  f"(a dead end of the sampled nonsmooth problem or a "
+                  f"branch point; try more samples or harmonics)")
+    return True
+
+
+def _next_ds(ds: float, its: int, t: np.ndarray, t_new: np.ndarray,
+             settings: ContinuationSettings, chord_ratio: float = 0.0) -> float:
+    """Eq. 3.66 with bounded growth, plus a curvature limit: the angle between
+    successive tangents should not exceed ``max_angle`` (resolves peaks and folds);
+    with a chord error ``chord_ratio`` (relative to its tolerance) the step is sized
+    for a ratio of about 0.6."""
+    fac = np.sqrt(settings.n_norm / max(its, 1))
+    angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
+    if angle > 0.0:
+        fac = min(fac, max(settings.max_angle / angle, 0.5))
+    if chord_ratio > 0.0:
+        fac = min(fac, max(0.2, math.sqrt(0.6 / chord_ratio)))
+    ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
+    return max(ds, settings.ds_min)

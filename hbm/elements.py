@@ -5,9 +5,8 @@ domain, and a nonlinear remainder evaluated in the time domain (AFT) or in close
 
     F_j(u, v, w) = k1 u + c v  +  F_gap/cub(u)  +  F_fr(u, w)
 
-    F_gap/cub = F_el(u) - k1 u = kc u^3                          (cubic)
-                               = (k2 - k1)(u - delta)    u > delta       (piecewise,
-                               = (k2 - k1)(u + delta_neg) u < -delta_neg  eq. 3.30)
+    F_gap/cub = F_el(u) - k1 u        (vectorised per law in :mod:`hbm.laws`, looked
+                                       up by the law's name)
 
 and ``F_fr`` the Jenkins element (thesis eq. 2.10-2.13), whose periodic response is
 obtained by marching the scalar return map :func:`fmu_src.mount_law.jenkins_update`
@@ -20,19 +19,16 @@ NumPy; ``tests/test_hbm_elements.py`` proves it equal to
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, LAW_CODES, jenkins_update
+from fmu_src.mount_law import AXES, jenkins_update
+from hbm.laws import hbm_law
 from hbm.system import System
 
 __all__ = ["NonlinearAxes", "nonlinear_axes", "elastic_remainder",
-           "jenkins_periodic"]
-
-CUBIC = LAW_CODES["cubic"]
-PIECEWISE = LAW_CODES["piecewise"]
-PIECEWISE_ASYM = LAW_CODES["piecewise_asym"]
-
+           "jenkins_periodic", "JenkinsResponse"]
 
 @dataclass(frozen=True, eq=False)
 class NonlinearAxes:
@@ -47,8 +43,9 @@ class NonlinearAxes:
     B : ndarray, shape (n_ax, n_dof)
         Rows of the elements' ``B`` maps: ``u = B q - G y``.
     G : ndarray, shape (n_ax, n_base)
-    law : ndarray of int, shape (n_ax,)
-        Law codes (``fmu_src.mount_law.LAWS``).
+    law : tuple of str, length n_ax
+        Law names (keys of ``fmu_src.mount_law.ELASTIC_LAWS`` and
+        ``hbm.laws.HBM_LAWS``).
     k1, kc, k2, delta, delta_neg : ndarray, shape (n_ax,)
         Elastic parameters (N/m, N/m^3, N/m, m, m).
     kf, fs : ndarray, shape (n_ax,)
@@ -63,7 +60,7 @@ class NonlinearAxes:
     index: tuple[tuple[int, int], ...]
     B: np.ndarray
     G: np.ndarray
-    law: np.ndarray
+    law: tuple[str, ...]
     k1: np.ndarray
     kc: np.ndarray
     k2: np.ndarray
@@ -77,9 +74,13 @@ class NonlinearAxes:
         if self.w_start is None:
             object.__setattr__(self, "w_start", np.zeros(len(self.labels)))
         # plain-float copies for the scalar closed forms (NumPy scalars are slow)
-        for name in ("law", "kc", "delta", "kf", "fs"):
+        for name in ("kc", "delta", "kf", "fs"):
             object.__setattr__(self, f"{name}_list", getattr(self, name).tolist())
         object.__setattr__(self, "dk_list", (self.k2 - self.k1).tolist())
+        # the axes of each law, in order of appearance: (HBM forms, mask)
+        names = np.array(self.law, dtype=object)
+        object.__setattr__(self, "groups", tuple(
+            (hbm_law(name), names == name) for name in dict.fromkeys(self.law)))
 
     @property
     def n(self) -> int:
@@ -96,8 +97,8 @@ class NonlinearAxes:
 
     @property
     def has_closed_form(self) -> bool:
-        """Whether every law has an H = 1 closed form (not ``piecewise_asym``)."""
-        return not bool(np.any(self.law == PIECEWISE_ASYM))
+        """Whether every law has an H = 1 closed form (``hbm.laws``)."""
+        return all(law.closed_form is not None for law, _ in self.groups)
 
 
 def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
@@ -118,10 +119,7 @@ def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
     for ie, e in enumerate(system.elements):
         for j in e.active_axes:
             p = e.params.axes[j]
-            nonlinear = (p.friction
-                         or (p.law == "cubic" and p.kc != 0.0)
-                         or (p.law.startswith("piecewise") and p.k2 != p.k1))
-            if nonlinear:
+            if p.friction or p.elastic.nonlinear(p):
                 rows.append((ie, j, e, p))
     n = system.n_dof
     nb = system.n_base
@@ -130,13 +128,12 @@ def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
         index=tuple((ie, j) for ie, j, _, _ in rows),
         B=np.array([e.B[j] for _, j, e, _ in rows]).reshape(len(rows), n),
         G=np.array([e.G[j] for _, j, e, _ in rows]).reshape(len(rows), nb),
-        law=np.array([p.law_code for *_, p in rows], dtype=int),
+        law=tuple(p.law for *_, p in rows),
         k1=np.array([p.k1 for *_, p in rows], dtype=float),
         kc=np.array([p.kc for *_, p in rows], dtype=float),
         k2=np.array([p.k2 for *_, p in rows], dtype=float),
         delta=np.array([p.delta for *_, p in rows], dtype=float),
-        delta_neg=np.array([p.delta_neg if p.law == "piecewise_asym" else p.delta
-                            for *_, p in rows], dtype=float),
+        delta_neg=np.array([p.delta_neg for *_, p in rows], dtype=float),
         kf=np.array([p.kf if p.friction else 0.0 for *_, p in rows], dtype=float),
         fs=np.array([p.fs for *_, p in rows], dtype=float),
         w_start=np.array([sliders[ie, j] if sliders is not None else 0.0
@@ -161,25 +158,22 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
     """
     f = np.zeros_like(u)
     kt = np.zeros_like(u)
-    cub = ax.law == CUBIC
-    if np.any(cub):
-        uc = u[:, cub]
-        f[:, cub] = ax.kc[cub] * uc * uc * uc
-        kt[:, cub] = 3.0 * ax.kc[cub] * uc * uc
-    pw = (ax.law == PIECEWISE) | (ax.law == PIECEWISE_ASYM)
-    if np.any(pw):
-        up = u[:, pw]
-        dk = (ax.k2 - ax.k1)[pw]
-        hi = up > ax.delta[pw]
-        lo = up < -ax.delta_neg[pw]
-        f[:, pw] = dk * (np.where(hi, up - ax.delta[pw], 0.0)
-                         + np.where(lo, up + ax.delta_neg[pw], 0.0))
-        kt[:, pw] = dk * (hi | lo)
+    for law, mask in ax.groups:
+        if law.remainder is not None and np.any(mask):
+            f[:, mask], kt[:, mask] = law.remainder(u[:, mask], ax, mask)
     return f, kt
 
 
+class JenkinsResponse(NamedTuple):
+    """Periodic response of one Jenkins element (:func:`jenkins_periodic`)."""
+
+    force: np.ndarray
+    stuck: np.ndarray
+    last_slip: np.ndarray
+
+
 def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
-                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                     ) -> JenkinsResponse:
     """Periodic response of one Jenkins element to sampled periodic motion.
 
     The periodic response of marching :func:`fmu_src.mount_law.jenkins_update` over
@@ -202,6 +196,8 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
 
     Returns
     -------
+    JenkinsResponse
+        ``(force, stuck, last_slip)``:
     force : ndarray, shape (N,)
         Friction force in N.
     stuck : ndarray of bool, shape (N,)
@@ -245,5 +241,5 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
             last = i
             stuck[i] = False
         last_slip[i] = last
-    return (np.array(force), np.array(stuck, dtype=bool),
-            np.array(last_slip, dtype=int))
+    return JenkinsResponse(np.array(force), np.array(stuck, dtype=bool),
+                           np.array(last_slip, dtype=int))

@@ -326,12 +326,16 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
         for fine in fines:
             sub = _retrace(fine, br, a, b, settings)
             if sub is None:
+                continue
+            k = len(sub.turning_points)
+            # fewer turns that connect like the stretch they replace (same parity)
+            if k < len(cl) and (len(cl) - k) % 2 == 0 and \
+                    (best is None or k < len(best[2].turning_points)):
+                best = (a, b, sub, fine)
+            if k <= 1:
                 break
-            best = (a, b, sub, fine)
-            if len(sub.turning_points) <= 1:
-                break
-        if best is None or len(best[2].turning_points) >= len(cl):
-            rep.kept += len(cl)
+        if best is None:
+            rep.kept += len(cl)  # persisted (or the re-trace failed)
             continue
         parts.append(best)
         rep.merged += len(cl) - len(best[2].turning_points)

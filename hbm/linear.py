@@ -52,7 +52,7 @@ def linear_frf(system: System, freqs_hz, stuck: bool = False) -> np.ndarray:
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> mp = MountParameters(axial=AxisParameters(law="linear", k1=1e5, c=0.0))
     >>> s = sdof(100.0, mp, excitation="force", amplitude=1.0)
     >>> float(abs(linear_frf(s, [0.0])[0, 0]))

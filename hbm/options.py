@@ -1,4 +1,9 @@
-"""Options of the harmonic-balance solver."""
+"""Options of the harmonic-balance solver: the one source of their defaults.
+
+The continuation's settings (:class:`hbm.continuation.ContinuationSettings`) have no
+defaults of their own and are built from these; the app's configuration
+(``drymount.config``) takes its ``[hbm]`` defaults from here too.
+"""
 
 from __future__ import annotations
 
@@ -25,7 +30,9 @@ class HBMOptions:
     n_samples : int or None
         AFT samples per period; None: ``max(64, 8H)`` rounded up to a power of 2.
     ds_initial, ds_min, ds_max : float
-        Initial, smallest and largest arc-length step (scaled units).
+        Initial, smallest and largest arc-length step (scaled units). ``ds_max`` =
+        0.1 is what every shipped result used (``hbm.continuation`` once had its own,
+        unused default of 0.15).
     n_norm : int
         Desired Newton iterations per step (thesis eq. 3.66).
     max_newton : int
@@ -51,32 +58,42 @@ class HBMOptions:
         the points not evaluated.
     n_peak : int
         Phases per period used for the peak ``max |q(t)|``.
+    refine_samples : int
+        How often :func:`hbm.frequency_response` may double the AFT sample count and
+        trace the curve again when the continuation stalls or dead-ends at a kink of
+        the sampled nonsmooth residual (0: never). The result's ``n_samples`` and
+        ``message`` say when it did.
+    max_restarts : int
+        When the curve still stops before ``fmax`` (a stall at a knee, a branch that
+        turns back), :func:`hbm.frequency_response` starts a new segment
+        ``restart_factor`` above the highest frequency reached, at most this many
+        times (0: never). Segments are clipped to the band and joined with a gap row;
+        see ``FrequencyResponse.restarts``.
+    restart_factor : float
+        Where a restarted segment starts, relative to the highest frequency reached
+        (> 1).
     tol : float or None
         Wanted accuracy of the curve relative to its peak (default 1e-3): half of it
         for the harmonic-balance error (:mod:`hbm.error_estimate`; H and N are raised
         until the estimate is below ``tol / 2``, up to ``max_harmonics`` and
-        ``max_samples``) and half for reading the curve between consecutive points
-        (the step is shrunk until the straight chord stays within ``tol / 2`` of the
-        curve in every DOF's amplitude). None: neither (fixed H and N, steps by
-        ``max_angle`` only).
+        ``max_samples``, unless the caller fixed them) and half for reading the curve
+        between consecutive points (the step is shrunk until the straight chord stays
+        within ``tol / 2`` of the curve in every DOF's amplitude). None: neither
+        (fixed H and N, steps by ``max_angle`` only).
     error_estimate : bool
-        Estimate the truncation and sampling errors of every point (always on when
+        Estimate the truncation and sampling errors of the points (always on when
         ``tol`` is set).
     max_harmonics : int
         Largest H the ``tol`` adaptation may use.
     max_samples : int
         Largest N the ``tol`` adaptation may use.
     zigzag_refine : int
-        Factor on N for re-tracing a closely spaced pair of turning points; the pair is
-        kept only if it persists (1: keep every turning point).
+        Factor on N for re-tracing a cluster of closely spaced turning points (then
+        its square); the cluster keeps only the turning points that persist
+        (1: keep every turning point).
     zigzag_span : float
-        Largest frequency extent of a turning-point pair that is re-checked, relative
+        Largest frequency extent between two turning points of a cluster, relative
         to ``fmax - fmin``.
-    refine_samples : int
-        How often :func:`hbm.frequency_response` may double the AFT sample count and
-        trace the curve again when the continuation stalls or dead-ends at a kink of
-        the sampled nonsmooth residual (0: never). The result's ``n_samples`` and
-        ``message`` say when it did.
     """
 
     harmonics: int = 7
@@ -95,6 +112,8 @@ class HBMOptions:
     stability_stride: int = 4
     n_peak: int = 256
     refine_samples: int = 2
+    max_restarts: int = 0
+    restart_factor: float = 1.02
     tol: float | None = 1e-3
     error_estimate: bool = True
     max_harmonics: int = 25
@@ -106,17 +125,13 @@ class HBMOptions:
         problems = []
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in ("stability",):
+            if f.name in ("stability", "error_estimate"):
                 if not isinstance(v, bool):
                     problems.append(f"`{f.name}` must be true or false, got {v!r}")
                 continue
             if f.name in ("n_samples", "tol") and v is None:
                 continue
-            if f.name == "error_estimate":
-                if not isinstance(v, bool):
-                    problems.append(f"`{f.name}` must be true or false, got {v!r}")
-                continue
-            if f.name == "refine_samples":
+            if f.name in ("refine_samples", "max_restarts"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                     problems.append(f"`{f.name}` must be an integer >= 0, got {v!r}")
                 continue
@@ -130,10 +145,12 @@ class HBMOptions:
         if not problems and self.ds_min > self.ds_max:
             problems.append(f"`ds_min` must be <= `ds_max` = {self.ds_max}, "
                             f"got {self.ds_min}")
-        if not problems and self.tol is not None and not self.tol < 0.5:
-            problems.append(f"`tol` must be < 0.5 (relative to peak), got {self.tol}")
         if not problems and self.max_growth < 1:
             problems.append(f"`max_growth` must be >= 1, got {self.max_growth}")
+        if not problems and self.tol is not None and not self.tol < 0.5:
+            problems.append(f"`tol` must be < 0.5 (relative to peak), got {self.tol}")
+        if not problems and self.restart_factor <= 1:
+            problems.append(f"`restart_factor` must be > 1, got {self.restart_factor}")
         if problems:
             raise ValueError("invalid HBMOptions: " + "; ".join(problems))
 

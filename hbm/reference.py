@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -92,14 +93,16 @@ class _Model:
         self.B = np.array([r[0] for r in rows]).reshape(len(rows), self.n)
         self.G = np.array([r[1] for r in rows]).reshape(len(rows), system.n_base)
         self.p = [r[2] for r in rows]
-        self.law = [p.law_code for p in self.p]
         self.friction = [p.friction for p in self.p]
-        self.pw = [p.law.startswith("piecewise") and p.k2 != p.k1 for p in self.p]
+        # kinks of each law (the registry's knees: +-delta for the symmetric
+        # piecewise law, +delta and -delta_neg for the asymmetric one)
+        self.knees = [p.elastic.knees(p) if p.elastic.nonlinear(p) else ()
+                      for p in self.p]
         self.n_ax = len(rows)
         # discrete state
         self.mode = [0] * self.n_ax   # 0 stuck, +-1 slipping
         self.w = [0.0] * self.n_ax
-        self.side = [[0, 0] for _ in range(self.n_ax)]  # knee sides (+1 above)
+        self.side = [[0] * len(k) for k in self.knees]  # knee sides (+1 above)
 
     def base(self, t):
         if self.kind != "base":
@@ -121,8 +124,7 @@ class _Model:
         F = np.empty(self.n_ax)
         for a in range(self.n_ax):
             p = self.p[a]
-            f, _ = elastic_force(float(u[a]), self.law[a], p.k1, p.kc, p.k2, p.delta,
-                                 p.delta_neg)
+            f, _ = elastic_force(float(u[a]), p)
             f += p.c * float(v[a])
             if self.friction[a]:
                 if self.mode[a] == 0:
@@ -156,9 +158,7 @@ class _Model:
                     self.mode[a] = s if float(v[a]) * s > 0 else 0
                 else:
                     self.w[a], self.mode[a] = 0.0, 0
-            if self.pw[a]:
-                self.side[a] = [1 if u[a] > p.delta else -1,
-                                1 if u[a] > -p.delta_neg else -1]
+            self.side[a] = [1 if u[a] > level else -1 for level in self.knees[a]]
 
     def events(self):
         """Event functions of the current phase, with their meaning."""
@@ -181,13 +181,12 @@ class _Model:
                     g.terminal, g.direction = True, -s
                     evs.append(g)
                     meta.append(("stick", a, s))
-            if self.pw[a]:
-                for k, level in enumerate((p.delta, -p.delta_neg)):
-                    def g(t, z, a=a, level=level):
-                        return self.uv(t, z)[0][a] - level
-                    g.terminal, g.direction = True, -self.side[a][k]
-                    evs.append(g)
-                    meta.append(("knee", a, k))
+            for k, level in enumerate(self.knees[a]):
+                def g(t, z, a=a, level=level):
+                    return self.uv(t, z)[0][a] - level
+                g.terminal, g.direction = True, -self.side[a][k]
+                evs.append(g)
+                meta.append(("knee", a, k))
         return evs, meta
 
     def switch(self, meta, t, z):
@@ -201,6 +200,73 @@ class _Model:
             self.mode[a] = 0
         else:
             self.side[a][s] = -self.side[a][s]
+
+
+class _Run(NamedTuple):
+    """Periods integrated: the dense segments of the last one, convergence."""
+
+    periods: int
+    segments: list
+    converged: bool
+    change: float
+    n_events: int
+
+
+def _period(model: _Model, z: np.ndarray, t: float, t_end: float, T: float,
+            options: dict):
+    """Integrate one period from ``t`` to ``t_end``, stopping at every event to switch
+    the phase; returns ``(z at t_end, dense segments, events)``."""
+    segments = []
+    events = 0
+    guard = 0
+    while t < t_end - 1e-14 * T:
+        evs, meta = model.events()
+        sol = solve_ivp(model.rhs, (t, t_end), z, events=evs or None, **options)
+        segments.append((sol.t[0], sol.t[-1], sol.sol))
+        z = sol.y[:, -1].copy()
+        t = float(sol.t[-1])
+        if sol.status == 1:
+            hits = [i for i, te in enumerate(sol.t_events) if len(te)]
+            for i in hits:
+                if abs(sol.t_events[i][0] - t) <= 1e-12 * T:
+                    model.switch(meta[i], t, z)
+                    events += 1
+            guard += 1
+            if guard > 10000:
+                raise RuntimeError("event chattering: more than 10000 events in "
+                                   "one period")
+        elif sol.status < 0:
+            raise RuntimeError(f"integration failed: {sol.message}")
+    return z, segments, events
+
+
+def _integrate(model: _Model, z0: np.ndarray, T: float, scale_q: float, omega: float,
+               max_periods: int, tol: float, options: dict) -> _Run:
+    """Periods until the state at the period boundary repeats (with a geometric
+    extrapolation of the remaining transient) or ``max_periods``."""
+    n = model.n
+    z = z0.copy()
+    prev_end = None
+    prev_change = None
+    n_events = 0
+    converged = False
+    change = np.inf
+    k = 0
+    segments = []
+    for k in range(1, max_periods + 1):
+        z, segments, events = _period(model, z, (k - 1) * T, k * T, T, options)
+        n_events += events
+        state = np.concatenate([z[:n] / scale_q, z[n:] / (omega * scale_q)])
+        if prev_end is not None:
+            change = float(np.abs(state - prev_end).max())
+            rho = change / prev_change if prev_change else 1.0
+            remaining = change * rho / (1.0 - rho) if rho < 0.95 else np.inf
+            if change < tol and (remaining < tol or change < 1e-3 * tol):
+                converged = True
+                break
+            prev_change = change
+        prev_end = state
+    return _Run(k, segments, converged, change, n_events)
 
 
 def periodic_response(system: System, freq_hz: float, *, harmonics: int = 15,
@@ -260,48 +326,10 @@ def periodic_response(system: System, freq_hz: float, *, harmonics: int = 15,
     atol_v = np.concatenate([np.full(n, atol), np.full(n, atol * omega)])
     model = _Model(system, omega)
     model.init_discrete(0.0, z0)
-    z = z0.copy()
-    prev_end = None
-    prev_change = None
-    n_events = 0
-    converged = False
-    change = np.inf
-    k = 0
-    segments = []
-    for k in range(1, max_periods + 1):
-        t = (k - 1) * T
-        t_end = k * T
-        segments = []
-        guard = 0
-        while t < t_end - 1e-14 * T:
-            evs, meta = model.events()
-            sol = solve_ivp(model.rhs, (t, t_end), z, method="DOP853", rtol=rtol,
-                            atol=atol_v, events=evs or None, dense_output=True)
-            segments.append((sol.t[0], sol.t[-1], sol.sol))
-            z = sol.y[:, -1].copy()
-            t = float(sol.t[-1])
-            if sol.status == 1:
-                hits = [i for i, te in enumerate(sol.t_events) if len(te)]
-                for i in hits:
-                    if abs(sol.t_events[i][0] - t) <= 1e-12 * T:
-                        model.switch(meta[i], t, z)
-                        n_events += 1
-                guard += 1
-                if guard > 10000:
-                    raise RuntimeError("event chattering: more than 10000 events in "
-                                       "one period")
-            elif sol.status < 0:
-                raise RuntimeError(f"integration failed: {sol.message}")
-        state = np.concatenate([z[:n] / scale_q, z[n:] / (omega * scale_q)])
-        if prev_end is not None:
-            change = float(np.abs(state - prev_end).max())
-            rho = change / prev_change if prev_change else 1.0
-            remaining = change * rho / (1.0 - rho) if rho < 0.95 else np.inf
-            if change < tol and (remaining < tol or change < 1e-3 * tol):
-                converged = True
-                break
-            prev_change = change
-        prev_end = state
+    run = _integrate(model, z0, T, scale_q, omega, max_periods, tol,
+                     dict(method="DOP853", rtol=rtol, atol=atol_v, dense_output=True))
+    k, segments = run.periods, run.segments
+    converged, change, n_events = run.converged, run.change, run.n_events
     t0 = (k - 1) * T
     ts = t0 + T * np.arange(n_out) / n_out
     q = np.empty((n_out, n))

@@ -18,6 +18,8 @@ through ``Kb0 Y`` (sine row) and ``omega Cb0 Y`` (cosine row) and through
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from hbm.aft import FourierBasis, aft_forces, default_n_samples
@@ -26,6 +28,14 @@ from hbm.elements import nonlinear_axes
 from hbm.system import System
 
 __all__ = ["HarmonicBalance"]
+
+
+class Residual(NamedTuple):
+    """Harmonic-balance residual at ``(X, omega)`` and its derivatives."""
+
+    R: np.ndarray
+    dR_dX: np.ndarray | None
+    dR_domega: np.ndarray | None
 
 
 class HarmonicBalance:
@@ -149,10 +159,9 @@ class HarmonicBalance:
 
         Returns
         -------
-        R : ndarray, shape (m n,)
-            Residual, N (N m for rotational DOFs).
-        dR_dX : ndarray, shape (m n, m n) or None
-        dR_domega : ndarray, shape (m n,) or None
+        Residual
+            ``R`` (m n,): residual, N (N m for rotational DOFs); ``dR_dX``
+            (m n, m n) or None; ``dR_domega`` (m n,) or None.
         """
         A = self.linear_matrix(omega)
         R = A @ X - self.excitation(omega)
@@ -160,7 +169,7 @@ class HarmonicBalance:
             F, dF = self.nonlinear_forces(X, jacobian)
             R += (F @ self.Bt).ravel()
         if not jacobian:
-            return R, None, None
+            return Residual(R, None, None)
         J = A
         if self.axes.n:
             if self.n == 1:
@@ -172,7 +181,7 @@ class HarmonicBalance:
                     0, 2, 1, 3).reshape(self.size, self.size)
         dR_dw = ((self.A1 + (2.0 * omega) * self.A2) @ X
                  - self.exc_scale * (self.e1 + 2.0 * omega * self.e2))
-        return R, J, dR_dw
+        return Residual(R, J, dR_dw)
 
     # ----------------------------------------------------------------------------------
     def time_samples(self, X: np.ndarray, n_samples: int = 256) -> np.ndarray:

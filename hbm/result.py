@@ -7,7 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["FrequencyResponse", "MarkedPoint"]
+from hbm.continuation import Status
+
+__all__ = ["FrequencyResponse", "MarkedPoint", "Status"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,24 @@ class MarkedPoint:
     interior: bool = True
 
 
+def _landing(f, st, amp, i: int, sgn: float):
+    """``(distance, index)`` of the stable point a sweep in direction ``sgn`` lands
+    on when the solution at ``i`` ends at a fold: on a stable piece of the curve
+    spanning ``f[i]``, the nearest in (scaled) amplitude; None if there is none."""
+    best = None
+    for k in range(len(f) - 1):
+        if k in (i, i - 1) or not (st[k] and st[k + 1]):
+            continue
+        lo, hi = sorted((f[k], f[k + 1]))
+        if not lo <= f[i] <= hi or lo == hi:
+            continue
+        land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
+        dist = float(np.linalg.norm(amp[land] - amp[i]))
+        if land != i and (best is None or dist < best[0]):
+            best = (dist, land)
+    return best
+
+
 @dataclass
 class FrequencyResponse:
     """Steady-state frequency response computed by harmonic balance.
@@ -73,10 +93,11 @@ class FrequencyResponse:
         jump frequencies are ``freq_hz[turning_points]``.
     success : bool
         Whether the curve reached ``fmax``.
-    status : int
-        0 done; 1 step below ``ds_min``; 2 too many steps; 3 turned back below
-        ``fmin``; 4 evaluation failed; 6 no start solution; 7 the branch turned back
-        onto itself (a dead end of the sampled nonsmooth problem).
+    status : hbm.continuation.Status
+        How the computation ended (``Status.DONE``, ``STEP_TOO_SMALL``,
+        ``TOO_MANY_STEPS``, ``TURNED_BACK`` below ``fmin``, ``EVALUATION_FAILED``,
+        ``NO_START``, ``RETRACED``: the branch turned back onto itself, a dead end of
+        the sampled nonsmooth problem; ``NO_CONVERGENCE`` at a given frequency).
     message : str
     n_newton : int
         Newton iterations in total.
@@ -110,6 +131,10 @@ class FrequencyResponse:
         Whether the error estimate met ``HBMOptions.tol / 2`` (None: not asked).
     transmissibility_label : str
         What ``transmissibility`` is (its definition), for plots.
+    restarts : tuple of hbm.segments.Restart
+        ``(freq_hz, reason)`` of every restart (``HBMOptions.max_restarts``): the
+        curve is in ``len(restarts) + 1`` segments separated by one gap row each
+        (NaN values, frequency = the restart frequency); see :attr:`segments`.
     """
 
     freq_hz: np.ndarray
@@ -120,7 +145,7 @@ class FrequencyResponse:
     stable: np.ndarray
     turning_points: np.ndarray
     success: bool
-    status: int
+    status: Status
     message: str
     n_newton: int
     n_steps: int
@@ -132,6 +157,7 @@ class FrequencyResponse:
     newton_per_point: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     system_name: str = ""
     turning_freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    restarts: tuple = ()
     folds: list = field(default_factory=list)
     peaks: list = field(default_factory=list)
     turning_points_merged: int = 0
@@ -169,9 +195,22 @@ class FrequencyResponse:
                 return fo.freq_hz
         return None
 
+
     @property
     def n_points(self) -> int:
         return int(self.freq_hz.size)
+
+    @property
+    def segments(self) -> list[slice]:
+        """Index ranges of the segments (one without restarts), gap rows excluded."""
+        out, start = [], 0
+        gaps = np.flatnonzero(np.isnan(self.amplitude).all(axis=1)) \
+            if self.restarts else []
+        for g in gaps:
+            out.append(slice(start, int(g)))
+            start = int(g) + 1
+        out.append(slice(start, self.n_points))
+        return out
 
     def sweep_jumps(self, direction: str = "up", min_change: float = 0.01
                     ) -> list[tuple[float, int, int]]:
@@ -237,17 +276,7 @@ class FrequencyResponse:
                 jumps.append((float(f[i]), i, -1))
                 break
             # a fold: the solution ends here; land on another stable part
-            best = None
-            for k in range(n - 1):
-                if k in (i, i - 1) or not (st[k] and st[k + 1]):
-                    continue
-                lo, hi = sorted((f[k], f[k + 1]))
-                if not lo <= f[i] <= hi or lo == hi:
-                    continue
-                land = k + 1 if sgn * (f[k + 1] - f[k]) > 0 else k
-                dist = float(np.linalg.norm(amp[land] - amp[i]))
-                if land != i and (best is None or dist < best[0]):
-                    best = (dist, land)
+            best = _landing(f, st, amp, i, sgn)
             if best is None:
                 break
             if best[0] >= min_change:
@@ -286,7 +315,7 @@ class FrequencyResponse:
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
         cols.append("transmissibility")
-        from drymount.io import atomic_path
+        from hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(f"# drymount HBM {self.system_name}: folds (extremum of the "
                      f"frequency along the curve) and each DOF's resonance peak "
@@ -313,7 +342,7 @@ class FrequencyResponse:
                    f"fundamental (_amp) and max over the period (_peak); err_* "
                    f"estimated error relative to peak; stable 1/0; "
                    f"folds at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
-        from drymount.io import atomic_path
+        from hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")

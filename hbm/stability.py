@@ -20,6 +20,8 @@ References: von Groll and Ewins (2001); Detroux et al. (2015); Krack and Gross,
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import scipy.linalg
 
@@ -55,10 +57,17 @@ def floquet_exponents(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.nd
     return lam[order[: 2 * n]]
 
 
+class Stability(NamedTuple):
+    """Hill stability of one solution: the verdict and the largest real part of the
+    Floquet exponents (1/s)."""
+
+    stable: bool
+    max_real: float
+
+
 def is_stable(hb: HarmonicBalance, J: np.ndarray, omega: float,
-              rtol: float = 1e-7) -> tuple[bool, float]:
-    """``(stable, max real part)``: unstable if a Floquet exponent has a real part
-    above ``rtol * omega``."""
+              rtol: float = 1e-7) -> Stability:
+    """Unstable if a Floquet exponent has a real part above ``rtol * omega``."""
     lam = floquet_exponents(hb, J, omega)
     mr = float(np.max(lam.real))
-    return mr <= rtol * omega, mr
+    return Stability(mr <= rtol * omega, mr)

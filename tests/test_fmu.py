@@ -1,6 +1,6 @@
 """FrictionMount.fmu driven through fmpy's FMU2Slave against the in-process law.
 
-References: the in-process law (fmu_src.mount_law.axis_force_p marched with the same
+References: the in-process law (fmu_src.mount_law.axis_force marched with the same
 inputs: the FMU must give the same numbers step for step), the Jenkins loop energy
 4 Fs (X - Fs/kf) per cycle, fmpy's validator, and the FMI 2.0 rules for state
 save/restore and initialization errors.
@@ -36,8 +36,9 @@ except ImportError as exc:
     pytest.skip(f"the FMU tests need fmpy ({exc}); install the project first: "
                 f"python3 -m pip install -e \".[test]\"", allow_module_level=True)
 
-from drymount.fmu_build import build_fmu, ensure_fmu, fmu_module_names, source_dir
-from fmu_src.mount_law import AXES, LAW_CODES, AxisParameters, axis_force_p
+from fmu_build import (FMU_SOURCES, build_fmu, ensure_fmu, fmu_module_names,
+                       source_dir)
+from fmu_src.mount_law import AXES, AxisParameters, axis_force, law_name
 
 # The FMU calls the same scalar law with the same floats: equality is expected to be
 # exact; 1e-12 is the issue's bound.
@@ -114,8 +115,7 @@ def axis_params(prefix_values: dict, axis: str) -> AxisParameters:
     for key, value in prefix_values.items():
         if key.startswith(axis + "_"):
             field = key[len(axis) + 1:]
-            kw[field] = next(n for n, c in LAW_CODES.items() if c == value) \
-                if field == "law" else value
+            kw[field] = law_name(value) if field == "law" else value
     return AxisParameters(**kw)
 
 
@@ -145,7 +145,7 @@ def motion(k, h=1e-4, freq=(13.0, 21.0, 34.0), amp=(0.008, 0.004, 0.005)):
 
 
 def march_law(params, n_steps, normal=None):
-    """The in-process reference: the same protocol, axis_force_p per axis."""
+    """The in-process reference: the same protocol, axis_force per axis."""
     ps = [axis_params(params, axis) for axis in AXES]
     w, e = [0.0] * 3, [0.0] * 3
     rows = []
@@ -156,7 +156,7 @@ def march_law(params, n_steps, normal=None):
             fs = None
             if normal is not None and j == 0:
                 fs = p.mu * max(normal(k), 0.0)
-            f, ffr, w_new, kt, slip, diss = axis_force_p(u[j], v[j], w[j], p, fs=fs)
+            f, ffr, w_new, kt, slip, diss = axis_force(u[j], v[j], w[j], p, fs=fs)
             row += [f, ffr, kt, e[j] + diss]
             w[j] = w_new
             e[j] += diss
@@ -224,12 +224,45 @@ def test_model_description_interface(fmu):
     assert {u.variable.name for u in md.initialUnknowns} == set(deps)
 
 
+def test_model_description_is_the_interface_table(fmu):
+    """Every variable of the built FMU is the row of fmu_src.interface with the same
+    value reference: name, type, causality, variability, initial, unit, description,
+    start; units, capabilities and the default experiment come from the table too."""
+    from fmu_src import interface
+
+    md = fmu[0]
+    assert md.modelName == interface.MODEL_NAME
+    assert len(md.modelVariables) == len(interface.VARIABLES)
+    for sv, var in zip(md.modelVariables, interface.VARIABLES, strict=True):
+        assert (sv.valueReference, sv.name, sv.type, sv.causality, sv.variability,
+                sv.unit, sv.description) == (
+            interface.VARIABLES.index(var), var.name, var.type, var.causality,
+            var.variability, var.unit, var.description), var.name
+        # fmpy fills in FMI's default `initial` where the table leaves it None
+        assert var.initial is None or sv.initial == var.initial, var.name
+        if var.start is None:
+            assert sv.start is None, var.name
+        elif var.type == "Boolean":
+            assert sv.start == str(var.start).lower(), var.name
+        else:
+            assert float(sv.start) == var.start, var.name
+    assert {u.name for u in md.unitDefinitions} == set(interface.BASE_UNITS)
+    for flag, value in interface.CAPABILITIES.items():
+        assert bool(getattr(md.coSimulation, flag)) is value, flag
+    assert float(md.defaultExperiment.stepSize) == \
+        interface.DEFAULT_EXPERIMENT["stepSize"]
+    assert interface.by_causality("local") == tuple(
+        v for v in interface.VARIABLES if v.name.startswith("w_"))
+    with pytest.raises(KeyError, match="no variable 'F_x'"):
+        interface.variable("F_x")
+
+
 def test_fmu_carries_byte_identical_sources_and_docs(fmu_path):
     package, entry, _ = fmu_module_names()
     with zipfile.ZipFile(fmu_path) as z:
         names = set(z.namelist())
         assert z.read("resources/slavemodule.txt").decode().strip() == entry
-        for name in ("mount_law.py", "friction_mount.py"):
+        for name in FMU_SOURCES:
             assert z.read(f"resources/{package}/{name}") == \
                 (source_dir() / name).read_bytes()
         assert not any(n.startswith("resources/fmu_src") for n in names)
@@ -557,7 +590,7 @@ def test_c_importer_matches_in_process_law(c_host, fmu, preload):
     p = axis_params(params, "axial")
     w, e, ref = 0.0, 0.0, []
     for u, v in rows[:, :2]:
-        f, ffr, w, _, _, diss = axis_force_p(float(u), float(v), w, p)
+        f, ffr, w, _, _, diss = axis_force(float(u), float(v), w, p)
         e += diss
         ref.append([f, ffr, e])
     np.testing.assert_allclose(rows[:, 2:], np.array(ref), rtol=RTOL_FMU_VS_LAW,
@@ -583,7 +616,7 @@ def test_loader_reports_missing_libpython(c_host, fmu, tmp_path, monkeypatch):
     and the importer's logger gets the reason and the remedy; no crash."""
     import shutil
 
-    from drymount import fmu_build
+    from fmu_build import builder as fmu_build
 
     if not (Path(fmu[1]) / "binaries" / "linux64" / fmu_build.REAL_BINARY).exists():
         pytest.skip("this FMU was built without the linux64 loader (see build.txt)")
@@ -629,7 +662,7 @@ def test_docs_fmpy_example_runs(fmu_path, tmp_path, monkeypatch):
         t = k * 1e-4
         u = 0.005 * math.sin(2 * math.pi * 10.0 * t)
         v = 0.005 * 2 * math.pi * 10.0 * math.cos(2 * math.pi * 10.0 * t)
-        _, _, w, _, _, diss = axis_force_p(u, v, w, p)
+        _, _, w, _, _, diss = axis_force(u, v, w, p)
         e += diss
     assert energy == pytest.approx(e, abs=5e-5)  # printed with 4 decimals
     assert energy > 0.0
@@ -668,7 +701,7 @@ s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu),
 s.instantiate()
 bundled = sys.modules["pythonfmu"].__file__
 s.freeInstance()
-from drymount.fmu_build import build_fmu
+from fmu_build import build_fmu
 out = build_fmu(dest)
 names = zipfile.ZipFile(out).namelist()
 print(bundled)

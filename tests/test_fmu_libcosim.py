@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from drymount.fmu_build import build_fmu
+from fmu_build import build_fmu
 
 pytest.importorskip("libcosimpy", reason="libcosimpy is not installed (the test extra "
                     "installs it on CPython >= 3.11, linux x86_64)")

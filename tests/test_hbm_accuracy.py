@@ -14,8 +14,8 @@ import pytest
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
 from hbm.analysis import build_problem
-from hbm.continuation import ContinuationSettings, newton
-from vehicle.models import sdof
+from hbm.continuation import newton
+from hbm.systems import sdof
 
 M, K, C, F = 70.0, 91870.0, 150.0, 40.0
 
@@ -85,7 +85,7 @@ def _true_error(r, system, fmin, fmax, H_ref=31, N_ref=2048):
     differences of the points), each DOF's amplitude and max |q| relative to its
     largest value, with the frequency shift relative to fmax - fmin (hypot)."""
     ref = build_problem(system, fmin, fmax, H_ref, N_ref, False)
-    st = ContinuationSettings(max_newton=30)
+    st = hbm.HBMOptions(max_newton=30).continuation_settings()
     n, m, mr = len(r.dof_names), 2 * r.harmonics + 1, ref.hb.m
     q0 = np.hstack([r.amplitude, r.peak])
     scale = q0.max(axis=0)

@@ -8,7 +8,7 @@ from fmu_src.mount_law import AxisParameters, MountParameters
 from hbm.aft import FourierBasis, aft_forces, default_n_samples
 from hbm.elements import nonlinear_axes
 from hbm.residual import HarmonicBalance
-from vehicle.models import quarter_car, rigid_engine, sdof
+from hbm.systems import quarter_car, rigid_engine, sdof
 
 # Analytic vs central differences. The laws are piecewise smooth; with generic
 # coefficients no sample sits on a kink, so the only error is the FD truncation and

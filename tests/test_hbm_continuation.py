@@ -8,7 +8,8 @@ import pytest
 
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.models import quarter_car, sdof
+from hbm.continuation import Status
+from hbm.systems import quarter_car, sdof
 
 # H = 1 AFT (N = 4096 samples) vs closed forms, relative to the peak amplitude. The
 # AFT's error comes from the kinks of the laws between samples, O(N^-2):
@@ -108,7 +109,9 @@ def test_closed_form_unavailable_for_asymmetric_law():
 @pytest.mark.parametrize("field,value", [("ds_min", -1.0), ("harmonics", 0),
                                          ("stability", 1), ("n_samples", 2.0),
                                          ("max_newton", True),
-                                         ("refine_samples", -1)])
+                                         ("refine_samples", -1),
+                                         ("max_restarts", 1.5),
+                                         ("restart_factor", 1.0)])
 def test_options_validation(field, value):
     with pytest.raises(ValueError, match=field):
         hbm.HBMOptions(**{field: value})
@@ -118,28 +121,30 @@ def test_stalled_continuation_returns_branch():
     s = sdof_preset()
     r = hbm.frequency_response(s, 2.0, 15.0, harmonics=3,
                                options=hbm.HBMOptions(max_steps=5))
-    assert not r.success and r.status == 2 and "max_steps" in r.message
+    assert not r.success and r.status is Status.TOO_MANY_STEPS
+    assert "max_steps" in r.message
     assert r.n_points == 6 and r.freq_hz[-1] < 15.0
     # Newton cannot converge in one iteration on the nonlinear branch: the step
     # shrinks below ds_min and the continuation stops with what it has
     r = hbm.frequency_response(s, 2.0, 15.0, harmonics=3,
                                options=hbm.HBMOptions(max_newton=1, ds_min=1e-3,
                                                       refine_samples=0))
-    assert not r.success and r.status == 1 and "ds_min" in r.message
+    assert not r.success and r.status is Status.STEP_TOO_SMALL
+    assert "ds_min" in r.message
     assert r.n_points >= 1 and r.freq_hz[0] == 2.0
 
 
 def test_dead_end_of_the_sampled_problem_is_refined():
     """The six-DOF preset with friction at H = 5 and 64 samples: the branch turns
     back onto itself at a kink near 9.65 Hz (measured). Without refinement the curve
-    so far comes back with status 7; by default the samples are doubled, the curve
+    so far comes back with status RETRACED; by default the samples are doubled, the curve
     reaches fmax and the message says what happened."""
     from drymount.config import load_preset
     s = load_preset("six_dof_halved").system
     # tol=None: the steps of the old default (the chord control would step past it)
     off = hbm.HBMOptions(stability=False, refine_samples=0, tol=None)
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5, options=off)
-    assert not r.success and r.status == 7 and r.n_samples == 64
+    assert not r.success and r.status is Status.RETRACED and r.n_samples == 64
     assert r.n_points > 10 and 9.0 < r.freq_hz.max() < 10.0
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5,
                                options=hbm.HBMOptions(stability=False, tol=None))
@@ -250,7 +255,47 @@ def test_start_by_load_stepping():
     raises the excitation in steps."""
     ax = AxisParameters(law="piecewise", k1=91870.0, k2=513800.0, delta=0.002, c=150.0)
     s = sdof(70.0, MountParameters(axial=ax), "force", 400.0)
+    # zigzag_refine=1: every point at N = 32 (a merged zigzag is re-traced with more)
     r = hbm.frequency_response(s, 2.0, 5.0, harmonics=5, n_samples=32,
-                               options=hbm.HBMOptions(stability=False))
+                               options=hbm.HBMOptions(stability=False,
+                                                      zigzag_refine=1))
     assert r.n_points > 1 and r.freq_hz[0] == 2.0
     assert _max_relative_residual(s, r, 32) <= RTOL_POINT_RESIDUAL
+
+
+# Continuation points vs Newton at the same frequencies: both converge to 1e-10 of
+# the residual; measured 1.3e-15.
+RTOL_RESTART = 1e-9
+
+
+def test_restarts_continue_past_a_stall_in_segments():
+    """A continuation that stops early (here: max_steps per segment) is restarted
+    ``restart_factor`` above the highest frequency reached; the segments are joined
+    with one gap row each and every point is a solution: Newton at the same
+    frequencies (hbm.solve_frequencies, independent of the continuation) gives the
+    same amplitudes."""
+    s = sdof_preset()
+    opts = hbm.HBMOptions(max_steps=15, max_restarts=20, stability=False)
+    r = hbm.frequency_response(s, 2.0, 15.0, harmonics=3, options=opts)
+    assert r.success and r.status is Status.DONE and len(r.restarts) >= 2
+    segs = r.segments
+    assert len(segs) == len(r.restarts) + 1
+    for k, (seg, restart) in enumerate(zip(segs[1:], r.restarts)):
+        gap = seg.start - 1
+        assert np.isnan(r.amplitude[gap]).all() and r.freq_hz[gap] == restart.freq_hz
+        assert r.freq_hz[seg.start] == pytest.approx(restart.freq_hz, rel=1e-12)
+        top = r.freq_hz[segs[k]].max()
+        assert restart.freq_hz == pytest.approx(top * opts.restart_factor, rel=1e-12)
+        assert "max_steps" in restart.reason
+    assert r.freq_hz[segs[-1]].max() == 15.0
+    pts = np.concatenate([r.freq_hz[seg] for seg in segs])
+    ok = np.concatenate([r.amplitude[seg][:, 0] for seg in segs])
+    ref = hbm.solve_frequencies(s, pts[::7], harmonics=3, n_samples=r.n_samples,
+                                options=hbm.HBMOptions(stability=False))
+    assert ref.success
+    assert np.allclose(ok[::7], ref.amplitude[:, 0], rtol=RTOL_RESTART, atol=0)
+    # without restarts the same options stop at the first stall
+    once = hbm.frequency_response(s, 2.0, 15.0, harmonics=3,
+                                  options=hbm.HBMOptions(max_steps=15,
+                                                         stability=False))
+    assert not once.success and once.restarts == () and len(once.segments) == 1

@@ -7,7 +7,8 @@ from scipy.optimize import minimize_scalar
 
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.models import sdof
+from hbm.continuation import Status
+from hbm.systems import sdof
 
 # m x'' + c x' + k x + kc x^3 = F sin(omega t); values of the thesis's cubic fit
 M, K, KC, C, F = 20.0, 34770.0, 5.708e8, 20.0, 10.0
@@ -119,7 +120,7 @@ def _synthetic(freq, amp, stable, turning=()):
         freq_hz=np.asarray(freq, float), coefficients=np.zeros((n, 1, 3)),
         amplitude=np.asarray(amp, float)[:, None], peak=np.asarray(amp, float)[:, None],
         transmissibility=np.asarray(amp, float), stable=np.asarray(stable, bool),
-        turning_points=np.asarray(turning, int), success=True, status=0, message="",
+        turning_points=np.asarray(turning, int), success=True, status=Status.DONE, message="",
         n_newton=0, n_steps=0, dof_names=("x",), harmonics=1)
 
 

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import (AxisParameters, MountParameters, axis_force_p,
+from fmu_src.mount_law import (AxisParameters, MountParameters, axis_force,
                                elastic_force, jenkins_update)
 from hbm.elements import elastic_remainder, jenkins_periodic, nonlinear_axes
-from vehicle.models import sdof
+from hbm.systems import sdof
 
 ATOL_LAW = 1e-9  # N; vectorised vs scalar law: same operations, measured 0 to 2e-12
 RTOL_ENERGY = 1e-12  # loop energy from samples vs 4 Fs (X - eps): exact at samples
@@ -33,8 +33,7 @@ def test_elastic_remainder_equals_scalar_law(name):
     u = np.linspace(-0.03, 0.03, 2001)[:, None]
     f, kt = elastic_remainder(u, ax)
     for i in range(u.shape[0]):
-        fe, ke = elastic_force(float(u[i, 0]), p.law_code, p.k1, p.kc, p.k2, p.delta,
-                               p.delta_neg)
+        fe, ke = elastic_force(float(u[i, 0]), p)
         assert abs(p.k1 * u[i, 0] + f[i, 0] - fe) <= ATOL_LAW
         assert abs(p.k1 + kt[i, 0] - ke) <= ATOL_LAW
 
@@ -82,7 +81,7 @@ def test_jenkins_loop_energy_is_4fs_x_minus_eps():
 
 
 def test_axis_force_decomposition():
-    """k1 u + c v + remainder + Jenkins == mount_law.axis_force_p along a path."""
+    """k1 u + c v + remainder + Jenkins == mount_law.axis_force along a path."""
     p = AxisParameters(law="piecewise", friction=True, n0=40.0)
     ax = _axes(p)
     t = np.linspace(0, 1, 501)
@@ -91,9 +90,20 @@ def test_axis_force_decomposition():
     f_nl, _ = elastic_remainder(u[:, None], ax)
     w = 0.0
     for i in range(t.size):
-        F, f_fr, w_new, _, _, _ = axis_force_p(float(u[i]), float(v[i]), w, p)
+        F, f_fr, w_new, _, _, _ = axis_force(float(u[i]), float(v[i]), w, p)
         ff, w2, _, _ = jenkins_update(float(u[i]), w, p.kf, p.fs)
         assert math.isclose(F, p.k1 * u[i] + p.c * v[i] + f_nl[i, 0] + ff,
                             rel_tol=0, abs_tol=ATOL_LAW)
         assert w2 == w_new
         w = w_new
+
+
+def test_every_law_has_hbm_forms_looked_up_by_name():
+    """Each law of the fmu_src registry has its HBM forms in hbm.laws; an unknown
+    name fails with a message that says where to add it."""
+    from fmu_src.mount_law import ELASTIC_LAWS
+    from hbm.laws import HBM_LAWS, hbm_law
+
+    assert set(HBM_LAWS) == set(ELASTIC_LAWS)
+    with pytest.raises(KeyError, match="hbm.laws.HBM_LAWS"):
+        hbm_law("quintic")

@@ -12,7 +12,7 @@ import pytest
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
 from hbm.reference import periodic_response
-from vehicle.models import quarter_car, sdof
+from hbm.systems import quarter_car, sdof
 
 RTOL_HBM_VS_TIME = 5e-3  # the issue's requirement; measured <= 7.2e-4 at H = 7 (peak)
 RTOL_REF_LINEAR = 1e-7   # reference on a linear system; measured 1.2e-8 (period tol)
@@ -104,3 +104,20 @@ def test_reference_energy_balance_and_input_check():
     assert w_fr == pytest.approx(4 * 20.0 * (X - 20.0 / 60000.0), rel=0.02)
     with pytest.raises(ValueError, match="freq_hz"):
         periodic_response(s, -1.0)
+
+
+def test_symmetric_piecewise_reference_ignores_delta_neg():
+    """The symmetric piecewise law has its knees at +-delta whatever delta_neg says:
+    the event-exact reference must stop at u = -delta (regression: it used
+    -delta_neg, so a step straddled the real kink and an event fired at a point that
+    is no kink). With delta_neg = delta / 2 the run must equal the one with
+    delta_neg = delta exactly, and cross both knees."""
+    def system(delta_neg):
+        ax = AxisParameters(law="piecewise", k1=91870.0, k2=513800.0, delta=0.004,
+                            delta_neg=delta_neg, c=150.0)
+        return sdof(70.0, MountParameters(axial=ax), "force", 800.0)
+
+    a = periodic_response(system(0.004), 6.0, max_periods=12, n_out=64)
+    b = periodic_response(system(0.002), 6.0, max_periods=12, n_out=64)
+    assert a.q.min() < -0.004 and a.q.max() > 0.004  # both knees are crossed
+    assert a.n_events == b.n_events and np.array_equal(a.q, b.q)

@@ -12,16 +12,17 @@ import numpy as np
 import pytest
 
 from fmu_src.mount_law import (
-    LAW_CODES,
+    ELASTIC_LAWS,
     LAWS,
     AxisParameters,
+    ElasticLaw,
     MountParameters,
     ParameterError,
     axis_force,
-    axis_force_p,
     elastic_force,
     jenkins_update,
-    mount_force,
+    law_code,
+    law_name,
 )
 
 KF, FS = 60000.0, 100.0  # contact stiffness N/m, slip force N
@@ -53,7 +54,7 @@ def _sine_march(amplitude, n_cycles=3, law_params=None):
     w = 0.0
     f_tot, f_fr, diss = [], [], []
     for uk in u:
-        force, friction, w, _, _, dissipated = axis_force_p(float(uk), 0.0, w, p)
+        force, friction, w, _, _, dissipated = axis_force(float(uk), 0.0, w, p)
         f_tot.append(force)
         f_fr.append(friction)
         diss.append(dissipated)
@@ -99,10 +100,9 @@ def test_loop_area_with_elastic_law():
 
 def _knee_jump(law, knee, **kw):
     p = AxisParameters(law=law, **kw)
-    args = (LAW_CODES[law], p.k1, p.kc, p.k2, p.delta, p.delta_neg)
-    below = elastic_force(math.nextafter(knee, -math.inf), *args)
-    above = elastic_force(math.nextafter(knee, math.inf), *args)
-    at = elastic_force(knee, *args)
+    below = elastic_force(math.nextafter(knee, -math.inf), p)
+    above = elastic_force(math.nextafter(knee, math.inf), p)
+    at = elastic_force(knee, p)
     return below, at, above, p
 
 
@@ -126,23 +126,21 @@ def test_piecewise_continuous_at_knees(law, knee_attr, sign):
 def test_asymmetric_knees_are_where_declared():
     p = AxisParameters(law="piecewise_asym", k1=1e4, k2=5e4, delta=0.01,
                        delta_neg=0.004)
-    args = (LAW_CODES["piecewise_asym"], p.k1, p.kc, p.k2, p.delta, p.delta_neg)
-    assert elastic_force(-0.005, *args)[1] == p.k2  # beyond -delta_neg
-    assert elastic_force(0.005, *args)[1] == p.k1  # inside +delta
+    assert elastic_force(-0.005, p)[1] == p.k2  # beyond -delta_neg
+    assert elastic_force(0.005, p)[1] == p.k1  # inside +delta
     # F(-0.02) = k1 u + (k2 - k1)(u + delta_neg)
-    assert elastic_force(-0.02, *args)[0] == pytest.approx(
+    assert elastic_force(-0.02, p)[0] == pytest.approx(
         1e4 * -0.02 + 4e4 * (-0.02 + 0.004), rel=1e-15)
     # and therefore not odd
-    assert elastic_force(-0.02, *args)[0] != -elastic_force(0.02, *args)[0]
+    assert elastic_force(-0.02, p)[0] != -elastic_force(0.02, p)[0]
 
 
 @pytest.mark.parametrize("law", ["linear", "cubic", "piecewise"])
 def test_symmetric_laws_are_odd(law):
     p = AxisParameters(law=law, k1=34770.0, kc=5.708e8, k2=513800.0, delta=0.01225)
-    args = (LAW_CODES[law], p.k1, p.kc, p.k2, p.delta, p.delta_neg)
     for u in np.linspace(0.0, 0.05, 201):
-        f_pos, k_pos = elastic_force(float(u), *args)
-        f_neg, k_neg = elastic_force(float(-u), *args)
+        f_pos, k_pos = elastic_force(float(u), p)
+        f_neg, k_neg = elastic_force(float(-u), p)
         assert f_neg == -f_pos and k_neg == k_pos
     # the Jenkins element is odd too: mirrored motion, mirrored slider and force
     for u, w in [(0.003, 0.0), (-0.001, 0.0005), (0.01, -0.002)]:
@@ -167,35 +165,54 @@ def test_tangent_stiffness_matches_finite_differences(law, friction):
             continue  # kink of the elastic law inside the stencil
         if friction and abs(abs(KF * (u - w)) - FS) < 10 * h * KF:
             continue  # stick/slip switch inside the stencil
-        f_hi = axis_force_p(u + h, 0.3, w, p)[0]
-        f_lo = axis_force_p(u - h, 0.3, w, p)[0]
-        kt = axis_force_p(u, 0.3, w, p)[3]
+        f_hi = axis_force(u + h, 0.3, w, p)[0]
+        f_lo = axis_force(u - h, 0.3, w, p)[0]
+        kt = axis_force(u, 0.3, w, p)[3]
         fd = (f_hi - f_lo) / (2.0 * h)
         assert fd == pytest.approx(kt, rel=RTOL_FD, abs=RTOL_FD * p.k2)
         checked += 1
     assert checked > 150
     # damping tangent dF/dv = c
     u, w = 0.002, 0.0
-    dv = (axis_force_p(u, 1.0, w, p)[0] - axis_force_p(u, -1.0, w, p)[0]) / 2.0
+    dv = (axis_force(u, 1.0, w, p)[0] - axis_force(u, -1.0, w, p)[0]) / 2.0
     assert dv == pytest.approx(p.c, rel=1e-9)
 
 
 def test_axis_force_without_friction_ignores_slider():
     p = AxisParameters(law="linear", k1=1e4, c=10.0)
-    assert axis_force_p(0.01, 0.2, 0.5, p) == (1e4 * 0.01 + 10.0 * 0.2, 0.0, 0.5, 1e4,
+    assert axis_force(0.01, 0.2, 0.5, p) == (1e4 * 0.01 + 10.0 * 0.2, 0.0, 0.5, 1e4,
                                                False, 0.0)
 
 
-def test_mount_force_equals_axis_force_per_axis():
+def test_from_axial_scales_radial_axes():
     mp = MountParameters.from_axial(
         AxisParameters(friction=True, n0=50.0), lam=1.2, friction_axes=("axial",
                                                                         "radial2"))
-    u, v, w = [0.004, -0.02, 0.001], [0.1, 0.2, -0.3], [0.0, 0.0, 0.002]
-    out = mount_force(u, v, w, mp)
-    for j, p in enumerate(mp.axes):
-        assert tuple(r[j] for r in out) == axis_force_p(u[j], v[j], w[j], p)
     assert mp.radial1.k1 == pytest.approx(1.2 * mp.axial.k1, rel=1e-15)
     assert not mp.radial1.friction and mp.radial2.friction
+
+
+def test_registry_maps_fmu_codes_to_names_and_back():
+    assert LAWS == tuple(ELASTIC_LAWS) == ("linear", "cubic", "piecewise",
+                                           "piecewise_asym")
+    for code, name in enumerate(LAWS):
+        assert law_code(name) == code and law_name(code) == name
+    for bad in (-1, len(LAWS), True, 1.0, "cubic", None):
+        assert law_name(bad) is None
+    assert all(isinstance(law, ElasticLaw) for law in ELASTIC_LAWS.values())
+
+
+def test_piecewise_knees_follow_the_law():
+    """The symmetric law ignores delta_neg (its knees are +-delta); the asymmetric
+    one has its negative knee at -delta_neg. Regression: hbm/reference.py used
+    delta_neg for the symmetric law."""
+    kw = dict(k1=1e4, k2=5e4, delta=0.01, delta_neg=0.004)
+    sym = AxisParameters(law="piecewise", **kw)
+    asym = AxisParameters(law="piecewise_asym", **kw)
+    assert sym.elastic.knees(sym) == (0.01, -0.01)
+    assert asym.elastic.knees(asym) == (0.01, -0.004)
+    assert elastic_force(-0.005, sym)[1] == sym.k1
+    assert elastic_force(-0.005, asym)[1] == asym.k2
 
 
 def test_fs_override_and_energy_nonnegative():
@@ -203,13 +220,10 @@ def test_fs_override_and_energy_nonnegative():
     w = 0.0
     rng = np.random.default_rng(3)
     for u in rng.uniform(-0.01, 0.01, 500):
-        f, ffr, w_new, _, _, diss = axis_force_p(float(u), 0.0, w, p, fs=80.0)
+        f, ffr, w_new, _, _, diss = axis_force(float(u), 0.0, w, p, fs=80.0)
         assert abs(ffr) <= 80.0 and diss >= 0.0
         assert diss == pytest.approx(80.0 * abs(w_new - w), rel=1e-15)
         w = w_new
-    # the scalar entry point gives the same numbers
-    assert axis_force(0.01, 0.0, 0.0, 0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.0, KF, 80.0) == \
-        axis_force_p(0.01, 0.0, 0.0, p, fs=80.0)
 
 
 @pytest.mark.parametrize("kwargs,message", [

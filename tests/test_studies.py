@@ -55,6 +55,10 @@ JUMP_EARLY_RTOL = 0.15
 #: Relocating mount 3 must let friction cut the beta peak by at least this fraction
 #: (measured 0.58 with H = 3, n0 = 2 N; at Table 4.1 the change is 0.06).
 MIN_BETA_REDUCTION = 0.2
+#: FFT of the sampled crank input against its closed-form orders: exact for a
+#: trigonometric polynomial sampled above its Nyquist rate, rounding only (measured
+#: 9e-16).
+RTOL_FFT = 1e-12
 
 TABLE_4_1 = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
 
@@ -134,7 +138,8 @@ def test_friction_energy_equals_jenkins_loop_area():
     coeffs[:, 0, 2] = amps  # sine coefficient of the first harmonic
     coeffs[:, 0, 0] = 1e-3  # a static offset must not change the loop
     fr = SimpleNamespace(freq_hz=np.full(n, 5.0), coefficients=coeffs)
-    energy, slip = friction_energy(system, fr, 0, 0, n_samples=512)
+    work = friction_energy(system, fr, 0, 0, n_samples=512)
+    energy, slip = work.energy, work.slip_fraction
     expected = np.where(amps > eps, 4 * p.fs * (amps - eps), 0.0)
     np.testing.assert_allclose(energy, expected, rtol=RTOL_ENERGY, atol=1e-15)
     assert slip[0] == 0.0 and slip[-1] > 0.9
@@ -210,6 +215,32 @@ def test_engine_excitation_is_the_crank_mechanism():
     f = s.excitation.force_amplitude(omega)
     np.testing.assert_allclose(f, [0, 0, force, 0, torque, 0], rtol=1e-12)
     assert s.n_base == 0 and s.excitation.kind == "unbalance"
+
+
+def test_one_crank_model_for_time_domain_and_hbm():
+    """The harness's crank input and the studies' engine excitation are one model
+    (hbm.crank): the second-order Fourier coefficients of the time-domain force and
+    moment equal the HBM unbalance excitation at omega = 2 w (force: cosine, moment:
+    sine; the HBM applies both as one amplitude vector)."""
+    from vehicle.inputs import CrankInput
+
+    s = engine_excited(load_system("six_dof_original"))
+    inp = CrankInput(s, 3000.0)
+    assert inp.engine == ENGINE_EXCITATION
+    omega = 2 * inp.omega
+    n = 256
+    t = np.arange(n) / n * (2 * math.pi / inp.omega)  # one crank revolution
+    spec = np.fft.rfft(inp.force(t), axis=0) * 2 / n
+    z, beta = s.dof_names.index("z"), s.dof_names.index("beta")
+    f = s.excitation.force_amplitude(omega)
+    assert spec[2, z].real == pytest.approx(f[z], rel=RTOL_FFT)
+    assert -spec[2, beta].imag == pytest.approx(f[beta], rel=RTOL_FFT)
+    # the fourth order as hbm.crank states it
+    o4 = ENGINE_EXCITATION.orders()[1]
+    assert spec[4, z].real == pytest.approx(o4.force * inp.omega**2, rel=RTOL_FFT)
+    assert -spec[4, beta].imag == pytest.approx(o4.moment * inp.omega**2, rel=RTOL_FFT)
+    with pytest.raises(ValueError, match="`crank_radius` must be smaller than"):
+        CrankInput(s, 3000.0, R=0.2, l=0.1)
 
 
 def test_main_dispatch(monkeypatch, tmp_path, capsys):
@@ -352,8 +383,9 @@ def test_jump(jump):
     assert len(r["turning_points_hz"]) == 2
     assert r["hbm_unstable_points"] > 0
     f_lo, f_hi = sorted(r["turning_points_hz"])
-    up_before, up_after, up_change = r["jump_up"]
-    dn_before, dn_after, dn_change = r["jump_down"]
+    up, dn = r["jump_up"], r["jump_down"]
+    up_before, up_after, up_change = up.f_before_hz, up.f_after_hz, up.change_m
+    dn_before, dn_after, dn_change = dn.f_before_hz, dn.f_after_hz, dn.change_m
     assert up_change < 0 < dn_change
     # the up sweep jumps down near the upper fold (not past it: there is no upper
     # branch beyond), the down sweep jumps up where the lower branch ends

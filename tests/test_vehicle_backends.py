@@ -14,7 +14,7 @@ import pytest
 from fmu_src.mount_law import AxisParameters, MountParameters
 from vehicle import FMUError
 from vehicle.master import Master
-from vehicle.models import rigid_engine, sdof
+from hbm.systems import rigid_engine, sdof
 from vehicle.steady import run_steady
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,7 +23,7 @@ POSITIONS = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
 

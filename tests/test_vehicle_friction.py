@@ -8,7 +8,7 @@ import pytest
 
 from fmu_src.mount_law import AxisParameters, MountParameters
 from vehicle.master import Master
-from vehicle.models import quarter_car, rigid_engine, sdof
+from hbm.systems import quarter_car, rigid_engine, sdof
 from vehicle.steady import run_steady, steady_state
 
 #: Issue 4: co-simulation and in-process backend agree within 0.1 %. They run the
@@ -30,7 +30,7 @@ POSITIONS = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
 

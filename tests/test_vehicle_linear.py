@@ -14,7 +14,7 @@ import pytest
 
 from fmu_src.mount_law import AxisParameters, MountParameters
 from vehicle.master import Master
-from vehicle.models import quarter_car, rigid_engine, sdof
+from hbm.systems import quarter_car, rigid_engine, sdof
 from vehicle.steady import run_steady, steady_state
 
 #: Issue 4 target at the default step (256 steps per period); measured worst
@@ -31,7 +31,7 @@ F_N_SDOF = math.sqrt(91870.0 / 70.0) / (2 * math.pi)  # 5.77 Hz
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
-    from drymount.fmu_build import build_fmu
+    from fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
 

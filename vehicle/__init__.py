@@ -1,7 +1,7 @@
 """Vehicle harness: engines and vehicles as rigid bodies co-simulating mount FMUs.
 
-- :mod:`vehicle.models`: builders of the thesis's systems (sdof, quarter_car,
-  rigid_engine).
+- ``sdof``, ``quarter_car``, ``rigid_engine``: the system builders of
+  :mod:`hbm.systems`, re-exported for convenience.
 - :mod:`vehicle.inputs`: harmonic, crank-mechanism, road and base inputs.
 - :mod:`vehicle.master`: fixed-step master (leapfrog with a velocity predictor, one
   mount-force evaluation per step), :func:`simulate`.
@@ -23,8 +23,9 @@ from .inputs import (
     SumInput,
     SweptSineRoad,
 )
+from hbm.systems import quarter_car, rigid_engine, sdof
+
 from .master import DivergenceError, Master, simulate
-from .models import quarter_car, rigid_engine, sdof
 from .results import TimeHistory
 from .steady import SteadyState, steady_state
 from .sweep import SweepResult, sweep

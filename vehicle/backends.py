@@ -37,17 +37,32 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, axis_force
+from fmu_src.interface import by_causality
+from fmu_src.mount_law import AXES, axis_force, law_code
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
 
 _log = logging.getLogger(__name__)
 
-#: FMU variables the harness needs, per axis and global.
+#: FMU variables the harness reads or writes, per axis and global (names as in
+#: ``fmu_src.interface``); plus every parameter of the interface table.
 FMU_AXIS_VARIABLES = ("u", "v", "F", "Ffr", "w", "E_fr")
-FMU_PARAMETERS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
-                  "mu", "n0")
+
+
+def fmu_parameter_values(params) -> dict[str, dict]:
+    """FMU start values of a mount's ``MountParameters`` by FMI type:
+    ``{"Real": {name: float}, "Integer": {...}, "Boolean": {...}}`` for every
+    parameter of the interface table (``law`` as its integer code)."""
+    out = {"Real": {}, "Integer": {}, "Boolean": {}}
+    for var in by_causality("parameter"):
+        axis, _, field = var.name.partition("_")
+        value = getattr(params.axes[AXES.index(axis)], field)
+        if field == "law":
+            value = law_code(value)
+        cast = {"Real": float, "Integer": int, "Boolean": bool}[var.type]
+        out[var.type][var.name] = cast(value)
+    return out
 
 
 class FMUError(RuntimeError):
@@ -198,9 +213,7 @@ class NativeBackend(_Backend):
             # UV starts at column 0, OUT positions are relative to o_out
             self._axes.append((
                 int(cols["u"][i]), int(cols["v"][i]), int(cols["F"][i]) - o,
-                int(cols["Ffr"][i]) - o, e,
-                p.law_code, p.k1, p.kc, p.k2, p.delta, p.delta_neg, p.c,
-                p.kf if p.friction else 0.0, p.fs))
+                int(cols["Ffr"][i]) - o, e, p))
         self._e_pos = [(e, layout.out_off(e) - layout.o_out + 2 * layout.m_of(e))
                        for e in range(layout.n_mounts)]
         self._w = [0.0] * layout.m           # slider positions of the active axes
@@ -224,9 +237,8 @@ class NativeBackend(_Backend):
             uv = uvs[k].tolist()
             out = template[:]
             i = 0
-            for (iu, iv, iF, iFr, e, law, k1_, kc, k2, dl, dn, c, kf, fs) in axes:
-                f, ffr, wn, _kt, _slip, diss = axis_force(
-                    uv[iu], uv[iv], w[i], law, k1_, kc, k2, dl, dn, c, kf, fs)
+            for (iu, iv, iF, iFr, e, p) in axes:
+                f, ffr, wn, _kt, _slip, diss = axis_force(uv[iu], uv[iv], w[i], p)
                 w[i] = wn
                 out[iF] = f
                 out[iFr] = ffr
@@ -268,7 +280,7 @@ class FMUBackend(_Backend):
     system : hbm.system.System
     layout : Layout
     fmu_path : path-like or None
-        The FMU; None: ``drymount.fmu_build.ensure_fmu()`` (builds
+        The FMU; None: ``fmu_build.ensure_fmu()`` (builds
         ``dist/FrictionMount.fmu`` when missing or stale).
     logging_on : bool
         FMU debug logging (default on; messages are kept and quoted in errors).
@@ -295,7 +307,7 @@ class FMUBackend(_Backend):
         from fmpy import calloc, free
 
         if fmu_path is None:
-            from drymount.fmu_build import ensure_fmu
+            from fmu_build import ensure_fmu
             fmu_path = ensure_fmu()
         self.fmu_path = str(fmu_path)
         self._fmus = []        # FMU2Slave objects (library loaded)
@@ -306,7 +318,7 @@ class FMUBackend(_Backend):
         md = read_model_description(self.fmu_path)
         self._vars = {v.name: v for v in md.modelVariables}
         needed = [f"{p}_{a}" for a in AXES for p in FMU_AXIS_VARIABLES]
-        needed += ["E_fr"] + [f"{a}_{p}" for a in AXES for p in FMU_PARAMETERS]
+        needed += ["E_fr"] + [v.name for v in by_causality("parameter")]
         missing = [n for n in needed if n not in self._vars]
         if missing:
             raise ValueError(f"FMU {self.fmu_path!r} lacks the variables {missing} "
@@ -370,13 +382,8 @@ class FMUBackend(_Backend):
         try:
             fmu.instantiate(callbacks=self._callbacks, loggingOn=bool(logging_on))
             self._state[e] = "instantiated"
-            reals, ints, bools = {}, {}, {}
-            for a, p in zip(AXES, el.params.axes, strict=True):
-                ints[f"{a}_law"] = p.law_code
-                bools[f"{a}_friction"] = bool(p.friction)
-                for f in FMU_PARAMETERS:
-                    if f not in ("law", "friction"):
-                        reals[f"{a}_{f}"] = float(getattr(p, f))
+            values = fmu_parameter_values(el.params)
+            reals, ints, bools = values["Real"], values["Integer"], values["Boolean"]
             for n, v in self._start_values[name].items():
                 typ = self._vars[n].type
                 store = {"Real": reals, "Integer": ints, "Boolean": bools}
@@ -464,10 +471,6 @@ class FMUBackend(_Backend):
             self._state[e] = "failed"  # fatal: only fmi2FreeInstance is allowed
         return FMUError(name, t, str(exc), function=function, status=status,
                         log=self._messages.get(name, ()))
-
-    def log_messages(self, mount: str) -> list[str]:
-        """The last log messages of the instance of ``mount``."""
-        return list(self._messages.get(mount, ()))
 
     # ---------------------------------------------------------------- state access
     def sliders(self) -> np.ndarray:

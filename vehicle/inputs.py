@@ -32,7 +32,7 @@ Inputs
 Examples
 --------
 >>> from fmu_src.mount_law import AxisParameters, MountParameters
->>> from vehicle.models import quarter_car
+>>> from hbm.systems import quarter_car
 >>> mount = MountParameters.from_axial(AxisParameters(law="linear"))
 >>> qc = quarter_car(70, 230, 30, 15000, 1000, 200000, 0, mount, 0.01)
 >>> road = RandomRoad(qc, "C", speed=20.0, seed=1)
@@ -46,6 +46,8 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+
+from hbm.crank import DEFAULT_ENGINE, CrankMechanism
 
 __all__ = [
     "Input",
@@ -220,35 +222,28 @@ class HarmonicInput(Input):
 class CrankInput(Input):
     """Inertia excitation of an inline four-cylinder engine at ``speed_rpm``.
 
-    Thesis eq. 1.3: one cylinder's reciprocating mass ``m_rec`` with crank radius
-    ``R`` and connecting rod ``l`` gives the vertical inertia force
-    ``m_rec R w^2 (cos th + A2 cos 2th - A4 cos 4th + ...)``, ``th = w t`` the crank
-    angle, ``A2 = R/l``, ``A4 = R^3/(4 l^3)`` (the rotating masses are balanced by the
-    counterweights). With cranks at 0, 180, 180, 0 degrees the first (and third)
-    orders cancel and the second order dominates:
+    The crank model is :class:`hbm.crank.CrankMechanism` (thesis eq. 1.3), the one the
+    studies use too: with crank speed ``w`` and cranks at 0, 180, 180, 0 degrees the
+    odd orders cancel and
 
-        F_z(t)  = 4 m_rec R w^2 (A2 cos 2wt - A4 cos 4wt)
+        F_z(t)  = 4 m_rec R w^2 (A2 cos 2wt - A4 cos 4wt),   A2 = R/l, A4 = R^3/(4 l^3)
         M(t)    = m_rec R^2 w^2 (2 sin 2wt + lambda^2 sin 4wt),   lambda = R/l
 
     ``M`` is the roll moment on the engine block, the reaction to the inertia torque
-    ``T = m_rec R^2 w^2 (-2 sin 2th - lambda^2 sin 4th)`` of the four reciprocating
-    masses on the crankshaft (sum of the single-cylinder series
-    ``(lambda/4) sin th - (1/2) sin 2th - (3 lambda/4) sin 3th - (lambda^2/4) sin 4th``
-    over the four cranks). 600-6000 rpm give 20-200 Hz of second order.
+    of the four reciprocating masses on the crankshaft. 600-6000 rpm give 20-200 Hz of
+    second order.
 
     Parameters
     ----------
     system : hbm.system.System
     speed_rpm : float
         Crankshaft speed, rev/min (> 0).
-    m_rec : float
-        Reciprocating mass per cylinder (piston, pin, rings, small end), kg. Default
-        0.45 kg: a 1.4-1.6 l passenger-car engine (stated choice, the thesis gives no
-        value).
-    R : float
-        Crank radius (half the stroke), m. Default 0.040 m (80 mm stroke).
-    l : float
-        Connecting-rod length, m. Default 0.135 m (R/l = 0.30, typical).
+    m_rec, R, l : float or None
+        Reciprocating mass per cylinder (kg), crank radius (m) and connecting-rod
+        length (m); None takes the value of ``engine``.
+    engine : hbm.crank.CrankMechanism, optional
+        Default :data:`hbm.crank.DEFAULT_ENGINE` (0.5 kg, 40.75 mm, 130 mm: a 1.6 l
+        inline four, the project's documented engine; the thesis gives no values).
     force_dof, moment_dof : str or int or None
         DOF receiving the vertical force (default ``z``, else ``engine``, else DOF 0)
         and the roll moment (default ``beta``, the roll axis PHYSICS.md names for the
@@ -256,16 +251,21 @@ class CrankInput(Input):
         crankshaft along x.
     """
 
-    def __init__(self, system, speed_rpm: float, *, m_rec: float = 0.45,
-                 R: float = 0.040, l: float = 0.135,  # noqa: E741 (thesis symbol)
-                 force_dof=None, moment_dof=None):
+    def __init__(self, system, speed_rpm: float, *, m_rec: float | None = None,
+                 R: float | None = None, l: float | None = None,  # noqa: E741
+                 engine: CrankMechanism | None = None, force_dof=None,
+                 moment_dof=None):
         super().__init__(system)
         self.speed_rpm = _finite(speed_rpm, "speed_rpm", positive=True)
-        self.m_rec = _finite(m_rec, "m_rec", nonneg=True)
-        self.R = _finite(R, "R", positive=True)
-        self.l = _finite(l, "l", positive=True)
-        if self.R >= self.l:
-            raise ValueError(f"`R` must be smaller than `l`, got R={R!r}, l={l!r}")
+        base = DEFAULT_ENGINE if engine is None else engine
+        self.engine = CrankMechanism(
+            m_rec=base.m_rec if m_rec is None else m_rec,
+            crank_radius=base.crank_radius if R is None else R,
+            rod_length=base.rod_length if l is None else l)
+        self.m_rec = self.engine.m_rec
+        self.R = self.engine.crank_radius
+        self.l = self.engine.rod_length
+        self.A2, self.A4 = self.engine.a2, self.engine.a4
         names = list(system.dof_names)
         if force_dof is None:
             force_dof = "z" if "z" in names else ("engine" if "engine" in names else 0)
@@ -275,8 +275,6 @@ class CrankInput(Input):
         self.moment_dof = (None if moment_dof is None
                            else _dof_index(system, moment_dof, "moment_dof"))
         self.omega = 2.0 * math.pi * self.speed_rpm / 60.0
-        self.A2 = self.R / self.l
-        self.A4 = self.R ** 3 / (4.0 * self.l ** 3)
         self.period = 2.0 * math.pi / (2.0 * self.omega)  # second-order period
 
     @property
@@ -286,15 +284,10 @@ class CrankInput(Input):
 
     def _force(self, t):
         th = self.omega * t
-        w2 = self.omega ** 2
         out = np.zeros((t.size, self.n_dof))
-        out[:, self.force_dof] += 4.0 * self.m_rec * self.R * w2 * (
-            self.A2 * np.cos(2.0 * th) - self.A4 * np.cos(4.0 * th))
+        out[:, self.force_dof] += self.engine.force(th, self.omega)
         if self.moment_dof is not None:
-            lam = self.R / self.l
-            torque = self.m_rec * self.R ** 2 * w2 * (
-                -2.0 * np.sin(2.0 * th) - lam ** 2 * np.sin(4.0 * th))
-            out[:, self.moment_dof] -= torque
+            out[:, self.moment_dof] += self.engine.roll_moment(th, self.omega)
         return out
 
 

@@ -59,6 +59,7 @@ from __future__ import annotations
 
 import math
 import time as _time
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -67,7 +68,8 @@ from .backends import Layout, make_backend
 from .inputs import HarmonicInput, Input
 from .results import TimeHistory
 
-__all__ = ["Master", "simulate", "DEFAULT_STEPS_PER_PERIOD", "OMEGA_H_MAX"]
+__all__ = ["Master", "PeriodRecord", "simulate", "DEFAULT_STEPS_PER_PERIOD",
+           "OMEGA_H_MAX"]
 
 #: Default number of steps per excitation period.
 DEFAULT_STEPS_PER_PERIOD = 256
@@ -79,6 +81,37 @@ BLOCK_ROWS = 2048
 
 class DivergenceError(RuntimeError):
     """The time integration produced non-finite numbers."""
+
+
+@dataclass
+class PeriodRecord:
+    """One period of :meth:`Master.run_period` (copies of the step rows).
+
+    Rows are the steps ``t_k = k h``, k = 0..N-1, of the period (phase 0 at k = 0).
+
+    Attributes
+    ----------
+    index : int
+        Periods run since :meth:`Master.begin_periodic` (1 for the first).
+    q, qd : ndarray, shape (N, n_dof)
+        DOFs and predicted rates.
+    forces, friction_forces, deflections : ndarray, shape (N, n_axes)
+        Mount forces (N), friction forces (N) and deflections (m) of the active axes.
+    energy : ndarray, shape (n_mounts,)
+        Cumulative friction energy of each mount at the last row, J.
+    q_end, qd_end : ndarray, shape (n_dof,)
+        State at the end of the period (the start of the next).
+    """
+
+    index: int
+    q: np.ndarray
+    qd: np.ndarray
+    forces: np.ndarray
+    friction_forces: np.ndarray
+    deflections: np.ndarray
+    energy: np.ndarray
+    q_end: np.ndarray
+    qd_end: np.ndarray
 
 
 class Master:
@@ -93,7 +126,7 @@ class Master:
     system : hbm.system.System
     backend : {"native", "fmu"}
     fmu_path : path-like, optional
-        FMU for the ``fmu`` backend (default ``drymount.fmu_build.ensure_fmu()``).
+        FMU for the ``fmu`` backend (default ``fmu_build.ensure_fmu()``).
     fmu_logging : bool
         FMU debug logging (default on).
     fmu_start_values : dict, optional
@@ -125,6 +158,7 @@ class Master:
         self._dt_limit = None
         self._h = None
         self._rec = None
+        self._periodic = None  # (t0, steps, periods run) of begin_periodic()
 
     # ------------------------------------------------------------------ matrices
     def _setup_matrices(self):
@@ -212,17 +246,16 @@ class Master:
         return S + b @ Lx
 
     def _stiffest(self):
-        """Total K and C with every active mount axis at its stiffest tangent:
-        max(k1, k2) for the piecewise laws, k1 otherwise, plus kf if friction."""
+        """Total K and C with every active mount axis at its stiffest tangent (the
+        law's ``stiffest``: max(k1, k2) for the piecewise laws, k1 otherwise), plus kf
+        if friction."""
         s = self.system
         K, C = s.K.copy(), s.C.copy()
         for e in s.elements:
             kd, cd = np.zeros(3), np.zeros(3)
             for j in e.active_axes:
                 p = e.params.axes[j]
-                piecewise = p.law in ("piecewise", "piecewise_asym")
-                k = max(p.k1, p.k2) if piecewise else p.k1
-                kd[j] = k + (p.kf if p.friction else 0.0)
+                kd[j] = p.elastic.stiffest(p) + (p.kf if p.friction else 0.0)
                 cd[j] = p.c
             K += e.B.T @ (kd[:, None] * e.B)
             C += e.B.T @ (cd[:, None] * e.B)
@@ -408,13 +441,46 @@ class Master:
             force_names=tuple(self.system.axis_labels()), dt=dt,
             backend=self.backend_name, system_name=self.system.name)
 
-    def steady_state(self, freq_hz: float, **options):
-        """Steady state at ``freq_hz`` from the current state (see
-        :func:`vehicle.steady.steady_state`; ``start`` defaults to ``"continue"``)."""
-        from .steady import run_steady
+    # ------------------------------------------------------------------ periods
+    def begin_periodic(self, inputs: Input, steps: int, h: float) -> None:
+        """Prepare runs of whole periods of ``steps`` steps of ``h`` s under the
+        periodic ``inputs`` (period ``steps * h``), phase 0 at the current state.
 
-        options.setdefault("start", "continue")
-        return run_steady(self, freq_hz, **options)
+        Then call :meth:`run_period` once per period; the master's state, sliders and
+        ``time`` follow every period, so a later run continues from them.
+        """
+        if not (isinstance(steps, (int, np.integer)) and steps >= 1):
+            raise ValueError(f"`steps` must be an integer >= 1, got {steps!r}")
+        rec = self._prepare(h, int(steps))
+        k = np.arange(steps)
+        self._fill_inputs(rec, inputs, k * h, ((k + 1) % steps) * h)
+        self._set_row0(rec, inputs, 0.0)
+        self._periodic = [self.time, int(steps), 0]
+
+    def run_period(self) -> PeriodRecord:
+        """Run the next period of :meth:`begin_periodic`; returns its rows."""
+        if self._periodic is None:
+            raise RuntimeError("call begin_periodic() before run_period()")
+        t0, N, done = self._periodic
+        rec, L, n, h = self._rec, self.layout, self.system.n_dof, self._h
+        cols = self._cols
+        if done:
+            rec[0, :L.n_next] = rec[N, :L.n_next]  # the next period starts at row N
+        self._run_rows(N, t0, done * N)
+        self._check_finite(rec[N], t0 + (done + 1) * N * h)
+        done += 1
+        self._periodic[2] = done
+        ox = L.o_x
+        q_end, qd_end, qdd_end = self._state_of_row(rec[N])
+        self.q, self.qd, self.qdd = q_end, qd_end, qdd_end
+        self.time = t0 + done * N * h
+        return PeriodRecord(
+            index=done, q=rec[:N, ox:ox + n].copy(),
+            qd=rec[:N, ox + n:ox + 2 * n] + 0.5 * h * rec[:N, ox + 2 * n:ox + 3 * n],
+            forces=rec[:N, cols["F"]].copy(),
+            friction_forces=rec[:N, cols["Ffr"]].copy(),
+            deflections=rec[:N, cols["u"]].copy(), energy=rec[N - 1, cols["E"]].copy(),
+            q_end=q_end.copy(), qd_end=qd_end.copy())
 
     # ------------------------------------------------------------------ cleanup
     def close(self) -> None:
@@ -455,7 +521,7 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
     >>> th = simulate(s, 10.0, 0.5, backend="native")

@@ -2,8 +2,8 @@
 
 :class:`TimeHistory` (from :func:`vehicle.simulate`) lives here; ``SteadyState`` and
 ``SweepResult`` are in :mod:`vehicle.steady` and :mod:`vehicle.sweep`. Files are
-written atomically through :func:`drymount.io.atomic_path` (a temporary file in the
-destination folder, then ``os.replace``), so a reader never sees a partial file.
+written atomically through :mod:`hbm.io` (a temporary file in the destination folder,
+then ``os.replace``), so a reader never sees a partial file.
 """
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from drymount.io import atomic_path
+from hbm import io as _io
+from hbm.io import atomic_path
 
 __all__ = ["TimeHistory", "atomic_path", "dof_unit", "write_csv"]
 
@@ -29,12 +30,7 @@ def write_csv(path, header: list[str], columns: list[np.ndarray], comment: str) 
     """Write columns (each shape (n_rows,)) as CSV with a ``# `` comment first line."""
     data = np.column_stack([np.asarray(c, dtype=float) for c in columns]) \
         if columns else np.zeros((0, 0))
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", newline="") as fh:
-            fh.write("# " + comment.replace("\n", " ") + "\n")
-            fh.write(",".join(header) + "\n")
-            np.savetxt(fh, data, delimiter=",", fmt="%.10g")
-    return Path(path)
+    return _io.write_csv(path, header, data.tolist(), comment.replace("\n", " "))
 
 
 @dataclass

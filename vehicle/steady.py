@@ -36,13 +36,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from .inputs import HarmonicInput
 from .master import DEFAULT_STEPS_PER_PERIOD, Master
 
-__all__ = ["SteadyState", "steady_state", "run_steady", "linear_start",
+__all__ = ["SteadyState", "State", "steady_state", "run_steady", "linear_start",
            "DEFAULT_RTOL", "DEFAULT_MAX_PERIODS", "DEFAULT_MIN_PERIODS"]
 
 #: Default tolerance on the relative period-to-period change of the state (the
@@ -177,7 +178,15 @@ def loop_area(u: np.ndarray, F: np.ndarray) -> np.ndarray:
     return np.sum(Fm * du, axis=0)
 
 
-def linear_start(system, freq_hz: float):
+class State(NamedTuple):
+    """Integrator state: DOFs (m or rad), their rates and accelerations."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+
+
+def linear_start(system, freq_hz: float) -> State:
     """State (q, q', q'') at phase 0 of the steady response of the linearised system
     (mounts at k1 and c, friction sliders free): a good start for slow transients."""
     omega = 2.0 * math.pi * freq_hz
@@ -193,8 +202,8 @@ def linear_start(system, freq_hz: float):
         X = np.linalg.solve(A, rhs)
     except np.linalg.LinAlgError:
         n = system.n_dof
-        return np.zeros(n), np.zeros(n), np.zeros(n)
-    return X.imag.copy(), omega * X.real, -omega ** 2 * X.imag
+        return State(np.zeros(n), np.zeros(n), np.zeros(n))
+    return State(X.imag.copy(), omega * X.real, -omega ** 2 * X.imag)
 
 
 def _transmissibility(system, omega, amp_q, phasor_F_axes, axis_index) -> float:
@@ -240,7 +249,6 @@ def run_steady(master: Master, freq_hz: float, *,
     spp = DEFAULT_STEPS_PER_PERIOD if steps_per_period is None else steps_per_period
     N = master.steps_per_period(freq_hz, spp)
     h = 1.0 / (freq_hz * N)
-    omega = 2.0 * math.pi * freq_hz
     n = system.n_dof
     # committed friction energy before the run (read before new sliders are set: the
     # FMU's E_fr output includes the trial dissipation of the current inputs)
@@ -254,61 +262,45 @@ def run_steady(master: Master, freq_hz: float, *,
     elif start != "continue":
         raise ValueError(f"`start` must be 'continue', 'rest', 'linear' or a "
                          f"SteadyState, got {start!r}")
-    inp = HarmonicInput(system, freq_hz)
-    rec = master._prepare(h, N)
-    L = master.layout
-    cols = master._cols
-    k = np.arange(N)
-    master._fill_inputs(rec, inp, k * h, ((k + 1) % N) * h)
-    master._set_row0(rec, inp, 0.0)
-    t0 = master.time
+    master.begin_periodic(HarmonicInput(system, freq_hz), N, h)
     steps0 = master.backend.steps
     wall0 = master.wall_time
-    ox = L.o_x
     change = math.inf
     converged = False
-    p = 0
-    for p in range(max_periods):
-        master._run_rows(N, t0, p * N)
-        end = rec[N]
-        master._check_finite(end, t0 + (p + 1) * N * h)
-        x0 = rec[0, ox:ox + 3 * n]
-        x1 = end[ox:ox + 3 * n]
-        qs = rec[:N, ox:ox + n]
-        vs = rec[:N, ox + n:ox + 2 * n] + 0.5 * h * rec[:N, ox + 2 * n:ox + 3 * n]
-        q_scale = float(np.abs(qs).max())
-        v_scale = float(np.abs(vs).max())
-        dq = float(np.abs(x1[:n] - x0[:n]).max())
-        v0 = x0[n:2 * n] + 0.5 * h * x0[2 * n:]
-        v1 = x1[n:2 * n] + 0.5 * h * x1[2 * n:]
-        dv = float(np.abs(v1 - v0).max())
-        change = max(dq / q_scale if q_scale > 0 else (0.0 if dq == 0 else math.inf),
-                     dv / v_scale if v_scale > 0 else (0.0 if dv == 0 else math.inf))
-        if p + 1 >= min_periods and change <= rtol:
+    for _ in range(max_periods):
+        period = master.run_period()
+        change = _period_change(period)
+        if period.index >= min_periods and change <= rtol:
             converged = True
             break
-        if p + 1 < max_periods:
-            E_start = rec[N - 1, cols["E"]].copy()
-            rec[0, :L.n_next] = rec[N, :L.n_next]
-    n_periods = p + 1
-    # ---- analysis of the last period (rows 0..N-1)
-    q = rec[:N, ox:ox + n].copy()
-    qd = rec[:N, ox + n:ox + 2 * n] + 0.5 * h * rec[:N, ox + 2 * n:ox + 3 * n]
-    F = rec[:N, cols["F"]].copy()
-    Ffr = rec[:N, cols["Ffr"]].copy()
-    u = rec[:N, cols["u"]].copy()
-    E_end = rec[N - 1, cols["E"]].copy()
+        if period.index < max_periods:
+            E_start = period.energy
+    return _analyse(master, period, freq_hz, h, E_start, change, converged, rtol,
+                    steps0, wall0)
+
+
+def _period_change(period) -> float:
+    """Relative change of the state over one period (module docstring)."""
+    q_scale = float(np.abs(period.q).max())
+    v_scale = float(np.abs(period.qd).max())
+    dq = float(np.abs(period.q_end - period.q[0]).max())
+    dv = float(np.abs(period.qd_end - period.qd[0]).max())
+    return max(dq / q_scale if q_scale > 0 else (0.0 if dq == 0 else math.inf),
+               dv / v_scale if v_scale > 0 else (0.0 if dv == 0 else math.inf))
+
+
+def _analyse(master: Master, period, freq_hz: float, h: float, E_start, change: float,
+             converged: bool, rtol: float, steps0: int, wall0: float) -> SteadyState:
+    """The :class:`SteadyState` of the last period ``period``."""
+    system, L = master.system, master.layout
+    N, n_periods = period.q.shape[0], period.index
+    omega = 2.0 * math.pi * freq_hz
+    q, F, Ffr, u = period.q, period.forces, period.friction_forces, period.deflections
     X = fundamental(q)
     XF = fundamental(F) if L.m else np.zeros(0, dtype=complex)
     axis_index = {(e, j): i for (i, e, j) in L.axes()}
     amp = np.abs(X)
     tr = _transmissibility(system, omega, amp, XF, axis_index)
-    q_end, qd_end, qdd_end = master._state_of_row(rec[N])
-    master.q, master.qd, master.qdd = q_end, qd_end, qdd_end
-    master.time = t0 + n_periods * N * h
-    # next run must start from row N: keep the buffer consistent
-    rec[0, :L.n_next] = rec[N, :L.n_next]
-    sliders = master.backend.sliders()
     msg = (f"converged after {n_periods} periods (change {change:.2e})" if converged
            else f"not converged after {n_periods} periods: change {change:.2e} > "
                 f"rtol {rtol:.1e}")
@@ -317,13 +309,14 @@ def run_steady(master: Master, freq_hz: float, *,
         converged=converged, change=change, dof_names=tuple(system.dof_names),
         axis_labels=tuple(system.axis_labels()), phasor=X, amplitude=amp,
         peak=np.abs(q).max(axis=0), mean=q.mean(axis=0), transmissibility=tr,
-        force_amplitude=np.abs(XF), friction_energy=float(np.sum(E_end - E_start)),
+        force_amplitude=np.abs(XF),
+        friction_energy=float(np.sum(period.energy - E_start)),
         loop_area=float(np.sum(loop_area(u, Ffr))) if L.m else 0.0,
-        t=np.arange(N) * h, q=q, qd=qd, forces=F, friction_forces=Ffr, deflections=u,
-        q_end=q_end, qd_end=qd_end, qdd_end=qdd_end, sliders=sliders,
-        time=master.time, backend=master.backend_name,
-        n_steps=master.backend.steps - steps0, wall_time=master.wall_time - wall0,
-        message=msg)
+        t=np.arange(N) * h, q=q, qd=period.qd, forces=F, friction_forces=Ffr,
+        deflections=u, q_end=master.q.copy(), qd_end=master.qd.copy(),
+        qdd_end=master.qdd.copy(), sliders=master.sliders(), time=master.time,
+        backend=master.backend_name, n_steps=master.backend.steps - steps0,
+        wall_time=master.wall_time - wall0, message=msg)
 
 
 def steady_state(system, freq_hz: float, *, backend: str = "native",
@@ -357,7 +350,7 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
     Examples
     --------
     >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from vehicle.models import sdof
+    >>> from hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
     >>> ss = steady_state(s, 5.0, backend="native")

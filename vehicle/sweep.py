@@ -50,7 +50,7 @@ from .steady import (
     run_steady,
 )
 
-__all__ = ["sweep", "SweepResult", "DEFAULT_WARMUP"]
+__all__ = ["sweep", "SweepResult", "SweepPoint", "DEFAULT_WARMUP"]
 
 #: Warm-up frequencies run (and discarded) before a parallel chunk.
 DEFAULT_WARMUP = 3
@@ -182,16 +182,34 @@ class SweepResult:
         return fig
 
 
-def _point_row(ss):
-    return (ss.freq_hz, ss.amplitude, ss.peak, ss.transmissibility, ss.converged,
-            ss.n_periods, ss.friction_energy, ss.phasor,
-            np.asarray(ss.sliders, dtype=float), ss.mean,
-            fourier_coefficients(ss.q, FOURIER_HARMONICS))
+@dataclass
+class SweepPoint:
+    """What a sweep keeps of the steady state at one frequency (picklable: parallel
+    chunks send these back)."""
+
+    freq_hz: float
+    amplitude: np.ndarray
+    peak: np.ndarray
+    transmissibility: float
+    converged: bool
+    n_periods: int
+    friction_energy: float
+    phasor: np.ndarray
+    sliders: np.ndarray
+    mean: np.ndarray
+    fourier: np.ndarray
+
+    @classmethod
+    def of(cls, ss) -> SweepPoint:
+        return cls(ss.freq_hz, ss.amplitude, ss.peak, ss.transmissibility,
+                   ss.converged, ss.n_periods, ss.friction_energy, ss.phasor,
+                   np.asarray(ss.sliders, dtype=float), ss.mean,
+                   fourier_coefficients(ss.q, FOURIER_HARMONICS))
 
 
 def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=None,
                bar=None):
-    """Run one contiguous chunk (in this process). Returns the point rows."""
+    """Run one contiguous chunk (in this process). Returns its SweepPoints."""
     rows = []
     warm = dict(options, rtol=max(options["rtol"], WARMUP_RTOL))
     with Master(system, backend, fmu_path=fmu_path) as m:
@@ -202,7 +220,7 @@ def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=No
         for f in freqs:
             ss = run_steady(m, f, start="linear" if first else "continue", **options)
             first = False
-            rows.append(_point_row(ss))
+            rows.append(SweepPoint.of(ss))
             if queue is not None:
                 queue.put(1)
             if bar is not None:
@@ -232,7 +250,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     progress : bool
         tqdm progress bar on stderr.
     fmu_path : path-like, optional
-        FMU of the ``fmu`` backend (default: ``drymount.fmu_build.ensure_fmu()``).
+        FMU of the ``fmu`` backend (default: ``fmu_build.ensure_fmu()``).
     steps_per_period, rtol, min_periods, max_periods
         Steady-state options (:func:`vehicle.steady.steady_state`).
     warmup : int
@@ -258,7 +276,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     options = dict(steps_per_period=steps_per_period, rtol=rtol,
                    min_periods=min_periods, max_periods=max_periods)
     if backend == "fmu" and fmu_path is None:
-        from drymount.fmu_build import ensure_fmu
+        from fmu_build import ensure_fmu
         fmu_path = ensure_fmu()
     from tqdm import tqdm
 
@@ -268,55 +286,67 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
                file=sys.stderr, disable=not progress, leave=False)
     try:
         if workers == 1:
-            rows = _run_chunk(system, f.tolist(), [], backend, fmu_path, options,
-                              bar=bar)
+            points = _run_chunk(system, f.tolist(), [], backend, fmu_path, options,
+                                bar=bar)
         else:
-            bounds = np.linspace(0, f.size, workers + 1).round().astype(int)
-            ctx = multiprocessing.get_context("spawn")
-            with ctx.Manager() as manager, ProcessPoolExecutor(
-                    max_workers=workers, mp_context=ctx) as pool:
-                queue = manager.Queue()
-                futures = []
-                for c in range(workers):
-                    a, b = bounds[c], bounds[c + 1]
-                    wu = f[max(0, a - warmup):a].tolist()
-                    futures.append(pool.submit(_run_chunk, system, f[a:b].tolist(), wu,
-                                               backend, fmu_path, options, queue))
-                done = 0
-                while done < f.size:
-                    if all(fu.done() for fu in futures):
-                        # drain what is left, then stop (errors surface below)
-                        while not queue.empty():
-                            queue.get()
-                            bar.update(1)
-                            done += 1
-                        break
-                    try:
-                        queue.get(timeout=0.2)
-                    except Exception:  # queue.Empty from the manager proxy
-                        continue
-                    bar.update(1)
-                    done += 1
-                rows = [r for fu in futures for r in fu.result()]
+            points = _run_parallel(system, f, workers, warmup, backend, fmu_path,
+                                   options, bar)
     finally:
         bar.close()
-    elapsed = _time.perf_counter() - t0
-    n = system.n_dof
+    return _result(system, points, direction, backend, _time.perf_counter() - t0,
+                   workers, notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
+                                   "steps_per_period": steps_per_period})
+
+
+def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar):
+    """Contiguous chunks of ``f`` in ``workers`` spawned processes, each after a
+    warm-up on the ``warmup`` frequencies before it; the points in sweep order."""
+    bounds = np.linspace(0, f.size, workers + 1).round().astype(int)
+    ctx = multiprocessing.get_context("spawn")
+    with ctx.Manager() as manager, ProcessPoolExecutor(
+            max_workers=workers, mp_context=ctx) as pool:
+        queue = manager.Queue()
+        futures = []
+        for c in range(workers):
+            a, b = bounds[c], bounds[c + 1]
+            wu = f[max(0, a - warmup):a].tolist()
+            futures.append(pool.submit(_run_chunk, system, f[a:b].tolist(), wu,
+                                       backend, fmu_path, options, queue))
+        done = 0
+        while done < f.size:
+            if all(fu.done() for fu in futures):
+                # drain what is left, then stop (errors surface below)
+                while not queue.empty():
+                    queue.get()
+                    bar.update(1)
+                    done += 1
+                break
+            try:
+                queue.get(timeout=0.2)
+            except Exception:  # queue.Empty from the manager proxy
+                continue
+            bar.update(1)
+            done += 1
+        return [p for fu in futures for p in fu.result()]
+
+
+def _result(system, points, direction, backend, elapsed, workers, notes
+            ) -> SweepResult:
+    """Stack the points into a :class:`SweepResult`."""
+    n, k = system.n_dof, len(points)
+
+    def stack(name, dtype=float, shape=None):
+        out = np.array([getattr(p, name) for p in points], dtype=dtype)
+        return out if shape is None else out.reshape(shape)
+
     return SweepResult(
-        freq_hz=np.array([r[0] for r in rows]),
-        amplitude=np.array([r[1] for r in rows]).reshape(len(rows), n),
-        peak=np.array([r[2] for r in rows]).reshape(len(rows), n),
-        transmissibility=np.array([r[3] for r in rows], dtype=float),
-        converged=np.array([r[4] for r in rows], dtype=bool),
-        n_periods=np.array([r[5] for r in rows], dtype=int),
-        friction_energy=np.array([r[6] for r in rows], dtype=float),
-        phasor=np.array([r[7] for r in rows], dtype=complex).reshape(len(rows), n),
-        sliders=np.array([r[8] for r in rows], dtype=float).reshape(
-            len(rows), len(system.elements), 3),
-        mean=np.array([r[9] for r in rows], dtype=float).reshape(len(rows), n),
-        fourier=np.array([r[10] for r in rows], dtype=float),
+        freq_hz=stack("freq_hz"), amplitude=stack("amplitude", shape=(k, n)),
+        peak=stack("peak", shape=(k, n)), transmissibility=stack("transmissibility"),
+        converged=stack("converged", bool), n_periods=stack("n_periods", int),
+        friction_energy=stack("friction_energy"),
+        phasor=stack("phasor", complex, (k, n)),
+        sliders=stack("sliders", shape=(k, len(system.elements), 3)),
+        mean=stack("mean", shape=(k, n)), fourier=stack("fourier"),
         dof_names=tuple(system.dof_names), direction=direction, backend=backend,
         system_name=system.name, transmissibility_kind=system.transmissibility.kind,
-        elapsed=elapsed, workers=workers,
-        notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
-               "steps_per_period": steps_per_period})
+        elapsed=elapsed, workers=workers, notes=notes)

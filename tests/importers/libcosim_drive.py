@@ -30,7 +30,7 @@ CYCLES = 3
 
 
 def main(fmu: str) -> dict:
-    from fmu_src.mount_law import AxisParameters, axis_force_p
+    from fmu_src.mount_law import AxisParameters, axis_force
 
     log_output_level(CosimLogLevel.WARNING)
     ex = CosimExecution.from_step_size(step_size=int(round(H * 1e9)))
@@ -60,7 +60,7 @@ def main(fmu: str) -> dict:
             raise RuntimeError(f"libcosim step failed at t = {t}")
         for j, i in enumerate(idx):
             F, E = obs.last_real_values(i, [ref["F_axial"], ref["E_fr_axial"]])
-            f_law, _, w_law[j], _, _, _ = axis_force_p(u, v, w_law[j], params[j])
+            f_law, _, w_law[j], _, _, _ = axis_force(u, v, w_law[j], params[j])
             worst = max(worst, abs(F - f_law))
             peak = max(peak, abs(f_law))
             energy[j].append(E)

@@ -1,4 +1,5 @@
-"""Builders of the thesis's three systems as :class:`hbm.system.System`.
+"""Builders of the thesis's three systems (:class:`hbm.system.System`), below the
+harness: the HBM and its tests need no `vehicle`.
 
 - :func:`sdof`: engine mass on one mount (thesis Sec. 2.1.1, eq. 2.1).
 - :func:`quarter_car`: engine on a quarter car, 3 DOF (Sec. 2.1.2, eq. "1.4"-"1.6"

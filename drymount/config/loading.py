@@ -1,0 +1,210 @@
+"""Loading configurations: from a dict, a TOML file or text, a preset."""
+
+from __future__ import annotations
+
+import difflib
+import sys
+import warnings
+from dataclasses import replace
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from drymount.config.checks import (
+    _Checker,
+    _type_name,
+)
+from drymount.config.schema import (
+    ALLOWED_KEYS,
+    Config,
+    ConfigError,
+    _MODEL_TABLES,
+    MODELS,
+)
+from drymount.config.systems import (
+    _build,
+    _check_support,
+    _settings,
+)
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+
+def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> Config:
+    """Check a parsed TOML document and build its :class:`Config`.
+
+    Parameters
+    ----------
+    data : dict
+        The document, as :func:`tomllib.loads` returns it.
+    source : str
+        Shown in error messages and kept in ``Config.source``.
+    name : str, optional
+        Name used when the document has no ``name`` key.
+
+    Raises
+    ------
+    ConfigError
+        Listing every problem found (never another exception for bad input).
+    """
+    ck = _Checker()
+    if not isinstance(data, dict):
+        raise ConfigError(
+            [f"the document must be a TOML table, got {_type_name(data)}"], source)
+    model = ck.choice(data, "model", "", MODELS)
+    hints = {}
+    if model is not None:
+        for key, owner in _MODEL_TABLES.items():
+            owners = owner if isinstance(owner, tuple) else (owner,)
+            if model not in owners:
+                use = {"sdof": "[sdof]", "quarter_car": "[quarter_car]",
+                       "rigid_engine": "[rigid_engine]"}[model]
+                alt = "[[mounts]]" if model == "rigid_engine" else "[mount]"
+                hints[key] = (f"[{key}] belongs to model "
+                              f"{' or '.join(repr(o) for o in owners)}; model "
+                              f"{model!r} uses {use} and {alt}")
+        allowed = [k for k in ALLOWED_KEYS[""] if k not in hints]
+    else:
+        allowed = ALLOWED_KEYS[""]
+    ck.keys(data, "", allowed, hints=hints)
+    cfg_name = ck.string(data, "name", "", default=name or "config")
+    description = ck.string(data, "description", "", default="")
+    build = _build(ck, data, model) if model is not None else None
+    settings = _settings(ck, data)
+    if ck.problems or build is None or settings is None:
+        raise ConfigError(ck.problems or ["invalid configuration"], source)
+    try:
+        with np.errstate(all="raise"), warnings.catch_warnings():
+            warnings.simplefilter("error")
+            system = build()
+            _check_support(ck, system)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError, RuntimeWarning) as exc:
+        ck.add(f"the model cannot be built from these values: {exc}")
+    if ck.problems:
+        raise ConfigError(ck.problems, source)
+    # labels of CSV provenance lines and plot titles: the configuration's name
+    system = replace(system, name=cfg_name,
+                     description=description or system.description,
+                     notes={"config_name": cfg_name, "model": model, "source": source})
+    sweep, hbm_settings, cosim = settings
+    return Config(cfg_name, description, model, system, sweep, hbm_settings, cosim,
+                  source, data)
+
+
+def load_config(path_or_text, name: str | None = None) -> Config:
+    """Load a configuration from a TOML file or from TOML text.
+
+    Parameters
+    ----------
+    path_or_text : str or Path
+        A :class:`~pathlib.Path`, or a string: TOML text if it contains a newline or
+        ``=``, else a file name.
+    name : str, optional
+        Name used when the document has no ``name`` key (default: the file stem).
+
+    Returns
+    -------
+    Config
+
+    Raises
+    ------
+    ConfigError
+        For a missing or unreadable file, a TOML syntax error, or any invalid field;
+        lists every problem found.
+
+    Examples
+    --------
+    >>> cfg = load_config('''
+    ... model = "sdof"
+    ... [sdof]
+    ... mass = 70.0
+    ... [mount]
+    ... law = "linear"
+    ... k1 = 91870.0
+    ... c = 150.0
+    ... [excitation]
+    ... kind = "force"
+    ... amplitude = 40.0
+    ... ''')
+    >>> cfg.system.dof_names
+    ('x',)
+    """
+    if isinstance(path_or_text, Path) or (
+            isinstance(path_or_text, str) and "\n" not in path_or_text
+            and "=" not in path_or_text):
+        path = Path(path_or_text)
+        source = str(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise ConfigError([f"no such file: {source}"], source) from None
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ConfigError([f"cannot read the file: {exc}"], source) from None
+        name = name or path.stem
+    elif isinstance(path_or_text, str):
+        text, source = path_or_text, "<text>"
+    else:
+        raise ConfigError([f"expected a file path or TOML text, got "
+                           f"{_type_name(path_or_text)}"], "<input>")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError([f"TOML syntax error: {exc}"], source) from None
+    return config_from_dict(data, source=source, name=name)
+
+
+# ======================================================================================
+# Presets
+# ======================================================================================
+
+
+def list_presets() -> list[str]:
+    """Names of the presets shipped in ``drymount/presets`` (sorted)."""
+    root = resources.files("drymount.presets")
+    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
+
+
+def preset_text(name: str) -> str:
+    """The TOML text of preset ``name`` (with its comments)."""
+    names = list_presets()
+    if name not in names:
+        close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
+        hint = f" (did you mean `{close[0]}`?)" if close else ""
+        raise ConfigError(
+            [f"unknown preset `{name}`{hint}; presets: {', '.join(names)}"],
+            f"preset:{name}")
+    return resources.files("drymount.presets").joinpath(f"{name}.toml").read_text(
+        encoding="utf-8")
+
+
+def load_preset(name: str) -> Config:
+    """The :class:`Config` of preset ``name`` (see :func:`list_presets`)."""
+    text = preset_text(name)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:  # a broken package file
+        raise ConfigError([f"TOML syntax error: {exc}"], f"preset:{name}") from None
+    return config_from_dict(data, source=f"preset:{name}", name=name)
+
+
+def resolve_config(spec) -> Config:
+    """A configuration from a file path or a preset name (the CLI's CONFIG argument).
+
+    An existing file wins; else a preset of that name; else a :class:`ConfigError`
+    that suggests the closest preset.
+    """
+    spec = str(spec)
+    path = Path(spec)
+    if path.is_file():
+        return load_config(path)
+    if spec in list_presets():
+        return load_preset(spec)
+    names = list_presets()
+    close = difflib.get_close_matches(spec, names, n=1, cutoff=0.5)
+    hint = f"; did you mean preset `{close[0]}`?" if close else ""
+    raise ConfigError([f"`{spec}` is neither a file nor a preset{hint} (presets: "
+                       f"{', '.join(names)})"], spec)

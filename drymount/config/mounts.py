@@ -1,0 +1,277 @@
+"""The mount tables of a configuration -> ``AxisParameters`` / ``MountParameters``
+(the laws' parameters and units come from ``fmu_src``)."""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import fields, replace
+
+import numpy as np
+
+from fmu_src.interface import parameter_unit
+from fmu_src.mount_law import AXES, ELASTIC_LAWS, LAWS, AxisParameters, MountParameters
+from drymount.config.checks import (
+    _as_float,
+    _Checker,
+    _join,
+    _show,
+    _type_name,
+)
+from drymount.config.schema import (
+    ALLOWED_KEYS,
+    _AXIS_LAW_KEYS,
+    _FRICTION_KEYS,
+)
+
+
+# -- mount law ------------------------------------------------------------
+
+
+def readable_unit(fmi_unit: str | None) -> str:
+    """An FMU unit name (``fmu_src.interface``) as written in messages and
+    docs/config.md: ``N/m3`` -> ``N/m^3``, ``N.s/m`` -> ``N s/m``, ``1`` -> ``[-]``."""
+    if fmi_unit in (None, "1"):
+        return "[-]"
+    return fmi_unit.replace("m3", "m^3").replace(".", " ")
+
+
+def _unchecked_axis(**kw) -> AxisParameters:
+    """An AxisParameters without its ``__post_init__`` check (to call ``problems``)."""
+    obj = object.__new__(AxisParameters)
+    defaults = AxisParameters.__dataclass_fields__
+    for f in fields(AxisParameters):
+        object.__setattr__(obj, f.name, kw.get(f.name, defaults[f.name].default))
+    return obj
+
+
+def _law_problems(axis: AxisParameters, path: str) -> list[str]:
+    """``AxisParameters.problems``, friction fields under ``<path>.friction``."""
+    prefix = path + "."
+    out = []
+    for msg in axis.problems(prefix):
+        for name in _FRICTION_KEYS:
+            msg = msg.replace(f"`{prefix}{name}`", f"`{prefix}friction.{name}`")
+        out.append(msg)
+    return out
+
+
+def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
+    """The friction sub-table of an axis -> AxisParameters keywords, or None (off)."""
+    if "friction" not in data:
+        return {"friction": False}
+    p = _join(path, "friction")
+    fr = data["friction"]
+    if not isinstance(fr, dict):
+        ck.add(f"`{p}` must be a table with kf [N/m], mu [-] and n0 [N] (remove it "
+               f"for a mount without friction), got {_type_name(fr)} {_show(fr)}")
+        return None
+    ck.keys(fr, p, _FRICTION_KEYS, hints={
+        "normal_force": "the normal force is `n0`", "N": "the normal force is `n0`",
+        "fs": "give the normal force `n0` and `mu` (Fs = mu * n0)",
+        "enabled": "the table's presence switches friction on; remove the table "
+                   "to switch it off"})
+    kw = {"friction": True}
+    ok = True
+    if "n0" not in fr:
+        ck.add(f"`{p}.n0` is missing: a friction element needs its normal force n0, "
+               f"a number in N > 0 (remove the [{p}] table for a mount without "
+               f"friction)")
+        ok = False
+    if "kf" not in fr:
+        ck.add(f"`{p}.kf` is missing: the contact stiffness of the friction element, "
+               f"a number in N/m > 0, is required (the thesis does not print it; the "
+               f"presets use 60000)")
+        ok = False
+    for name, default in (("kf", None), ("mu", 1.0), ("n0", None)):
+        if name in fr:
+            x = _as_float(fr[name])
+            if x is None:
+                unit = readable_unit(parameter_unit(name))
+                ck.add(f"`{p}.{name}` must be a number ({unit}), got "
+                       f"{_type_name(fr[name])} {_show(fr[name])}")
+                ok = False
+            else:
+                kw[name] = x
+        elif default is not None:
+            kw[name] = default
+    if not ok:
+        return None
+    # with Fs = mu * n0 = 0 the element carries no force: almost surely a mistake
+    for name in ("n0", "mu"):
+        unit = readable_unit(parameter_unit(name))
+        x = kw[name]
+        if math.isfinite(x) and x == 0:
+            ck.add(f"`{p}.{name}` must be > 0 in a friction table ({unit}), got "
+                   f"{_show(fr[name])}: with mu * n0 = 0 the element does nothing; "
+                   f"remove the [{p}] table instead")
+    return kw
+
+
+def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
+    """One full axis table (law fields + optional friction) -> AxisParameters."""
+    if not isinstance(data, dict):
+        ck.add(f"`{path}` must be a table of mount-law fields, got {_type_name(data)} "
+               f"{_show(data)}")
+        return None
+    n_before = len(ck.problems)
+    ck.keys(data, path, ALLOWED_KEYS["mount"], hints={
+        "kf": "friction fields go in the sub-table "
+              f"[{path}.friction]", "mu": f"friction fields go in [{path}.friction]",
+        "n0": f"friction fields go in [{path}.friction]",
+        "k": "the small-deflection stiffness is `k1`",
+        "stiffness": "the small-deflection stiffness is `k1`",
+        "damping": "the viscous damping is `c`"})
+    law = ck.choice(data, "law", path, LAWS)
+    needed = {"k1", "c"}
+    if law in ELASTIC_LAWS:
+        needed |= set(ELASTIC_LAWS[law].uses)
+    units = {name: readable_unit(parameter_unit(name)) for name in _AXIS_LAW_KEYS[1:]}
+    kw = {}
+    for name in ("k1", "kc", "k2", "delta", "delta_neg", "c"):
+        if name in data:
+            x = ck.number(data, name, path, rule="any", unit=units[name], finite=False)
+            if x is not None:
+                kw[name] = x
+        elif name in needed:
+            why = f" (law \"{law}\")" if name not in ("k1", "c") else ""
+            typo = [k for k in data if k not in ALLOWED_KEYS["mount"]
+                    and difflib.get_close_matches(str(k), [name], n=1, cutoff=0.6)]
+            if typo:
+                why += f"; is `{typo[0]}` a misspelling of it?"
+            ck.add(f"`{_join(path, name)}` is missing: a number in {units[name]} is "
+                   f"required{why}")
+    fr = _friction(ck, data, path)
+    if len(ck.problems) > n_before or law is None or fr is None:
+        return None
+    # fields the law does not use get neutral values (kept for the FMU's parameters)
+    kw.setdefault("kc", 0.0)
+    kw.setdefault("k2", kw["k1"])
+    kw.setdefault("delta", AxisParameters.delta)
+    kw.setdefault("delta_neg", kw["delta"])
+    kw.update(fr)
+    axis = _unchecked_axis(law=law, **kw)
+    problems = _law_problems(axis, path)
+    if problems:
+        ck.problems.extend(problems)
+        return None
+    return AxisParameters(**axis.to_dict())
+
+
+def _single_mount(ck: _Checker, data: dict) -> MountParameters | None:
+    """``[mount]`` of the sdof and quarter-car models (its axial axis is used)."""
+    tbl = ck.table(data, "mount", "", what="with the mount law (law, k1, c, ...) ")
+    if tbl is None:
+        return None
+    axis = _axis(ck, tbl, "mount")
+    if axis is None:
+        return None
+    # only the axial axis deflects in these models; the unused radial axes carry the
+    # same elastic law without a friction element (so that nothing reports friction
+    # on an axis that never moves)
+    radial = replace(axis, friction=False)
+    return MountParameters(axis, radial, radial)
+
+
+def _orientation(ck: _Checker, m: dict, path: str):
+    """``[[mounts]].orientation`` -> a rotation matrix (rows: the local axes in body
+    axes), re-orthonormalised; None after a problem."""
+    o = m["orientation"]
+    rows = o if isinstance(o, list) and len(o) == 3 else None
+    if rows is None:
+        ck.add(f"`{path}.orientation` must be 3 rows of 3 numbers (the axial, "
+               f"radial1 and radial2 unit vectors in body axes), got "
+               f"{_type_name(o)} {_show(o)}")
+        return None
+    R = [ck.vector({"r": r}, "r", f"{path}.orientation[{j}]", 3)
+         for j, r in enumerate(rows)]
+    if not all(r is not None for r in R):
+        return None
+    R = np.array(R)
+    if not np.allclose(R @ R.T, np.eye(3), atol=1e-6):
+        ck.add(f"`{path}.orientation` must be a rotation: orthonormal rows "
+               f"(axial, radial1, radial2 unit vectors), got "
+               f"{R.tolist()}")
+    elif np.linalg.det(R) < 0:
+        ck.add(f"`{path}.orientation` must be a right-handed rotation "
+               f"(determinant +1), got determinant -1: swap radial1 and "
+               f"radial2")
+    else:
+        # re-orthonormalise the rounding of hand-typed values
+        u, _, vt = np.linalg.svd(R)
+        return u @ vt
+    return None
+
+
+def _scaled_radial(ck: _Checker, m: dict, path: str, name_ax: str, axial, lam):
+    """A radial axis of a ``[[mounts]]`` entry with ``lambda``: lambda times the
+    axial law, with only its own friction table allowed; None after a problem."""
+    p = f"{path}.{name_ax}"
+    r = m.get(name_ax, {})
+    if not isinstance(r, dict):
+        ck.add(f"`{p}` must be a table, got {_type_name(r)} {_show(r)}")
+        return None
+    law_keys = [k for k in r if k != "friction"]
+    for k in law_keys:
+        if k in _AXIS_LAW_KEYS:
+            ck.add(f"`{p}.{k}` conflicts with `{path}.lambda`: with lambda "
+                   f"the radial law is lambda times the axial one (thesis "
+                   f"eq. 4.4); "
+                   f"remove `{p}.{k}`, or remove `lambda` and give the whole "
+                   f"[{p}] table")
+        else:
+            ck.keys({k: r[k]}, p, ("friction",))
+    fr = _friction(ck, r, p)
+    if axial is None or lam is None or fr is None:
+        return None
+    base = axial.scaled(lam).to_dict()
+    base.update(friction=False)
+    base.update(fr)
+    ax = _unchecked_axis(**base)
+    probs = _law_problems(ax, p)
+    if probs:
+        ck.problems.extend(probs)
+        return None
+    return AxisParameters(**ax.to_dict())
+
+
+def _rigid_mount(ck: _Checker, m, i: int):
+    """One ``[[mounts]]`` entry -> (name, position, orientation, MountParameters)."""
+    path = f"mounts[{i}]"
+    if not isinstance(m, dict):
+        ck.add(f"`{path}` must be a table ([[mounts]] ...), got {_type_name(m)} "
+               f"{_show(m)}")
+        return None
+    n_before = len(ck.problems)
+    ck.keys(m, path, ALLOWED_KEYS["mounts[]"], hints={
+        "x": "give `position = [x, y, z]`", "pos": "the key is `position`",
+        "lam": "the key is `lambda`", "law": f"law fields go in [{path}.axial]",
+        "k1": f"law fields go in [{path}.axial]",
+        "friction": f"friction goes in the table of its axis, e.g. "
+                    f"[{path}.radial1.friction]"})
+    name = ck.string(m, "name", path, default=f"mount{i + 1}")
+    position = ck.vector(m, "position", path, 3, unit="m")
+    orientation = _orientation(ck, m, path) if "orientation" in m else None
+    lam = None
+    if "lambda" in m:
+        lam = ck.number(m, "lambda", path, rule=">0", unit="")
+    axial = None
+    if "axial" not in m:
+        ck.add(f"`{path}.axial` is missing: a table with the mount law (law, k1, c, "
+               f"...) is required")
+    else:
+        axial = _axis(ck, m["axial"], f"{path}.axial")
+    axes = {"axial": axial}
+    for name_ax in ("radial1", "radial2"):
+        p = f"{path}.{name_ax}"
+        if "lambda" in m:
+            axes[name_ax] = _scaled_radial(ck, m, path, name_ax, axial, lam)
+        elif name_ax not in m:
+            ck.add(f"`{p}` is missing: give the [{p}] table, or `lambda` in "
+                   f"[[mounts]] to derive it from the axial law (radial = lambda * "
+                   f"axial, thesis eq. 4.4)")
+        else:
+            axes[name_ax] = _axis(ck, m[name_ax], p)
+    if len(ck.problems) > n_before or any(axes.get(a) is None for a in AXES):
+        return None
+    return name, position, orientation, MountParameters(**axes)

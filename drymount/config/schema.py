@@ -1,0 +1,212 @@
+"""The configuration's schema: allowed keys, result objects, the error type."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fmu_src.mount_law import AXES
+from hbm.options import HBMOptions
+from hbm.system import System
+
+
+MODELS = ("sdof", "quarter_car", "rigid_engine")
+#: Excitation kinds allowed per model (``hbm.system.Excitation``).
+EXCITATION_KINDS = {
+    "sdof": ("unbalance", "force", "base"),
+    "quarter_car": ("base",),
+    "rigid_engine": ("base", "unbalance", "force"),
+}
+BACKENDS = ("fmu", "native")
+DIRECTIONS = ("up", "down")
+SPACINGS = ("linear", "log")
+#: Largest number of harmonics accepted (a sanity bound: H = 7 already converges the
+#: friction systems to 1e-3; 50 harmonics cost ~50x more per Newton step).
+MAX_HARMONICS = 50
+#: Relative size below which the smallest eigenvalue of the linearised (stuck)
+#: stiffness counts as zero: the mounts leave a rigid-body motion free.
+SINGULAR_RTOL = 1e-10
+
+_AXIS_LAW_KEYS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c")
+_FRICTION_KEYS = ("kf", "mu", "n0")
+
+#: Allowed keys of every table, by the path pattern used in messages and in
+#: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
+ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
+    "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim"),
+    "sdof": ("mass",),
+    "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
+    "rigid_engine": ("mass", "inertia"),
+    "mount": (*_AXIS_LAW_KEYS, "friction"),
+    "mount.friction": _FRICTION_KEYS,
+    "mounts[]": ("name", "position", "orientation", "lambda", *AXES),
+    "mounts[].<axis>": (*_AXIS_LAW_KEYS, "friction"),
+    "mounts[].<axis>.friction": _FRICTION_KEYS,
+    "excitation": ("kind", "amplitude"),
+    "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
+    "hbm": ("harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
+            "ds_max", "max_angle"),
+    "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
+}
+
+#: The model-specific tables: which model each belongs to.
+_MODEL_TABLES = {"sdof": "sdof", "quarter_car": "quarter_car",
+                 "rigid_engine": "rigid_engine", "mount": ("sdof", "quarter_car"),
+                 "mounts": ("rigid_engine",)}
+
+
+class ConfigError(ValueError):
+    """An invalid configuration. ``problems`` lists every problem found.
+
+    Each problem names the field path (``mounts[2].axial.friction.kf``; indices of
+    ``[[mounts]]`` count from 0), the value found and what is allowed. ``str()`` gives
+    a message with one problem per line, meant to be printed as is.
+    """
+
+    def __init__(self, problems: list[str], source: str | None = None):
+        self.problems = list(problems)
+        self.source = source
+        super().__init__(self._message())
+
+    def _message(self) -> str:
+        n = len(self.problems)
+        where = f" {self.source}" if self.source else ""
+        head = f"invalid configuration{where}: {n} problem{'s' if n != 1 else ''}"
+        return "\n".join([head + ":"] + [f"  - {p}" for p in self.problems])
+
+
+# ======================================================================================
+# Result objects
+# ======================================================================================
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """Frequency band of ``drymount hbm`` and ``drymount sweep``.
+
+    Attributes
+    ----------
+    fmin_hz, fmax_hz : float
+        Band in Hz, 0 < fmin_hz < fmax_hz.
+    points : int
+        Number of frequencies of a stepped-sine sweep (>= 2). The HBM continuation
+        chooses its own steps between fmin_hz and fmax_hz.
+    direction : str
+        ``"up"`` or ``"down"``: order of the stepped sweep.
+    spacing : str
+        ``"linear"`` or ``"log"``: spacing of the sweep frequencies.
+    """
+
+    fmin_hz: float = 1.0
+    fmax_hz: float = 50.0
+    points: int = 50
+    direction: str = "up"
+    spacing: str = "linear"
+
+    def freqs_hz(self) -> np.ndarray:
+        """The sweep frequencies in Hz, shape (points,), ascending."""
+        if self.spacing == "log":
+            return np.geomspace(self.fmin_hz, self.fmax_hz, self.points)
+        return np.linspace(self.fmin_hz, self.fmax_hz, self.points)
+
+
+@dataclass(frozen=True)
+class HBMSettings:
+    """Harmonic balance settings (``hbm.frequency_response``).
+
+    Attributes
+    ----------
+    harmonics : int
+        Number of harmonics H (1..MAX_HARMONICS); 1 is the thesis's single harmonic.
+        Default: ``hbm.HBMOptions``'s (the one source of the HBM defaults).
+    n_samples : int or None
+        AFT time samples per period (>= 2H + 1); None lets ``hbm`` choose.
+    tol : float or None
+        Wanted accuracy relative to the peak (``hbm.HBMOptions.tol``); None: its
+        default.
+    max_harmonics : int or None
+        Cap on H when ``tol`` raises it (``hbm.HBMOptions.max_harmonics``).
+    ds_initial, ds_min, ds_max, max_angle : float or None
+        Continuation step controls (scaled arc length, rad); None: the defaults of
+        ``hbm.HBMOptions``.
+    """
+
+    harmonics: int = HBMOptions.harmonics
+    n_samples: int | None = HBMOptions.n_samples
+    tol: float | None = None
+    max_harmonics: int | None = None
+    ds_initial: float | None = None
+    ds_min: float | None = None
+    ds_max: float | None = None
+    max_angle: float | None = None
+
+    def options(self, **overrides) -> HBMOptions:
+        """These settings as ``hbm.HBMOptions`` (H and N as where ``tol`` starts;
+        fields left None at hbm's defaults); ``overrides`` that are not None win."""
+        kw = {k: getattr(self, k) for k in (
+            "harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
+            "ds_max", "max_angle")}
+        kw.update({k: v for k, v in overrides.items() if v is not None})
+        kw = {k: v for k, v in kw.items() if v is not None or k == "n_samples"}
+        return HBMOptions(**kw)
+
+
+@dataclass(frozen=True)
+class CosimSettings:
+    """Co-simulation settings (``vehicle.simulate``, ``vehicle.sweep``).
+
+    Attributes
+    ----------
+    backend : str
+        ``"fmu"`` (one FMU instance per mount through fmpy) or ``"native"`` (the same
+        mount law called in-process, for long sweeps).
+    freq_hz : float or None
+        Default excitation frequency of ``drymount cosim``, Hz.
+    duration : float or None
+        Default simulated time of ``drymount cosim``, s (None: the harness default).
+    steps_per_period : int or None
+        Fixed steps per excitation period (dt = 1 / (freq_hz * steps_per_period));
+        None: the harness default.
+    """
+
+    backend: str = "fmu"
+    freq_hz: float | None = None
+    duration: float | None = None
+    steps_per_period: int | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Config:
+    """A checked configuration.
+
+    Attributes
+    ----------
+    name : str
+        ``name`` of the file, else the preset name or the file stem.
+    description : str
+    model : str
+        One of ``MODELS``.
+    system : hbm.system.System
+        The model with its mounts and excitation, ready for ``hbm`` and ``vehicle``;
+        its ``name`` and ``description`` are the configuration's, ``system.notes``
+        holds ``config_name``, ``model`` and ``source``.
+    sweep : SweepSettings
+    hbm : HBMSettings
+    cosim : CosimSettings
+    source : str
+        Where it came from: a file path, ``preset:<name>`` or ``<text>``.
+    data : dict
+        The parsed TOML document.
+    """
+
+    name: str
+    description: str
+    model: str
+    system: System
+    sweep: SweepSettings
+    hbm: HBMSettings
+    cosim: CosimSettings
+    source: str
+    data: dict = field(repr=False, default_factory=dict)

@@ -1,0 +1,168 @@
+"""The FrictionMount FMU's interface: one table of variables, units and capabilities.
+
+Everything that names an FMU variable reads it from here: the PythonFMU slave
+(``fmu_src/friction_mount.py``), the builder (``fmu_build``), the configuration's unit
+handling (``drymount/config``) and the harness's FMU backend (``vehicle/backends.py``).
+``VARIABLES`` is in value-reference order (``vr`` = index). Standard library only: this
+module ships inside the FMU.
+
+Per axis in ``AXES`` (``axial``, ``radial1``, ``radial2``): parameters
+``<axis>_<field>`` (the fields of :class:`fmu_src.mount_law.AxisParameters`; ``law`` as
+its integer code, :func:`fmu_src.mount_law.law_code`), inputs ``u_``, ``v_``, ``n_``,
+outputs ``F_``, ``Ffr_``, ``kt_``, ``slip_``, ``E_fr_``; then the output ``E_fr`` (all
+axes) and the locals ``w_<axis>`` (committed slider positions).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .mount_law import AXES, LAWS, AxisParameters, law_code
+
+__all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
+           "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
+           "by_causality", "parameter_unit"]
+
+MODEL_NAME = "FrictionMount"
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One FMI 2.0 ScalarVariable of the FMU.
+
+    Attributes
+    ----------
+    name : str
+        FMU variable name (== the slave's attribute), e.g. ``"axial_k1"``.
+    type : str
+        ``"Real"``, ``"Integer"`` or ``"Boolean"``.
+    causality : str
+        ``"parameter"``, ``"input"``, ``"output"``, ``"local"`` or ``"independent"``.
+    variability : str
+        ``"fixed"``, ``"tunable"``, ``"continuous"``, ``"discrete"`` or ``"constant"``.
+    start : float, int, bool or None
+        Start value (None: the model description has none).
+    unit : str or None
+        A key of :data:`BASE_UNITS` (Real variables only).
+    description : str
+    initial : str or None
+        ``"exact"``, ``"calculated"``, ``"approx"`` or None (FMI default).
+    """
+
+    name: str
+    type: str
+    causality: str
+    variability: str
+    start: float | int | bool | None
+    unit: str | None
+    description: str
+    initial: str | None = None
+
+
+#: SI exponents of every unit the model description uses (FMI 2.0 ``BaseUnit``).
+BASE_UNITS: dict[str, dict[str, int]] = {
+    "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N/m": {"kg": 1, "s": -2},
+    "N/m3": {"kg": 1, "m": -2, "s": -2},
+    "N.s/m": {"kg": 1, "s": -1},
+    "J": {"kg": 1, "m": 2, "s": -2},
+    "1": {},
+}
+
+#: CoSimulation capability flags of the model description.
+CAPABILITIES: dict[str, bool] = {
+    "needsExecutionTool": False,
+    "canHandleVariableCommunicationStepSize": True,
+    "canBeInstantiatedOnlyOncePerProcess": False,
+    "canGetAndSetFMUstate": True,
+    "canSerializeFMUstate": True,
+}
+
+DEFAULT_EXPERIMENT: dict[str, float] = {
+    "startTime": 0.0, "stopTime": 1.0, "stepSize": 1e-4, "tolerance": 1e-6}
+
+_LAW_TEXT = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
+
+#: (field, FMI type, unit, description) of the per-axis parameters, in the order of
+#: the fields of ``AxisParameters``.
+PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
+    ("law", "Integer", None, f"elastic law: {_LAW_TEXT}"),
+    ("k1", "Real", "N/m", "linear (small-deflection) stiffness, >= 0"),
+    ("kc", "Real", "N/m3", "cubic stiffness (law 1), >= 0"),
+    ("k2", "Real", "N/m", "stiffness beyond the knee (laws 2, 3), >= 0"),
+    ("delta", "Real", "m", "knee deflection for u > 0 (and u < 0 with law 2), > 0"),
+    ("delta_neg", "Real", "m", "knee deflection magnitude for u < 0 with law 3, > 0"),
+    ("c", "Real", "N.s/m", "viscous damping, >= 0"),
+    ("friction", "Boolean", None, "whether the macro-slip (Jenkins) element exists"),
+    ("kf", "Real", "N/m", "contact stiffness of the Jenkins element, > 0 if friction"),
+    ("mu", "Real", "1", "friction coefficient, >= 0 (slip force Fs = mu * n)"),
+    ("n0", "Real", "N", "normal force on the contact, >= 0; start value of n_<axis>"),
+)
+
+
+def _variables() -> tuple[Variable, ...]:
+    defaults = AxisParameters()
+    out = []
+    for axis in AXES:
+        for name, typ, unit, text in PARAMETER_FIELDS:
+            start = law_code(defaults.law) if name == "law" else getattr(defaults, name)
+            out.append(Variable(f"{axis}_{name}", typ, "parameter", "fixed", start,
+                                unit, f"{axis}: {text}"))
+    for axis in AXES:
+        out += [
+            Variable(f"u_{axis}", "Real", "input", "continuous", 0.0, "m",
+                     f"{axis}: deflection, engine side minus chassis side"),
+            Variable(f"v_{axis}", "Real", "input", "continuous", 0.0, "m/s",
+                     f"{axis}: deflection rate d(u_{axis})/dt"),
+            Variable(f"n_{axis}", "Real", "input", "continuous", defaults.n0, "N",
+                     f"{axis}: normal force of the friction contact; equals "
+                     f"{axis}_n0 until set; negative = lost contact (Fs = 0)"),
+        ]
+    for axis in AXES:
+        out += [
+            Variable(f"F_{axis}", "Real", "output", "continuous", None, "N",
+                     f"{axis}: total force, positive = tension (chassis pulled along "
+                     f"+axis, engine feels -F)"),
+            Variable(f"Ffr_{axis}", "Real", "output", "continuous", None, "N",
+                     f"{axis}: friction force of the Jenkins element"),
+            Variable(f"kt_{axis}", "Real", "output", "continuous", None, "N/m",
+                     f"{axis}: tangent stiffness dF/du (damping tangent dF/dv is c)"),
+            Variable(f"slip_{axis}", "Boolean", "output", "discrete", None, None,
+                     f"{axis}: true while the friction slider slips"),
+            Variable(f"E_fr_{axis}", "Real", "output", "continuous", None, "J",
+                     f"{axis}: cumulative energy dissipated by friction"),
+        ]
+    out.append(Variable("E_fr", "Real", "output", "continuous", None, "J",
+                        "cumulative energy dissipated by friction, all axes"))
+    for axis in AXES:
+        out.append(Variable(
+            f"w_{axis}", "Real", "local", "continuous", 0.0, "m",
+            f"{axis}: committed slider position of the Jenkins element", "exact"))
+    return tuple(out)
+
+
+#: Every variable of the FMU, in value-reference order.
+VARIABLES: tuple[Variable, ...] = _variables()
+_BY_NAME = {v.name: v for v in VARIABLES}
+
+
+def variable(name: str) -> Variable:
+    """The variable called ``name`` (KeyError naming the allowed kinds if unknown)."""
+    try:
+        return _BY_NAME[name]
+    except KeyError:
+        raise KeyError(f"{MODEL_NAME} has no variable {name!r} (variables are "
+                       f"<axis>_<parameter>, u_/v_/n_/F_/Ffr_/kt_/slip_/E_fr_/w_<axis> "
+                       f"and E_fr; axes {', '.join(AXES)})") from None
+
+
+def by_causality(causality: str) -> tuple[Variable, ...]:
+    """The variables of one causality, in value-reference order."""
+    return tuple(v for v in VARIABLES if v.causality == causality)
+
+
+def parameter_unit(field: str) -> str | None:
+    """FMI unit of the per-axis parameter ``field`` (e.g. ``"kc"`` -> ``"N/m3"``)."""
+    return variable(f"{AXES[0]}_{field}").unit
