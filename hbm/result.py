@@ -291,15 +291,15 @@ class FrequencyResponse:
         cols = ["freq_hz"]
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
-        return cols + ["transmissibility", "err_truncation", "err_sampling", "stable"]
+        return cols + ["transmissibility", "stable", "err_truncation", "err_sampling"]
 
     def table(self) -> np.ndarray:
         """The CSV table as an array, shape (n_points, 2 n_dof + 5)."""
         parts = [self.freq_hz[:, None]]
         for i in range(len(self.dof_names)):
             parts += [self.amplitude[:, i:i + 1], self.peak[:, i:i + 1]]
-        parts += [self.transmissibility[:, None], self.error_truncation[:, None],
-                  self.error_sampling[:, None], self.stable[:, None].astype(float)]
+        parts += [self.transmissibility[:, None], self.stable[:, None].astype(float),
+                  self.error_truncation[:, None], self.error_sampling[:, None]]
         return np.hstack(parts)
 
     def events_path(self, path: str | os.PathLike) -> str:
@@ -331,7 +331,9 @@ class FrequencyResponse:
                 fh.write(",".join(vals) + "\n")
 
     def to_csv(self, path: str | os.PathLike) -> None:
-        """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable``.
+        """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable,
+        err_truncation, err_sampling`` (the estimated errors relative to the peak,
+        :mod:`hbm.error_estimate`; NaN where not estimated).
 
         The first line is a ``# `` comment with units and provenance; ``stable`` is 1
         or 0; amplitudes in m (rad for rotations).
@@ -347,8 +349,8 @@ class FrequencyResponse:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")
             for row in self.table():
-                vals = [f"{v:.10g}" for v in row[:-3]] + [f"{v:.3g}" for v in row[-3:-1]]
-                vals.append(str(int(row[-1])))
+                vals = [f"{v:.10g}" for v in row[:-3]] + [str(int(row[-3]))]
+                vals += [f"{v:.3g}" for v in row[-2:]]
                 fh.write(",".join(vals) + "\n")
 
     def _plot_jumps(self, ax, y):
