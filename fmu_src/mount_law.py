@@ -145,22 +145,25 @@ def _cubic(u: float, p: AxisParameters) -> tuple[float, float]:
     return k1 * u + kc * u * u * u, k1 + 3.0 * kc * u * u
 
 
-def _knee_spring(u: float, k1: float, k2: float, delta: float, dneg: float
-                 ) -> tuple[float, float]:
-    """A linear spring plus a spring (k2 - k1) behind gaps at +delta and -dneg."""
-    if u > delta:
-        return k1 * u + (k2 - k1) * (u - delta), k2
-    if u < -dneg:
-        return k1 * u + (k2 - k1) * (u + dneg), k2
-    return k1 * u, k1
-
-
 def _piecewise(u: float, p: AxisParameters) -> tuple[float, float]:
-    return _knee_spring(u, p.k1, p.k2, p.delta, p.delta)
+    """A linear spring plus a spring (k2 - k1) behind gaps at +-delta (eq. 3.30)."""
+    return _knee_spring(u, p, p.delta)
 
 
 def _piecewise_asym(u: float, p: AxisParameters) -> tuple[float, float]:
-    return _knee_spring(u, p.k1, p.k2, p.delta, p.delta_neg)
+    """As :func:`_piecewise` with the negative gap at -delta_neg."""
+    return _knee_spring(u, p, p.delta_neg)
+
+
+def _knee_spring(u: float, p: AxisParameters, dneg: float) -> tuple[float, float]:
+    k1 = p.k1
+    if u > p.delta:
+        k2 = p.k2
+        return k1 * u + (k2 - k1) * (u - p.delta), k2
+    if u < -dneg:
+        k2 = p.k2
+        return k1 * u + (k2 - k1) * (u + dneg), k2
+    return k1 * u, k1
 
 
 def _no_knees(p: AxisParameters) -> tuple[float, ...]:
@@ -257,6 +260,8 @@ class AxisParameters:
         problems = self.problems()
         if problems:
             raise ParameterError(problems)
+        # the law's scalar force, looked up once (per-step hot path of axis_force)
+        object.__setattr__(self, "elastic_force", ELASTIC_LAWS[self.law].force)
 
     def problems(self, prefix: str = "") -> list[str]:
         """Every problem of these parameters, each naming field, value and rule."""
@@ -395,6 +400,11 @@ class AxisForce(NamedTuple):
     dissipated: float
 
 
+#: ``_new(NamedTupleClass, values)``: one C call (the generated ``__new__`` is Python
+#: code, about 3x slower in the per-step law).
+_new = tuple.__new__
+
+
 class SliderStep(NamedTuple):
     """Return map of the macro-slip element (:func:`jenkins_update`)."""
 
@@ -440,10 +450,10 @@ def jenkins_update(u: float, w: float, kf: float, fs: float) -> SliderStep:
     """
     trial = kf * (u - w)
     if trial > fs:
-        return SliderStep(fs, u - fs / kf, 0.0, True)
+        return _new(SliderStep, (fs, u - fs / kf, 0.0, True))
     if trial < -fs:
-        return SliderStep(-fs, u + fs / kf, 0.0, True)
-    return SliderStep(trial, w, kf, False)
+        return _new(SliderStep, (-fs, u + fs / kf, 0.0, True))
+    return _new(SliderStep, (trial, w, kf, False))
 
 
 def axis_force(u: float, v: float, w: float, p: AxisParameters,
@@ -455,11 +465,11 @@ def axis_force(u: float, v: float, w: float, p: AxisParameters,
     normal-force input). Without a friction element (``p.friction`` false) the slider
     is ignored.
     """
-    f_el, k_el = ELASTIC_LAWS[p.law].force(u, p)
+    f_el, k_el = p.elastic_force(u, p)
     if p.friction:
         if fs is None:
-            fs = p.fs
+            fs = p.mu * p.n0
         f_fr, w_new, k_fr, slipping = jenkins_update(u, w, p.kf, fs)
-        return AxisForce(f_el + p.c * v + f_fr, f_fr, w_new, k_el + k_fr, slipping,
-                         fs * abs(w_new - w))
-    return AxisForce(f_el + p.c * v, 0.0, w, k_el, False, 0.0)
+        return _new(AxisForce, (f_el + p.c * v + f_fr, f_fr, w_new, k_el + k_fr,
+                                slipping, fs * abs(w_new - w)))
+    return _new(AxisForce, (f_el + p.c * v, 0.0, w, k_el, False, 0.0))
