@@ -183,6 +183,8 @@ def _print_hbm_accuracy(fr) -> None:
         verdict = {True: "meets", False: "misses", None: "vs"}[fr.tol_met]
         print(f"  error estimate {e:.2g} of peak ({fr.error_reference}); {verdict} "
               f"the tolerance")
+    if fr.tol_met is False:
+        _info(f"drymount: warning: the tolerance is not met: {fr.message}")
     if fr.turning_points_merged:
         print(f"  {fr.turning_points_merged} turning point(s) merged as zigzags of the "
               f"sampled residual (gone with more AFT samples)")

@@ -352,12 +352,13 @@ def _transmissibility_label(sysm: System) -> str:
     """The transmissibility's definition (thesis eq. 4.1, 4.3) for a y label."""
     tr = sysm.transmissibility
     if tr.kind == "force":
-        return ("force transmissibility |F_mounts| / |F_exc| (fundamentals, "
-                "eq. 4.1) [-]")
+        return ("force transmissibility [-]\n|F_mounts| / |F_exc| (fundamentals, "
+                "eq. 4.1)")
     num = sysm.dof_names[tr.dof]
     den = (sysm.dof_names[tr.reference] if tr.reference is not None
            else "base input")
-    return f"displacement transmissibility |{num}| / |{den}| (fundamentals, eq. 4.3) [-]"
+    return (f"displacement transmissibility [-]\n|{num}| / |{den}| (fundamentals, "
+            f"eq. 4.3)")
 
 
 def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
