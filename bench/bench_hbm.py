@@ -141,7 +141,8 @@ def _adaptive(hbm, np, cases, today, six):
         r1 = hbm.frequency_response(system, fmin, fmax, options=dataclasses.replace(
             new, harmonics=start.harmonics, n_samples=start.n_samples))
         t2 = time.perf_counter()
-        print(f"{name:26s} {r0.n_points:9d} {t1 - t0:6.2f} {len(r0.turning_points):4d} | "
+        tp0 = len(r0.turning_points)
+        print(f"{name:26s} {r0.n_points:9d} {t1 - t0:6.2f} {tp0:4d} | "
               f"{r1.n_points:7d} {r1.harmonics:3d} {r1.n_samples:5d} {t2 - t1:7.2f} "
               f"{len(r1.turning_points):4d} {r1.error_max():8.1e} "
               f"{(t2 - t1) / (t1 - t0):5.1f}x")

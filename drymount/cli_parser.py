@@ -86,7 +86,8 @@ def _harness_args(p, kind: str) -> None:
 
 def _hbm_accuracy_args(p) -> None:
     """Accuracy and step controls of `drymount hbm` (default: [hbm] of CONFIG)."""
-    g = p.add_argument_group("accuracy and steps (default: [hbm] of CONFIG, else hbm's)")
+    g = p.add_argument_group(
+        "accuracy and steps (default: [hbm] of CONFIG, else hbm's)")
     g.add_argument("--tol", type=_positive_float, default=None,
                    help="wanted accuracy relative to the peak (default 1e-3): H and N "
                         "are raised until the error estimate is below tol/2 (unless "
@@ -100,7 +101,8 @@ def _hbm_accuracy_args(p) -> None:
                        help=f"{what} arc-length step (scaled: a sweep spans about 1)")
     g.add_argument("--max-angle", type=_positive_float, default=None,
                    help="largest angle between successive tangents, rad (default 0.15)")
-    g.add_argument("--log-freq", action="store_true", help="log frequency axis in --plot")
+    g.add_argument("--log-freq", action="store_true",
+                   help="log frequency axis in --plot")
 
 
 def _config_arg(p):

@@ -16,9 +16,9 @@ turns a tiny shift in frequency into a large one in amplitude). It is measured o
 quantities of the CSV, each DOF's fundamental amplitude and ``max |q(t)|`` relative to
 that quantity's largest value on the curve, combined with the frequency shift
 relative to ``fmax - fmin`` (``hypot``); the largest over the quantities is reported.
-Without tangents (:func:`hbm.solve_frequencies`) the re-solve is at fixed frequency. The true
-error of an algebraically converging expansion (``H^-1.5..2``) is 1.3-1.6 times the
-change to ``2H`` (Richardson), which :data:`RICHARDSON` applies.
+Without tangents (:func:`hbm.solve_frequencies`) the re-solve is at fixed frequency.
+The true error of an algebraically converging expansion (``H^-1.5..2``) is 1.3-1.6
+times the change to ``2H`` (Richardson), which :data:`RICHARDSON` applies.
 """
 
 from __future__ import annotations

@@ -85,8 +85,8 @@ class _Arc:
         self.h = float(np.linalg.norm(self.y_b - self.y_a))
         self.d = (self.y_b - self.y_a) / self.h
         self.t_a, self.t_b = t_a, t_b
-        self.settings = dataclasses.replace(settings, max_newton=max(settings.max_newton,
-                                                                     30))
+        self.settings = dataclasses.replace(
+            settings, max_newton=max(settings.max_newton, 30))
         self.cache = {}
 
     def guess(self, s: float) -> np.ndarray:
@@ -106,8 +106,8 @@ class _Arc:
             out = (y, tangent_at(self.prob(y)[1], self.d))
         else:
             y_plane = self.y_a + s * self.d
-            y, ok, _, _ = newton(self.prob, self.guess(s), self.settings, tangent=self.d,
-                                 y_pred=y_plane)
+            y, ok, _, _ = newton(self.prob, self.guess(s), self.settings,
+                                 tangent=self.d, y_pred=y_plane)
             out = (y, tangent_at(self.prob(y)[1], self.d)) if ok else None
         if out is not None and out[1] is None:
             out = None
@@ -339,8 +339,16 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
             continue
         parts.append(best)
         rep.merged += len(cl) - len(best[2].turning_points)
-    if not parts:
-        return rep
+    if parts:
+        _splice(br, parts, settings, to_hz, rep)
+    return rep
+
+
+def _splice(br: Branch, parts: list, settings: ContinuationSettings,
+            to_hz: Callable | None, rep: ZigzagReport) -> None:
+    """Replace the stretches ``(a, b, sub, fine)`` of ``br`` (points a+1..b) by the
+    re-traces ``sub`` (their folds located on them); in place, noted in ``rep``."""
+    npts = len(br.y)
     y, tg, jac, nit, tps, folds = [], [], [], [], [], {}
     start = 0
     old_tp = set(br.turning_points)
@@ -355,8 +363,7 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
             nit.append(br.n_iter[i])
 
     for a, b, sub, fine in parts:
-        copy(start, a + 1)
-        offset = len(y) - 1  # sub point 0 is coarse point a
+        copy(start, a + 1)  # sub point 0 is coarse point a
         located = {}
         if to_hz is not None and sub.turning_points:
             located = {e.index: e for e in locate_folds(fine, sub, settings, to_hz)}
@@ -373,10 +380,8 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
         rep.refined.append((to_hz(br.y[a][-1]) if to_hz else br.y[a][-1],
                             to_hz(br.y[b][-1]) if to_hz else br.y[b][-1],
                             len(sub.y) - 1))
-        del offset
         start = b + 1
     copy(start, npts)
     br.y, br.tangent, br.jacobian, br.n_iter = y, tg, jac, nit
     br.turning_points = tps
     rep.folds = folds
-    return rep

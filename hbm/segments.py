@@ -58,7 +58,8 @@ def clip(fr: FrequencyResponse, fmin: float, fmax: float) -> FrequencyResponse:
     return dataclasses.replace(
         fr, **{k: _points(fr, k)[keep] for k in _POINT_FIELDS},
         turning_points=tps, turning_freq_hz=fold,
-        folds=_moved(fr.folds, keep, new_index), peaks=_moved(fr.peaks, keep, new_index))
+        folds=_moved(fr.folds, keep, new_index),
+        peaks=_moved(fr.peaks, keep, new_index))
 
 
 def _moved(events, keep, new_index) -> list:

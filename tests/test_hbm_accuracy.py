@@ -37,7 +37,7 @@ def cubic_system():
     return sdof(20.0, MountParameters(axial=ax), "force", 10.0)
 
 
-# --- peaks -----------------------------------------------------------------------------
+# --- peaks ---------------------------------------------------------------------------
 # the issue's 1e-8 (measured 1.8e-15 Hz and 2.2e-16 relative)
 PEAK_TOL = 1e-8
 
@@ -197,7 +197,7 @@ def test_zigzags_of_the_sampled_residual_are_merged():
     assert np.all(np.diff(r.freq_hz[:i]) > 0) and np.all(np.diff(r.freq_hz[j:]) > 0)
 
 
-# --- folds against long-time integration -----------------------------------------------
+# --- folds against long-time integration ---------------------------------------------
 def _initial_state(r, i):
     """``(q(0), dq/dt(0))`` of curve point i."""
     X = r.coefficients[i].T  # (2H+1, n)
@@ -268,4 +268,5 @@ def test_piecewise_fold_vs_time_integration_bisection():
             lo = mid
         else:
             hi = mid
-    assert abs(fold.freq_hz - 0.5 * (lo + hi)) < FOLD_TIME_TOL_HZ, (fold.freq_hz, lo, hi)
+    assert abs(fold.freq_hz - 0.5 * (lo + hi)) < FOLD_TIME_TOL_HZ, \
+        (fold.freq_hz, lo, hi)
