@@ -270,3 +270,18 @@ def test_piecewise_fold_vs_time_integration_bisection():
             hi = mid
     assert abs(fold.freq_hz - 0.5 * (lo + hi)) < FOLD_TIME_TOL_HZ, \
         (fold.freq_hz, lo, hi)
+
+
+def test_failed_start_retried_with_more_samples_and_a_smaller_step():
+    """The issue's nearly rigid slider (kf = 1e8) at H = 7, N = 64 has no start
+    solution at fmin; the start is retried with 128 samples and a 4x smaller first
+    step, and the message says why."""
+    ax = AxisParameters(law="linear", k1=K, c=C, friction=True, kf=1e8, mu=1.0,
+                        n0=20.0)
+    s = sdof(M, MountParameters(axial=ax), "force", F)
+    opts = hbm.HBMOptions(tol=None, error_estimate=False)
+    r = hbm.frequency_response(s, 2.0, 3.0, options=opts)
+    assert r.success and r.n_samples == 128
+    # the first attempt (64 samples) failed, and the message says so
+    assert "with 64 AFT samples no solution at fmin" in r.message
+    assert "first step 0.005" in r.message
