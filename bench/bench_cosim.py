@@ -19,6 +19,19 @@ steps), for a single-DOF system (1 mount, 1 active axis) and the 6-DOF engine
   ``fmu`` backend, steady-state loop) driving NullMount / FrictionMount;
 - ``native``: the harness with the in-process law (no FMI).
 
+The native (C) FMUs (``fmu_build/native.py``, FMI 2.0), measured in the same run:
+
+- ``raw native``: the bare loop over FrictionMountNative instances;
+- ``raw null native``: the bare loop over NullMountNative instances (the same C
+  interface and bookkeeping, no law);
+- ``harness native``: the harness driving FrictionMountNative;
+- ``raw native3``: the bare loop over FrictionMountNative3 (FMI 3.0) instances, through
+  fmpy's FMU3Slave behind ``vehicle/fmi3_adapter.py`` (one extra Python frame per call).
+
+Ratios: ``raw native / raw fmu`` is the native FMU's cost over the PythonFMU FMU's
+through fmpy (target <= 0.5); ``raw native / raw null native`` its cost over the null
+native FMU's (target <= 1.5); ``raw native / raw null`` over the PythonFMU null floor.
+
 Ratios: ``harness null / raw null`` is the harness's own cost over the bare FMI floor
 (the issue's criterion: <= 1.5); ``harness fmu / raw fmu`` the same with the real
 model; ``harness fmu / raw null`` the total over the floor.
@@ -107,17 +120,24 @@ def systems():
     return [("sdof, 1 mount x 1 axis", s1), ("6-DOF, 3 mounts x 3 axes", s6)]
 
 
-def part1(real_fmu: Path, null_fmu: Path, periods: int, repeat: int) -> list[dict]:
+def part1(real_fmu: Path, null_fmu: Path, periods: int, repeat: int,
+          native_fmus: dict[str, Path]) -> list[dict]:
     rows = []
     steps = periods * 256
     for label, system in systems():
         res = {k: [] for k in ("raw null", "raw fmu", "harness null", "harness fmu",
-                               "native")}
+                               "native", "raw native", "raw null native",
+                               "harness native", "raw native3")}
         for _ in range(repeat):
             res["raw null"].append(raw_loop(system, null_fmu, steps))
             res["raw fmu"].append(raw_loop(system, real_fmu, steps))
+            res["raw native"].append(raw_loop(system, native_fmus["native"], steps))
+            res["raw null native"].append(raw_loop(system, native_fmus["null"], steps))
+            res["raw native3"].append(raw_loop(system, native_fmus["native3"], steps))
             res["harness null"].append(harness_loop(system, "fmu", null_fmu, periods))
             res["harness fmu"].append(harness_loop(system, "fmu", real_fmu, periods))
+            res["harness native"].append(harness_loop(system, "fmu",
+                                                      native_fmus["native"], periods))
             res["native"].append(harness_loop(system, "native", None, periods))
         med = {k: statistics.median(v) for k, v in res.items()}
         med["label"] = label
@@ -131,7 +151,26 @@ def part1(real_fmu: Path, null_fmu: Path, periods: int, repeat: int) -> list[dic
                 r["native"], r["harness null"] / r["raw null"],
                 r["harness fmu"] / r["raw fmu"], r["harness fmu"] / r["raw null"]]
         print(f"{r['label']:<26}  " + "  ".join(f"{v:15.2f}" for v in vals))
+    print_native(rows)
     return rows
+
+
+def print_native(rows: list[dict]) -> None:
+    """The native FMU's row: cost per mount-step and the issue's ratios."""
+    print("\nnative (C) FMU, FMI 2.0, us per mount-step (same run)")
+    head = ("system", "raw native", "raw null nat.", "harness native",
+            "nat./pythonfmu", "nat./null nat.", "nat./raw null", "raw native3")
+    print("  ".join(f"{h:>15}" if i else f"{h:<26}" for i, h in enumerate(head)))
+    for r in rows:
+        vals = [r["raw native"], r["raw null native"], r["harness native"],
+                r["raw native"] / r["raw fmu"], r["raw native"] / r["raw null native"],
+                r["raw native"] / r["raw null"], r["raw native3"]]
+        print(f"{r['label']:<26}  " + "  ".join(f"{v:15.2f}" for v in vals))
+    worst_py = max(r["raw native"] / r["raw fmu"] for r in rows)
+    worst_null = max(r["raw native"] / r["raw null native"] for r in rows)
+    print(f"targets: native/pythonfmu {worst_py:.2f} <= 0.5 "
+          f"{'met' if worst_py <= 0.5 else 'MISSED'}; native/null native "
+          f"{worst_null:.2f} <= 1.5 {'met' if worst_null <= 1.5 else 'MISSED'}")
 
 
 def part2(real_fmu: Path, quick: bool) -> None:
@@ -170,13 +209,18 @@ def main(argv=None) -> int:
     ap.add_argument("--skip-presets", action="store_true", help="part 1 only")
     args = ap.parse_args(argv)
     from fmu_build import build_fmu
+    from fmu_build.native import build_native_fmu
 
     with tempfile.TemporaryDirectory(prefix="drymount_bench_") as tmp:
         tmp = Path(tmp)
         real = build_fmu(tmp / "FrictionMount.fmu")
         null = build_null_fmu(tmp)
+        native = {"native": build_native_fmu(tmp / "FrictionMountNative.fmu").path,
+                  "null": build_native_fmu(tmp / "NullMountNative.fmu", null=True).path,
+                  "native3": build_native_fmu(tmp / "FrictionMountNative3.fmu",
+                                              fmi=3).path}
         print(f"python {sys.version.split()[0]}, FMUs built in {tmp}")
-        part1(real, null, args.periods, args.repeat)
+        part1(real, null, args.periods, args.repeat, native)
         if not args.skip_presets:
             part2(real, args.quick)
     return 0

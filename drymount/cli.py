@@ -4,12 +4,18 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
 
     presets   list | show NAME | export NAME PATH
     build-fmu build the FrictionMount FMU
+    export-ssp SSP 1.0 archive of a configuration's mount FMU instances
     hbm       harmonic-balance frequency response of a configuration
     cosim     time history co-simulated through the mount FMU (or in-process)
     sweep     stepped-sine sweep of co-simulated steady states
     validate  co-simulation against harmonic balance, with a report
     study     the thesis's design studies
     demo      the first-hour demo: FMU, HBM and co-simulation of a quarter car
+    fit       mount-law parameters from rig data (elastic law, friction, damping)
+    characterise  dynamic stiffness and loss angle of the mounts (datasheet maps)
+    static    static working point under the engine's weight (knee warnings)
+    explore   sample a configuration's [design] space (grid, LHS, Sobol)
+    optimize  differential evolution on a configuration's [design] space
 
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
@@ -57,10 +63,15 @@ def _info(msg: str) -> None:
     print(msg, file=sys.stderr)
 
 
-def _load(spec):
-    from drymount.config import resolve_config
+def _load(spec, overrides=()):
+    from drymount.paths import load_with_overrides
 
-    return resolve_config(spec)
+    cfg = load_with_overrides(spec, overrides or ())
+    if "design" in cfg.data:  # part of the file: every command checks it
+        from drymount.design import design_space
+
+        design_space(cfg)
+    return cfg
 
 
 def _write_with(path: Path, writer) -> Path:
@@ -120,6 +131,18 @@ def cmd_presets(args) -> int:
 
 
 def cmd_build_fmu(args) -> int:
+    if args.native:
+        from fmu_build.native import build_native_fmu
+
+        build = build_native_fmu(args.out, fmi=args.fmi or 2)
+        _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
+              f"{', '.join(build.missing_platforms)} (sources and the compile command "
+              f"are in the FMU)")
+        print(build.path)
+        return EXIT_OK
+    if args.fmi not in (None, 2):
+        raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
+                         f"FMI 2.0 only")
     from fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
@@ -127,8 +150,21 @@ def cmd_build_fmu(args) -> int:
     return EXIT_OK
 
 
-def cmd_hbm(args) -> int:
+def cmd_export_ssp(args) -> int:
+    from drymount.ssp import export_ssp
+
     cfg = _load(args.config)
+    if args.fmu is not None and not args.fmu.is_file():
+        raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
+    _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
+          f"({', '.join(exp.mounts)}) of {exp.fmu}, "
+          f"parameter set {exp.parameter_set!r}")
+    return EXIT_OK
+
+
+def cmd_hbm(args) -> int:
+    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
     n_samples = args.n_samples if args.n_samples is not None else cfg.hbm.n_samples
@@ -198,7 +234,7 @@ def _print_hbm_accuracy(fr) -> None:
 
 
 def cmd_cosim(args) -> int:
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     freq = args.freq if args.freq is not None else cfg.cosim.freq_hz
     if freq is None:
         raise UsageError(f"give --freq (the configuration {cfg.source} has no "
@@ -227,7 +263,10 @@ def cmd_cosim(args) -> int:
 
 def _fmu_path(path):
     from fmu_build import ensure_fmu
+    from fmu_build.native import is_native_fmu
 
+    if path is not None and is_native_fmu(path):
+        return Path(path).resolve()  # a native build: used as is, never rebuilt
     return ensure_fmu(path)
 
 
@@ -297,7 +336,7 @@ def cmd_sweep(args) -> int:
 
     from drymount.config import SweepSettings
 
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     s = SweepSettings(fmin, fmax, args.points or cfg.sweep.points,
                       args.direction or cfg.sweep.direction,
@@ -359,15 +398,48 @@ def cmd_demo(args) -> int:
     return _lead_module("demo").main(args)
 
 
+def cmd_fit(args) -> int:
+    return _lead_module("fit").main(args)
+
+
+def cmd_static(args) -> int:
+    return _lead_module("static").main(args)
+
+
+def cmd_characterise(args) -> int:
+    if args.fmin is not None and args.fmax is not None and not args.fmax > args.fmin:
+        raise UsageError(f"the frequency range must satisfy fmin < fmax, got fmin = "
+                         f"{args.fmin:g} Hz, fmax = {args.fmax:g} Hz")
+    return _lead_module("characterise").main(args)
+
+
+def cmd_explore(args) -> int:
+    from drymount.design.commands import cmd_explore as run
+
+    return run(args, _load, UsageError)
+
+
+def cmd_optimize(args) -> int:
+    from drymount.design.commands import cmd_optimize as run
+
+    return run(args, _load, UsageError)
+
+
 COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
+    "export-ssp": cmd_export_ssp,
     "hbm": cmd_hbm,
     "cosim": cmd_cosim,
     "sweep": cmd_sweep,
     "validate": cmd_validate,
     "study": cmd_study,
     "demo": cmd_demo,
+    "fit": cmd_fit,
+    "characterise": cmd_characterise,
+    "static": cmd_static,
+    "explore": cmd_explore,
+    "optimize": cmd_optimize,
 }
 
 

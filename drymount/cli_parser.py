@@ -10,7 +10,8 @@ from pathlib import Path
 
 __all__ = ["build_parser", "STUDY_NAMES"]
 
-STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump")
+STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump", "laws",
+               "six-dof-75")
 
 
 # ======================================================================================
@@ -78,7 +79,8 @@ def _harness_args(p, kind: str) -> None:
                         "steps_per_period, else the harness default)")
     p.add_argument("--fmu", type=Path, default=None,
                    help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing)")
+                        "missing; or a native build, dist/FrictionMountNative.fmu or "
+                        "dist/FrictionMountNative3.fmu)")
     p.add_argument("--out", type=Path, default=None,
                    help=f"CSV file to write (default: <name>_{kind}.csv)")
     p.add_argument("--plot", type=Path, default=None, help="plot file to write")
@@ -109,6 +111,11 @@ def _config_arg(p):
     p.add_argument("config", metavar="CONFIG",
                    help="TOML configuration file (docs/config.md) or preset name "
                         "(drymount presets list)")
+    p.add_argument("--set", action="append", default=None, metavar="PATH=VALUE",
+                   dest="overrides",
+                   help="override a field of CONFIG, checked like the file; "
+                        "repeatable, e.g. --set mount.friction.n0=12 --set "
+                        "'mounts[*].axial.c=200'")
 
 
 def _version() -> str:
@@ -182,10 +189,34 @@ def build_parser() -> argparse.ArgumentParser:
              Build FrictionMount.fmu, the mount law as an FMI 2.0 co-simulation FMU
              (pythonfmu). The importer needs a Python 3 with the pythonfmu runtime on
              the host; docs/fmu.md describes its variables.""",
-             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu"])
+             ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu",
+              "drymount build-fmu --native --fmi 3  # dist/FrictionMountNative3.fmu"])
     p.add_argument("--out", type=Path, default=None,
                    help="FMU file to write (default: dist/FrictionMount.fmu under the "
-                        "current folder)")
+                        "current folder; with --native dist/FrictionMountNative.fmu or "
+                        "dist/FrictionMountNative3.fmu)")
+    p.add_argument("--native", action="store_true",
+                   help="the native build (C, no Python needed by the importer; "
+                        "docs/fmu.md, 'Which FMU')")
+    p.add_argument("--fmi", type=int, choices=(2, 3), default=None,
+                   help="FMI version of the native build (default 2; the PythonFMU "
+                        "build is FMI 2.0 only)")
+
+    # export-ssp ---------------------------------------------------------------
+    p = _add(sub, "export-ssp", "SSP 1.0 archive of a configuration's mount FMUs",
+             """\
+             Write an SSP 1.0 archive: SystemStructure.ssd with one FMU component per
+             mount of the configuration (connectors u, v, n in; F, Ffr, E_fr out), one
+             parameter set per mount (resources/<mount>.ssv, the configuration's values
+             and units) and documentation/README.txt saying what the host connects (the
+             vehicle body is not an FMU).""",
+             ["drymount export-ssp six_dof_halved --out six_dof.ssp --native"])
+    _config_arg(p)
+    p.add_argument("--out", type=Path, required=True, help="SSP file to write")
+    p.add_argument("--native", action="store_true",
+                   help="pack the native FMU (FrictionMountNative.fmu, FMI 2.0) "
+                        "instead of the PythonFMU build")
+    p.add_argument("--fmu", type=Path, default=None, help="pack this FMU instead")
 
     # hbm ----------------------------------------------------------------------
     p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
@@ -281,6 +312,9 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
     p.add_argument("--quick", action="store_true",
                    help="fewer frequencies (still real runs), for CI")
+    p.add_argument("--fmu", type=Path, default=None,
+                   help="FMU to validate (default: dist/FrictionMount.fmu, built if "
+                        "missing; any build, e.g. dist/FrictionMountNative.fmu)")
     p.add_argument("--out", type=Path, default=Path("validation"),
                    help="report folder")
     p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
@@ -300,6 +334,10 @@ def build_parser() -> argparse.ArgumentParser:
              six-dof       6-DOF responses, lambda 1 and 1.2, relocated mount
                            (Figs. 4.11-4.44)
              jump          cubic single DOF: unstable branch and the jump (Fig. 3.7)
+             laws          single DOF with the thesis's linear, cubic and piecewise
+                           fits at one excitation (Fig. 4.5)
+             six-dof-75    6-DOF original mounts at 75 % with friction
+                           (Figs. 4.45-4.50)
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])
@@ -309,6 +347,96 @@ def build_parser() -> argparse.ArgumentParser:
                    help="output folder (default: study-NAME)")
     p.add_argument("--quick", action="store_true",
                    help="fewer designs and coarser curves (seconds instead of minutes)")
+
+    # fit ----------------------------------------------------------------------
+    p = _add(sub, "fit", "mount-law parameters from rig data (CSV with units)",
+             """\
+             elastic  quasi-static force-deflection curve: fits linear, cubic,
+                      symmetric and asymmetric piecewise laws, picks the lowest AIC
+             loops    force-displacement loops of harmonic tests: kf, Fs and c
+                      with the elastic law of --mount
+             table    dynamic stiffness and loss angle vs frequency and amplitude:
+                      kf, Fs and c with the elastic law of --mount
+             Writes fit.csv (parameters, standard errors, R^2, AIC), fit.png and
+             mount.toml (a [mount] table for a configuration) into --out. The CSV
+             header gives every column's unit, e.g. `deflection [mm],force [N]`
+             (docs/design-your-own-mount.md).""",
+             ["drymount fit elastic examples/data/rig_piecewise.csv --out fit-el",
+              "drymount fit loops examples/data/rig_loops.csv --mount sdof_halved"])
+    p.add_argument("kind", metavar="KIND", choices=("elastic", "loops", "table"),
+                   help="elastic, loops or table")
+    p.add_argument("data", metavar="DATA", type=Path, help="the rig data (CSV)")
+    p.add_argument("--law", default="auto",
+                   choices=("auto", "linear", "cubic", "piecewise", "piecewise_asym"),
+                   help="elastic: the law to write (default: lowest AIC)")
+    p.add_argument("--c", type=float, default=0.0, metavar="N_S_PER_M",
+                   help="elastic: viscous damping to write into mount.toml (a "
+                        "quasi-static curve does not identify it)")
+    p.add_argument("--mount", default=None, metavar="TOML_OR_PRESET",
+                   help="loops/table: the elastic law, from the [mount] table of a "
+                        "file (e.g. the mount.toml of `fit elastic`) or a preset")
+    p.add_argument("--fix-c", action="store_true",
+                   help="loops/table: keep c of --mount instead of fitting it")
+    p.add_argument("--out", type=Path, default=Path("fit"), help="output folder")
+    p.add_argument("--no-plot", dest="plot", action="store_false",
+                   help="do not draw fit.png")
+
+    # characterise -------------------------------------------------------------
+    p = _add(sub, "characterise", "dynamic stiffness and loss angle of the mounts",
+             """\
+             For every mount axis the model deflects: |K*| and loss angle vs
+             frequency at several displacement amplitudes and static preloads,
+             from harmonic balance with an imposed harmonic deflection (fundamental
+             force / displacement amplitude), cross-checked at a few points in the
+             time domain (through the FMU if fmpy is installed). Writes
+             <mount>_<axis>.csv/.png and crosscheck.csv into --out; exit status 1
+             if the cross-check fails.""",
+             ["drymount characterise sdof_halved --preloads 0 686.7",
+              "drymount characterise six_dof_halved --amplitudes-mm 0.2 1 3"])
+    _config_arg(p)
+    p.add_argument("--amplitudes-mm", type=_positive_float, nargs="+",
+                   default=[0.1, 0.5, 1.0, 2.0], metavar="MM",
+                   help="displacement amplitudes in mm")
+    p.add_argument("--preloads", type=float, nargs="+", default=[0.0], metavar="N",
+                   help="static preloads in N (e.g. the engine weight on the mount)")
+    p.add_argument("--fmin", type=_positive_float, default=None,
+                   help="lowest frequency, Hz (default: [sweep] fmin_hz)")
+    p.add_argument("--fmax", type=_positive_float, default=None,
+                   help="highest frequency, Hz (default: [sweep] fmax_hz)")
+    p.add_argument("--points", type=_int_at_least(2), default=40,
+                   help="frequencies, evenly spaced")
+    p.add_argument("--check", choices=("auto", "fmu", "law"), default="auto",
+                   help="time-domain cross-check: through the FMU (auto: if fmpy is "
+                        "installed) or by marching the law")
+    p.add_argument("--fmu", type=Path, default=None,
+                   help="FMU for the cross-check (default: dist/FrictionMount.fmu, "
+                        "built if missing)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="output folder (default: <name>_characterise)")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+
+    # static -------------------------------------------------------------------
+    p = _add(sub, "static", "static working point under the engine's weight",
+             """\
+             Equilibrium of the configuration under gravity (and the [static]
+             loads and --load) with the nonlinear elastic laws, friction sliders
+             relaxed. Prints and writes the static deflection and force of every
+             mount axis (CSV) and warns when an axis works past a knee of its law
+             or beyond --travel-mm. With [static] gravity = true in the
+             configuration, hbm, cosim and sweep run about this point.""",
+             ["drymount static sdof_halved",
+              "drymount static six_dof_halved --load beta=40 --travel-mm 15"])
+    _config_arg(p)
+    p.add_argument("--g", type=_positive_float, default=None,
+                   help="gravitational acceleration, m/s^2 (default: [static] g, "
+                        "else 9.81)")
+    p.add_argument("--no-gravity", action="store_true", help="only the --load terms")
+    p.add_argument("--load", action="append", default=None, metavar="DOF=VALUE",
+                   help="static generalised load on a DOF, N or N m (repeatable)")
+    p.add_argument("--travel-mm", type=_positive_float, default=None,
+                   help="warn when a mount axis deflects more than this, mm")
+    p.add_argument("--out", type=Path, default=None,
+                   help="CSV file (default: <name>_static.csv)")
 
     # demo ---------------------------------------------------------------------
     p = _add(sub, "demo", "the first-hour demo: FMU, HBM, co-simulation, report",
@@ -320,4 +448,9 @@ def build_parser() -> argparse.ArgumentParser:
              ["drymount demo", "drymount demo --out /tmp/demo"])
     p.add_argument("--out", type=Path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
+
+    # explore, optimize (drymount.design) ------------------------------------------
+    from drymount.design.commands import add_commands
+
+    add_commands(sub, _add, _config_arg, _int_at_least)
     return parser

@@ -46,7 +46,7 @@ from fmu_src.mount_law import AxisParameters, MountParameters
 from hbm.aft import default_n_samples
 
 __all__ = ["Case", "CASES", "CaseResult", "run_case", "run_validation", "main",
-           "TOL_REL_PEAK"]
+           "TOL_REL_PEAK", "hbm_matching", "compared_dofs"]
 
 #: Pass/fail tolerance on the largest amplitude error relative to the peak amplitude
 #: (issue 5 target: 1 % of peak with H >= 7 on stable branches).
@@ -252,6 +252,11 @@ def _hbm_matching(system, freqs: np.ndarray, sweep, harmonics: int,
     return amp, stable, "; ".join(notes)
 
 
+#: Public names of the matching used by ``drymount explore --cosim-check``.
+hbm_matching = _hbm_matching
+compared_dofs = _compared_dofs
+
+
 def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
              fmu_path=None, progress: bool = True) -> CaseResult:
     """Co-simulate and solve HBM for one case; see the module docstring."""
@@ -384,12 +389,19 @@ def write_report(results: list[CaseResult], out: Path, quick: bool,
 
 
 def run_validation(*, quick: bool = False, out="validation", inject: str | None = None,
-                   cases=None, progress: bool = True) -> list[CaseResult]:
-    """Run the cases (default :data:`CASES`), write the report, return the results."""
+                   cases=None, progress: bool = True,
+                   fmu_path=None) -> list[CaseResult]:
+    """Run the cases (default :data:`CASES`), write the report, return the results.
+
+    ``fmu_path``: the FMU to co-simulate (any build with the FrictionMount variables,
+    e.g. the native FrictionMountNative.fmu); default dist/FrictionMount.fmu, built if
+    missing."""
     from fmu_build import ensure_fmu
+    from fmu_build.native import is_native_fmu
 
     cases = CASES if cases is None else cases
-    fmu_path = ensure_fmu()
+    if fmu_path is None or not is_native_fmu(fmu_path):  # native: used as is
+        fmu_path = ensure_fmu(fmu_path)
     results = []
     for case in cases:
         if progress:
@@ -416,7 +428,8 @@ def main(args: argparse.Namespace) -> int:
         if getattr(args, "inject", None):
             parse_inject(args.inject)
         results = run_validation(quick=args.quick, out=args.out,
-                                 inject=getattr(args, "inject", None), cases=cases)
+                                 inject=getattr(args, "inject", None), cases=cases,
+                                 fmu_path=getattr(args, "fmu", None))
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

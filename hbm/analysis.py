@@ -14,6 +14,7 @@ import dataclasses
 import math
 import re
 import sys
+from typing import NamedTuple
 
 import numpy as np
 
@@ -101,6 +102,8 @@ class _Problem:
     def linear_guess(self, freq_hz: float, stuck: bool) -> np.ndarray:
         Q = linear_frf(self.hb.system, [freq_hz], stuck=stuck)[0]
         X = np.zeros((self.hb.m, self.hb.n))
+        if self.hb.static is not None:
+            X[0] = self.hb.static.q  # about the static working point
         X[1] = Q.imag
         X[2] = Q.real
         return self.y_of(X.ravel(), 2 * np.pi * freq_hz)
@@ -123,7 +126,16 @@ def build_problem(system: System, fmin_hz: float, fmax_hz: float, harmonics: int
     return _Problem(hb, fmin_hz, fmax_hz)
 
 
-def _start(prob: _Problem, freq_hz: float, settings):
+class StartSolution(NamedTuple):
+    """The first point of a curve: ``y`` (None if not found), the Newton iterations
+    spent and why it failed ("" on success)."""
+
+    y: np.ndarray | None
+    n_newton: int
+    message: str
+
+
+def _start(prob: _Problem, freq_hz: float, settings) -> StartSolution:
     """First solution at ``freq_hz``: Newton from the free and the stuck linear
     solutions, with more iterations than a continuation step (damped Newton can
     need many from a linear guess far from a strongly nonlinear solution)."""
@@ -136,7 +148,7 @@ def _start(prob: _Problem, freq_hz: float, settings):
         y, ok, its, msg = newton(prob, y0, start, fixed=n)
         total += its
         if ok:
-            return y, total, ""
+            return StartSolution(y, total, "")
     # load stepping: raise the excitation from a small fraction to 1, each Newton
     # started from the previous solution scaled up (halving the increment on failure)
     hb = prob.hb
@@ -161,10 +173,11 @@ def _start(prob: _Problem, freq_hz: float, settings):
             else:
                 dmu *= 0.5
                 if dmu < 1e-3:
-                    return None, total, f"load stepping stalled at {mu:.3g} ({msg})"
+                    return StartSolution(None, total,
+                                         f"load stepping stalled at {mu:.3g} ({msg})")
     finally:
         hb.exc_scale = 1.0
-    return y, total, ""
+    return StartSolution(y, total, "")
 
 
 def _stability(prob: _Problem, ys, br: Branch, stride: int):

@@ -221,12 +221,10 @@ def solve_from_phasors(system: System, freqs_hz, phasors, *, harmonics: int = 7,
             points.append(postprocess(prob, [y], opts, one, []))
         else:
             failed.append(fk)
-    if failed:
-        br.status = Status.NO_CONVERGENCE
-        br.message = ("Newton did not converge at " +
-                      ", ".join(f"{v:.6g}" for v in failed) + " Hz")
-    else:
-        br.success, br.message = True, "solved at every frequency"
+    br.success = not failed
+    br.status = Status.NO_CONVERGENCE if failed else Status.DONE
+    br.message = ("Newton did not converge at " + ", ".join(f"{v:.6g}" for v in failed)
+                  + " Hz") if failed else "solved at every frequency"
     if not points:
         return postprocess(prob, [], opts, br, [])
     first = points[0]

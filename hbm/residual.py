@@ -25,6 +25,7 @@ import numpy as np
 from hbm.aft import FourierBasis, aft_forces, default_n_samples
 from hbm.closed_form import closed_form_forces
 from hbm.elements import nonlinear_axes
+from hbm.static import working_point
 from hbm.system import System
 
 __all__ = ["HarmonicBalance"]
@@ -66,12 +67,21 @@ class HarmonicBalance:
                 or harmonics < 1:
             raise ValueError(f"`harmonics` must be an integer >= 1, got {harmonics!r}")
         H = int(harmonics)
+        #: the static working point the system vibrates about (None: unloaded)
+        self.static = working_point(system)
+        if self.static is not None and sliders is None:
+            sliders = self.static.sliders  # relaxed at the working point
         ax = nonlinear_axes(system, sliders)
         offsets = bool(np.any(ax.w_start != 0.0))
         if closed_form is None:
             # the closed forms assume the zero slider offset of the HBM convention
-            closed_form = H == 1 and ax.has_closed_form and not offsets
+            # and zero mean deflection
+            closed_form = (H == 1 and ax.has_closed_form and not offsets
+                           and self.static is None)
         elif closed_form:
+            if self.static is not None:
+                raise ValueError("`closed_form` assumes no static load (zero mean "
+                                 "deflection); use closed_form=False (AFT)")
             if H != 1:
                 raise ValueError(f"`closed_form` needs harmonics == 1, got {H}")
             if not ax.has_closed_form:
@@ -109,6 +119,8 @@ class HarmonicBalance:
         e2 = np.zeros((self.m, self.n))
         exc = system.excitation
         self.Yax = np.zeros((self.m, ax.n))  # base part of the axis deflections
+        if self.static is not None:
+            e0[0] = system.static_load  # the static row carries the load
         if exc.kind == "force":
             e0[2] = exc.amplitude
         elif exc.kind == "unbalance":

@@ -147,6 +147,10 @@ class System:
     excitation : Excitation
     transmissibility : Transmissibility
     base_names : tuple of str, length n_base
+    static_load : ndarray, shape (n,), optional
+        Constant generalised load (N, N m), e.g. the engine's weight: the system
+        vibrates about the static working point it produces (:mod:`hbm.static`).
+        None (default): no static load, the unloaded point.
     """
 
     name: str
@@ -162,6 +166,7 @@ class System:
     base_names: tuple[str, ...] = ()
     description: str = ""
     notes: dict = field(default_factory=dict)
+    static_load: np.ndarray | None = None
 
     def __post_init__(self):
         n = len(self.dof_names)
@@ -185,10 +190,17 @@ class System:
             _array(self.excitation.amplitude, amp_shape, "excitation.amplitude")))
         if np.any(np.linalg.eigvalsh(self.M) <= 0):
             raise ValueError("`M` must be symmetric positive definite")
+        if self.static_load is not None:
+            object.__setattr__(self, "static_load",
+                               _array(self.static_load, (n,), "static_load"))
 
     @property
     def n_dof(self) -> int:
         return len(self.dof_names)
+
+    @property
+    def has_static_load(self) -> bool:
+        return self.static_load is not None and bool(np.any(self.static_load != 0.0))
 
     @property
     def n_base(self) -> int:

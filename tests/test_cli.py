@@ -14,7 +14,7 @@ from drymount import cli
 from drymount.config import list_presets, load_config, load_preset, preset_text
 
 COMMANDS = ("build-fmu", "hbm", "cosim", "sweep", "validate", "study", "presets",
-            "demo")
+            "demo", "explore", "optimize")
 #: HBM amplitude of a linear system against the exact FRF: the HBM is exact for a
 #: linear system up to its Newton tolerance (measured 1e-9), 1e-6 leaves margin.
 RTOL_LINEAR_FRF = 1e-6

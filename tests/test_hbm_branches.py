@@ -56,8 +56,8 @@ def test_jenkins_slider_start_kept_only_while_stuck():
 
 
 @pytest.fixture(scope="module")
-def six_dof_upper_sweep():
-    system = load_preset("six_dof_halved").system
+def six_dof_upper_sweep(six_dof_halved_issue4):
+    system = six_dof_halved_issue4
     freqs = np.linspace(3.0, 7.3, 5)
     return system, vehicle.sweep(system, freqs, direction="up", backend="native",
                                  progress=False)

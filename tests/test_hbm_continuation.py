@@ -134,13 +134,12 @@ def test_stalled_continuation_returns_branch():
     assert r.n_points >= 1 and r.freq_hz[0] == 2.0
 
 
-def test_dead_end_of_the_sampled_problem_is_refined():
-    """The six-DOF preset with friction at H = 5 and 64 samples: the branch turns
+def test_dead_end_of_the_sampled_problem_is_refined(six_dof_halved_issue4):
+    """six_dof_halved (the engine of issue 4) at H = 5 and 64 samples: the branch turns
     back onto itself at a kink near 9.65 Hz (measured). Without refinement the curve
     so far comes back with status RETRACED; by default the samples are doubled, the curve
     reaches fmax and the message says what happened."""
-    from drymount.config import load_preset
-    s = load_preset("six_dof_halved").system
+    s = six_dof_halved_issue4
     # tol=None: the steps of the old default (the chord control would step past it)
     off = hbm.HBMOptions(stability=False, refine_samples=0, tol=None)
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5, options=off)

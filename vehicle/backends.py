@@ -20,7 +20,8 @@ outputs (force ``F``, friction force ``Ffr`` per active axis, cumulative frictio
     ``fmi2DoStep(t_k, h)`` (commits the sliders) are made. Logging is on; the FMU's
     messages are kept (last 50 per instance) and quoted in errors. Any failure is
     re-raised as :class:`FMUError` naming the mount and the simulation time, and
-    :meth:`FMUBackend.close` always terminates and frees every instance.
+    :meth:`FMUBackend.close` always terminates and frees every instance. An FMI 3.0
+    build (``FrictionMountNative3.fmu``) runs through :mod:`vehicle.fmi3_adapter`.
 
 Both follow the FMU protocol (docs/fmu.md): the force at t_k is the trial
 return map ``law(u_k, v_k, w_{k-1})``; the step commits ``w_k = w_new(u_k)``; the energy
@@ -374,9 +375,14 @@ class FMUBackend(_Backend):
         from fmpy.fmi2 import FMU2Slave
 
         name = el.name
-        fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzipdir,
-                        modelIdentifier=md.coSimulation.modelIdentifier,
-                        instanceName=name)
+        if md.fmiVersion.startswith("3"):  # e.g. FrictionMountNative3.fmu
+            from vehicle.fmi3_adapter import FMU3Adapter
+
+            fmu = FMU3Adapter(md, self._unzipdir, name, self._logger)
+        else:
+            fmu = FMU2Slave(guid=md.guid, unzipDirectory=self._unzipdir,
+                            modelIdentifier=md.coSimulation.modelIdentifier,
+                            instanceName=name)
         self._fmus.append(fmu)
         self._state.append("loaded")
         try:
@@ -386,7 +392,8 @@ class FMUBackend(_Backend):
             reals, ints, bools = values["Real"], values["Integer"], values["Boolean"]
             for n, v in self._start_values[name].items():
                 typ = self._vars[n].type
-                store = {"Real": reals, "Integer": ints, "Boolean": bools}
+                store = {"Real": reals, "Integer": ints, "Boolean": bools,
+                         "Float64": reals, "Int32": ints}  # FMI 2.0 and 3.0 names
                 store.get(typ, reals)[n] = v
             vr = self._vars
             if reals:

@@ -64,6 +64,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from hbm.static import working_point
+
 from .backends import Layout, make_backend
 from .inputs import HarmonicInput, Input
 from .results import TimeHistory
@@ -150,7 +152,13 @@ class Master:
                                     logging_on=fmu_logging,
                                     start_values=fmu_start_values)
         n = system.n_dof
-        self.q = np.zeros(n)
+        #: the static working point (``system.static_load``), None if unloaded; the
+        #: master starts there with the sliders relaxed (hbm.static)
+        self.static = working_point(system)
+        self.q_static = np.zeros(n) if self.static is None else self.static.q.copy()
+        if self.static is not None:
+            self.backend.set_sliders(self.static.sliders)
+        self.q = self.q_static.copy()
         self.qd = np.zeros(n)
         self.qdd = np.zeros(n)
         self.time = 0.0          # global simulation time (FMU communication points), s
@@ -302,6 +310,8 @@ class Master:
         part g_{k+1} of UV at ``t_next``."""
         L, s = self.layout, self.system
         f, y, yd = inp.evaluate(t_rows)
+        if s.static_load is not None:
+            f = f + s.static_load
         r = (f + y @ s.Kb.T + yd @ s.Cb.T) @ self._Minv.T
         k = len(t_rows)
         rec[:k, L.o_r:L.o_r + s.n_dof] = r

@@ -255,10 +255,11 @@ def run_steady(master: Master, freq_hz: float, *,
     E_start = master.backend.energy()
     if isinstance(start, SteadyState):
         master.set_state(start.q_end, start.qd_end, start.qdd_end, start.sliders)
-    elif start == "rest":
-        master.set_state(np.zeros(n), np.zeros(n), np.zeros(n))
+    elif start == "rest":  # at rest at the static working point (0 if unloaded)
+        master.set_state(master.q_static, np.zeros(n), np.zeros(n))
     elif start == "linear":
-        master.set_state(*linear_start(system, freq_hz))
+        q, qd, qdd = linear_start(system, freq_hz)
+        master.set_state(q + master.q_static, qd, qdd)
     elif start != "continue":
         raise ValueError(f"`start` must be 'continue', 'rest', 'linear' or a "
                          f"SteadyState, got {start!r}")

@@ -35,7 +35,8 @@ whose ``problems`` name the field path (``mounts[2].axial.friction.kf``, indices
 0), the value and what is allowed. Unknown keys get the closest valid key as a hint.
 
 Public functions: :func:`load_config`, :func:`config_from_dict`, :func:`load_preset`,
-:func:`list_presets`, :func:`preset_text`, :func:`resolve_config`.
+:func:`list_presets`, :func:`preset_text`, :func:`resolve_config`,
+:func:`mount_from_table`.
 
 Modules: ``schema`` (allowed keys, result objects, ConfigError), ``checks`` (the field
 checker), ``mounts`` (mount tables -> mount parameters), ``systems`` (model tables,
@@ -50,7 +51,7 @@ from drymount.config.loading import (
     preset_text,
     resolve_config,
 )
-from drymount.config.mounts import readable_unit
+from drymount.config.mounts import mount_from_table, readable_unit
 from drymount.config.schema import (
     ALLOWED_KEYS,
     MODELS,
@@ -76,4 +77,5 @@ __all__ = [
     "resolve_config",
     "readable_unit",
     "ALLOWED_KEYS",
+    "mount_from_table",
 ]

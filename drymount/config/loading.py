@@ -22,11 +22,13 @@ from drymount.config.schema import (
     _MODEL_TABLES,
     MODELS,
 )
+from drymount.config.static import static_load, static_settings
 from drymount.config.systems import (
     _build,
     _check_support,
     _settings,
 )
+from hbm.static import StaticStatus, static_equilibrium
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -86,13 +88,30 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
         ck.add(f"the model cannot be built from these values: {exc}")
     if ck.problems:
         raise ConfigError(ck.problems, source)
+    static = static_settings(ck, data, system.dof_names)
+    load = static_load(static, model, system) if static is not None else None
+    _check_working_point(ck, system, load)
+    if ck.problems:
+        raise ConfigError(ck.problems, source)
     # labels of CSV provenance lines and plot titles: the configuration's name
     system = replace(system, name=cfg_name,
                      description=description or system.description,
-                     notes={"config_name": cfg_name, "model": model, "source": source})
+                     notes={"config_name": cfg_name, "model": model, "source": source},
+                     static_load=load)
     sweep, hbm_settings, cosim = settings
     return Config(cfg_name, description, model, system, sweep, hbm_settings, cosim,
-                  source, data)
+                  source, data, static)
+
+
+def _check_working_point(ck: _Checker, system, load) -> None:
+    """A static load needs a static equilibrium of the elastic laws."""
+    if load is None:
+        return
+    point = static_equilibrium(system, load)
+    if point.status is not StaticStatus.CONVERGED:
+        ck.add(f"[static]: the mounts' elastic laws find no static equilibrium under "
+               f"the load {load.tolist()} ({point.status.value}, largest residual "
+               f"{point.residual:.3g}); check the stiffnesses and loads")
 
 
 def load_config(path_or_text, name: str | None = None) -> Config:

@@ -20,6 +20,7 @@ from drymount.config.checks import (
 )
 from drymount.config.schema import (
     ALLOWED_KEYS,
+    ConfigError,
     _AXIS_LAW_KEYS,
     _FRICTION_KEYS,
 )
@@ -275,3 +276,17 @@ def _rigid_mount(ck: _Checker, m, i: int):
     if len(ck.problems) > n_before or any(axes.get(a) is None for a in AXES):
         return None
     return name, position, orientation, MountParameters(**axes)
+
+
+def mount_from_table(table, source: str = "<dict>") -> AxisParameters:
+    """The law of one ``[mount]`` table (law fields and optional ``friction``).
+
+    Checked exactly as a configuration's ``[mount]``; :class:`ConfigError` lists every
+    problem. Used by ``drymount fit`` to read a fitted or hand-written mount.
+    """
+    ck = _Checker()
+    axis = _axis(ck, table, "mount")
+    if ck.problems or axis is None:
+        raise ConfigError(ck.problems or ["invalid [mount] table"], source)
+    return axis
+

@@ -10,6 +10,8 @@ from fmu_src.mount_law import AXES
 from hbm.options import HBMOptions
 from hbm.system import System
 
+from drymount.config.static import StaticSettings
+
 
 MODELS = ("sdof", "quarter_car", "rigid_engine")
 #: Excitation kinds allowed per model (``hbm.system.Excitation``).
@@ -35,7 +37,8 @@ _FRICTION_KEYS = ("kf", "mu", "n0")
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
 ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
-         "mount", "mounts", "excitation", "sweep", "hbm", "cosim"),
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "static",
+         "design"),  # [design]: checked by drymount.design (explore, optimize)
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
     "rigid_engine": ("mass", "inertia"),
@@ -49,6 +52,7 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "hbm": ("harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
             "ds_max", "max_angle"),
     "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
+    "static": ("gravity", "g", "loads", "travel"),
 }
 
 #: The model-specific tables: which model each belongs to.
@@ -199,6 +203,9 @@ class Config:
         Where it came from: a file path, ``preset:<name>`` or ``<text>``.
     data : dict
         The parsed TOML document.
+    static : StaticSettings
+        ``[static]``: gravity and static loads (``system.static_load`` holds the
+        resulting load; default none).
     """
 
     name: str
@@ -210,3 +217,4 @@ class Config:
     cosim: CosimSettings
     source: str
     data: dict = field(repr=False, default_factory=dict)
+    static: StaticSettings = field(default_factory=StaticSettings)

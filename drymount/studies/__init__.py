@@ -14,6 +14,8 @@ command                   function                      thesis
 ``quarter-car``           :func:`run_quarter_car`       Figs. 4.6-4.9
 ``six-dof``               :func:`run_six_dof`           Figs. 4.11-4.44
 ``jump``                  :func:`run_jump`              Figs. 3.5, 3.7
+``laws``                  :func:`run_laws`              Fig. 4.5
+``six-dof-75``            :func:`run_six_dof_75`        Figs. 4.45-4.50
 ========================  ============================  ===========================
 
 The normal force ``n0`` of a study is applied to every friction element of the system;
@@ -53,10 +55,12 @@ from drymount.studies.common import (
     with_stiffness_factor,
 )
 from drymount.studies.jump import run_jump
+from drymount.studies.laws import run_laws
 from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import OPT_PEAK_BAND_HZ, run_optimize_n0
 from drymount.studies.quarter_car import run_quarter_car
 from drymount.studies.six_dof import run_six_dof
+from drymount.studies.six_dof_75 import run_six_dof_75
 
 __all__ = [
     "STUDIES",
@@ -69,6 +73,8 @@ __all__ = [
     "run_quarter_car",
     "run_six_dof",
     "run_jump",
+    "run_laws",
+    "run_six_dof_75",
     "load_system",
     "with_normal_force",
     "with_stiffness_factor",

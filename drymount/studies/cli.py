@@ -11,10 +11,12 @@ from enum import IntEnum
 from pathlib import Path
 
 from drymount.studies.jump import run_jump
+from drymount.studies.laws import run_laws
 from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import run_optimize_n0
 from drymount.studies.quarter_car import run_quarter_car
 from drymount.studies.six_dof import run_six_dof
+from drymount.studies.six_dof_75 import run_six_dof_75
 
 STUDIES: dict[str, Callable[..., dict]] = {
     "normal-force": run_normal_force,
@@ -22,6 +24,8 @@ STUDIES: dict[str, Callable[..., dict]] = {
     "quarter-car": run_quarter_car,
     "six-dof": run_six_dof,
     "jump": run_jump,
+    "laws": run_laws,
+    "six-dof-75": run_six_dof_75,
 }
 
 

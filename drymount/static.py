@@ -1,0 +1,99 @@
+"""``drymount static CONFIG``: the static working point under the engine's weight.
+
+Gravity acts on every body (downwards: ``-g`` along the vertical translation DOFs of the
+model, :data:`drymount.config.static.VERTICAL`), plus the static loads of the
+configuration's ``[static]`` table and of ``--load`` (e.g. the engine's drive
+torque). :func:`hbm.static.static_equilibrium` solves the equilibrium with the
+nonlinear elastic laws, friction sliders relaxed (its module docstring says why).
+Writes the static deflection and force of every mount axis to CSV and warns when an
+axis works past a knee of its law or beyond ``--travel-mm``.
+
+With ``[static] gravity = true`` in the configuration, ``drymount hbm``, ``cosim`` and
+``sweep`` run about this working point; without it they run about the unloaded point,
+and this command tells whether that is where the mounts work.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from drymount.io import write_csv
+from fmu_src.mount_law import AXES, ELASTIC_LAWS
+from hbm.static import StaticStatus, gravity_load, knee_warnings, static_equilibrium
+
+__all__ = ["main"]
+
+
+def _loads(specs, dof_names) -> np.ndarray:
+    """The generalised load of ``--load DOF=VALUE`` items; ValueError if malformed."""
+    f = np.zeros(len(dof_names))
+    for spec in specs or ():
+        name, _, value = spec.partition("=")
+        try:
+            x = float(value)
+        except ValueError:
+            x = None
+        if name not in dof_names or x is None or not np.isfinite(x):
+            raise ValueError(f"--load must be DOF=VALUE with DOF one of "
+                             f"{', '.join(dof_names)} and a finite number (N or N m), "
+                             f"got {spec!r}")
+        f[dof_names.index(name)] += x
+    return f
+
+
+def main(args) -> int:
+    """Run ``drymount static`` (CLI arguments in ``args``); the exit status."""
+    from drymount.config import resolve_config
+    from drymount.config.static import vertical_dofs
+
+    cfg = resolve_config(args.config)
+    system, st = cfg.system, cfg.static
+    names = list(system.dof_names)
+    try:
+        load = _loads(args.load, names)
+    except ValueError as exc:
+        print(f"drymount: error: {exc}", file=sys.stderr)
+        return 2
+    for name, x in st.loads.items():  # the configuration's [static] loads
+        load[names.index(name)] += x
+    g = st.g if args.g is None else args.g
+    if not args.no_gravity:
+        load += gravity_load(system, vertical_dofs(cfg.model, names), g)
+    travel = st.travel if args.travel_mm is None else args.travel_mm * 1e-3
+    point = static_equilibrium(system, load)
+    what = "no gravity" if args.no_gravity else f"g = {g:g} m/s^2"
+    if args.load:
+        what += ", loads " + ", ".join(args.load)
+    print(f"{cfg.name}: static working point ({what}): {point.status.value} in "
+          f"{point.iterations} Newton steps")
+    print("  " + ", ".join(f"{n} = {v:.6g}"
+                           for n, v in zip(names, point.q, strict=True)))
+    rows = []
+    for ie, e in enumerate(system.elements):
+        for j in e.active_axes:
+            p = e.params.axes[j]
+            u, F = point.deflection[ie, j], point.force[ie, j]
+            knees = ELASTIC_LAWS[p.law].knees(p)
+            past = any((k > 0 and u > k) or (k < 0 and u < k) for k in knees)
+            beyond = travel is not None and abs(u) > travel
+            rows.append((e.name, AXES[j], u, F, past, beyond))
+            print(f"  {e.name:<8} {AXES[j]:<8} deflection {u * 1e3:9.4f} mm  force "
+                  f"{F:10.2f} N")
+    warnings = knee_warnings(system, point, travel)
+    for w in warnings:
+        print(f"  warning: {w}")
+    out = Path(args.out or f"{cfg.name}_static.csv")
+    write_csv(out, ["mount", "axis", "deflection_m", "force_N", "past_knee",
+                    "beyond_travel"], rows,
+              comment=f"static working point of {cfg.source}: deflection [m] (engine "
+                      f"minus chassis side), elastic force [N] (positive = tension); "
+                      f"sliders relaxed; q = {np.array2string(point.q, precision=6)}")
+    print(f"wrote {out}")
+    if point.status is not StaticStatus.CONVERGED:
+        print(f"drymount: error: the static equilibrium {point.status.value} "
+              f"(largest residual {point.residual:.3g})", file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,474 @@
+"""Native (C99) builds of the FrictionMount FMU: FMI 2.0 and FMI 3.0 Co-Simulation.
+
+``build_native_fmu(fmi=2)`` writes ``dist/FrictionMountNative.fmu`` (FMI 2.0) and
+``build_native_fmu(fmi=3)`` ``dist/FrictionMountNative3.fmu`` (FMI 3.0). Both hold the
+C port of ``fmu_src/mount_law.py`` (``fmu_src/native/``), need nothing but the C
+standard library and libm, and carry their sources so any importer can compile them:
+
+* ``modelDescription.xml`` generated from the one interface table
+  (``fmu_src/interface.py``: names, value references, units, descriptions, start values,
+  default experiment, capabilities); FMI 3.0 adds the independent variable ``time``
+  after the table's value references;
+* ``sources/``: the law, the instance (``model.c``), the glue of the FMI version and the
+  generated ``model_variables.h`` (variable table and instantiation token); FMI 3.0 also
+  ``sources/buildDescription.xml``;
+* ``binaries/``: linux64 / x86_64-linux compiled here with ``gcc`` (flags
+  :data:`CFLAGS`), win64 / x86_64-windows when ``x86_64-w64-mingw32-gcc`` is installed;
+  darwin: the one-line compile command in ``documentation/index.html``
+  (:data:`COMPILE`).
+
+The archive is reproducible: fixed timestamps, sorted entries, and the GUID /
+instantiation token is a hash of everything else. ``null=True`` builds the benchmark's
+null FMU (``NullMountNative[3].fmu``): the same interface and bookkeeping, no law.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+import subprocess
+import tempfile
+import uuid
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from xml.etree.ElementTree import Element, SubElement, indent, tostring
+
+from fmu_src import interface
+from fmu_src.mount_law import AXES, LAWS
+
+__all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget",
+           "build_native_fmu", "default_native_path", "is_native_fmu",
+           "variables_header", "write_zip"]
+
+SOURCE_DIR = Path(__file__).resolve().parent.parent / "fmu_src" / "native"
+#: Sources shared by both FMI versions, then the glue of each.
+COMMON_SOURCES = ("mount_law.h", "mount_law.c", "model.h", "model.c")
+GLUE = {2: ("fmi2_api.h", "fmi2_glue.c"), 3: ("fmi3_api.h", "fmi3_glue.c")}
+#: Compiler flags of every binary (the issue's warning set; -fPIC only on ELF).
+CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", "-shared",
+          "-fvisibility=hidden")
+#: A PE header carries a link time unless told not to (reproducible DLLs).
+_PE_FLAGS = ("-Wl,--no-insert-timestamp",)
+#: Platform folder -> (compiler, extra flags, library suffix), per FMI version.
+PLATFORMS = {
+    2: {"linux64": ("gcc", ("-fPIC",), ".so"),
+        "win64": ("x86_64-w64-mingw32-gcc", _PE_FLAGS, ".dll")},
+    3: {"x86_64-linux": ("gcc", ("-fPIC",), ".so"),
+        "x86_64-windows": ("x86_64-w64-mingw32-gcc", _PE_FLAGS, ".dll")},
+}
+#: One-line compile commands for platforms built elsewhere ({id}: model identifier),
+#: run in the unzipped FMU's folder.
+COMPILE = {
+    "linux": "gcc -std=c99 -O2 -fPIC -shared -fvisibility=hidden -o {id}.so "
+             "sources/*.c -lm",
+    "darwin": "clang -std=c99 -O2 -fPIC -dynamiclib -fvisibility=hidden "
+              "-o {id}.dylib sources/*.c -lm",
+    "windows (MSVC)": "cl /O2 /LD /Fe{id}.dll sources\\*.c",
+    "windows (MinGW)": "x86_64-w64-mingw32-gcc -std=c99 -O2 -shared -o {id}.dll "
+                       "sources/*.c -lm",
+}
+#: Where the darwin binary goes, per FMI version.
+DARWIN_FOLDER = {2: "darwin64", 3: "aarch64-darwin (or x86_64-darwin)"}
+
+_C_TYPE = {"Real": "MD_REAL", "Integer": "MD_INTEGER", "Boolean": "MD_BOOLEAN"}
+_FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
+_FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
+           "mu", "n0")
+_AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
+               "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
+               "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",
+               "w": "MD_LOCAL_W"}
+#: Inputs each output depends on (per axis; E_fr on those of every axis).
+_DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "n"), "kt": ("u", "n"),
+            "slip": ("u", "n"), "E_fr": ("u", "n")}
+_LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError",
+                   "logStatusFatal", "logAll")
+
+
+class NativeBuildError(RuntimeError):
+    """The native FMU could not be built (compiler missing or failing)."""
+
+
+@dataclass(frozen=True)
+class NativeTarget:
+    """Which native FMU: FMI version 2 or 3, the real mount or the null model."""
+
+    fmi: int = 2
+    null: bool = False
+
+    def __post_init__(self):
+        if self.fmi not in GLUE:
+            raise ValueError(f"`fmi` must be 2 or 3, got {self.fmi!r}")
+
+    @property
+    def model_identifier(self) -> str:
+        base = "NullMountNative" if self.null else "FrictionMountNative"
+        return base if self.fmi == 2 else base + "3"
+
+    @property
+    def file_name(self) -> str:
+        return self.model_identifier + ".fmu"
+
+
+@dataclass(frozen=True)
+class NativeBuild:
+    """A written native FMU."""
+
+    path: Path
+    target: NativeTarget
+    token: str
+    platforms: tuple[str, ...]        # binaries compiled into the archive
+    missing_platforms: tuple[str, ...]  # cross compiler not installed
+
+
+def default_native_path(fmi: int = 2) -> Path:
+    """``dist/FrictionMountNative.fmu`` (FMI 2.0) or ``dist/FrictionMountNative3.fmu``
+    (FMI 3.0) under the current directory (as the PythonFMU build's default)."""
+    return Path("dist") / NativeTarget(fmi).file_name
+
+
+def is_native_fmu(path) -> bool:
+    """Whether ``path`` is an existing FMU built by this module (its model identifier
+    is one of :class:`NativeTarget`'s). Callers use it so that a native FMU passed as
+    ``--fmu`` is used as is, never rebuilt by the PythonFMU builder."""
+    import re
+
+    path = Path(path)
+    if not path.is_file() or not zipfile.is_zipfile(path):
+        return False
+    with zipfile.ZipFile(path) as zf:
+        try:
+            text = zf.read("modelDescription.xml").decode("utf-8", "replace")
+        except KeyError:
+            return False
+    idents = {NativeTarget(f, n).model_identifier for f in GLUE for n in (False, True)}
+    found = re.search(r'<CoSimulation[^>]*modelIdentifier="([^"]+)"', text)
+    return found is not None and found.group(1) in idents
+
+
+# ---------------------------------------------------------------------- variables
+
+
+#: The elastic laws fmu_src/native/mount_law.c implements, in FMU code order.
+C_LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
+
+
+def _check_laws() -> None:
+    if LAWS != C_LAWS:
+        raise NativeBuildError(
+            f"the law registry of fmu_src/mount_law.py has {LAWS}, the C port "
+            f"implements {C_LAWS}: port the new laws to fmu_src/native/mount_law.c "
+            f"(and its tests) before building the native FMU")
+
+
+def _variables(target: NativeTarget) -> list[tuple[int, interface.Variable]]:
+    """(value reference, variable) of the FMU: the table, plus ``time`` in FMI 3.0."""
+    out = list(enumerate(interface.VARIABLES))
+    if target.fmi == 3:
+        out.append((len(out), interface.Variable(
+            "time", "Real", "independent", "continuous", None, "s",
+            "simulation time")))
+    return out
+
+
+def _role(var: interface.Variable) -> tuple[str, int, str]:
+    """(C role, axis index, parameter field) of a table variable; ValueError if the
+    native model does not implement it."""
+    if var.causality == "independent":
+        return "MD_TIME", -1, "MD_P_NONE"
+    if var.name == "E_fr":
+        return "MD_OUTPUT_E_TOTAL", -1, "MD_P_NONE"
+    for j, axis in enumerate(AXES):
+        field = var.name[len(axis) + 1:]
+        if var.causality == "parameter" and var.name.startswith(axis + "_") \
+                and field in _FIELDS:
+            return "MD_PARAMETER", j, "MD_P_" + field.upper()
+        prefix, _, suffix = var.name.rpartition("_")
+        if suffix == axis and prefix in _AXIS_ROLES:
+            return _AXIS_ROLES[prefix], j, "MD_P_NONE"
+    raise ValueError(f"the native FMU does not implement the interface variable "
+                     f"{var.name!r} (causality {var.causality}); extend "
+                     f"fmu_src/native/model.c and fmu_build/native.py")
+
+
+def _c_double(value) -> str:
+    return repr(float(0.0 if value is None else value))
+
+
+def variables_header(target: NativeTarget, token: str) -> str:
+    """``model_variables.h``: the variable table of the C model and its token."""
+    rows = []
+    for vr, var in _variables(target):
+        role, axis, field = _role(var)
+        rows.append(f'    {{"{var.name}", {_C_TYPE[var.type]}, {role}, {axis}, '
+                    f'{field}, {_c_double(var.start)}}}, /* vr {vr} */')
+    null = "#define DRYMOUNT_NULL_MODEL 1\n" if target.null else ""
+    return (
+        "/* Generated by fmu_build/native.py from fmu_src/interface.py: "
+        "do not edit. */\n"
+        "#ifndef DRYMOUNT_MODEL_VARIABLES_H\n#define DRYMOUNT_MODEL_VARIABLES_H\n\n"
+        '#include "model.h"\n\n' + null
+        + f'#define MD_INSTANTIATION_TOKEN "{token}"\n'
+        + f"#define MD_N_VARIABLES {len(rows)}u\n\n"
+        + "static const md_variable MD_VARIABLES[MD_N_VARIABLES] = {\n"
+        + "\n".join(rows) + "\n};\n\n#endif\n")
+
+
+# ---------------------------------------------------------------------- XML
+
+
+def _bounds(var: interface.Variable) -> dict[str, str]:
+    """Declared ranges, as the PythonFMU build: Real parameters >= 0, law a code."""
+    if var.causality != "parameter":
+        return {}
+    if var.type == "Real":
+        return {"min": "0"}
+    if var.name.endswith("_law"):
+        return {"min": "0", "max": str(len(LAWS) - 1)}
+    return {}
+
+
+def _start_text(var: interface.Variable) -> str | None:
+    if var.start is None:
+        return None
+    if var.type == "Boolean":
+        return "true" if var.start else "false"
+    if var.type == "Integer":
+        return str(int(var.start))
+    return repr(float(var.start))
+
+
+def _header_attributes(target: NativeTarget, token: str) -> dict[str, str]:
+    key = "guid" if target.fmi == 2 else "instantiationToken"
+    return {"fmiVersion": f"{target.fmi}.0", "modelName": interface.MODEL_NAME,
+            key: token,
+            "description": ("Friction-damped engine mount (native C build): elastic "
+                            "law + viscous damping + macro-slip (Jenkins) friction "
+                            "element on three local axes"
+                            + (" -- NULL MODEL, no physics" if target.null else "")),
+            "author": "drymount", "generationTool": "drymount fmu_build.native",
+            "variableNamingConvention": "flat"}
+
+
+def _cosimulation(root: Element, target: NativeTarget) -> None:
+    caps = {name: "true" if value else "false"
+            for name, value in interface.CAPABILITIES.items()}
+    if target.fmi == 3:
+        caps = {name.replace("FMUstate", "FMUState"): value
+                for name, value in caps.items()}
+        caps.update(hasEventMode="false", providesIntermediateUpdate="false",
+                    canReturnEarlyAfterIntermediateUpdate="false")
+    cs = SubElement(root, "CoSimulation", modelIdentifier=target.model_identifier,
+                    **caps)
+    if target.fmi == 2:
+        files = SubElement(cs, "SourceFiles")
+        for name in _source_names(target):
+            if name.endswith(".c"):
+                SubElement(files, "File", name=name)
+
+
+def _units(root: Element, target: NativeTarget) -> None:
+    units = SubElement(root, "UnitDefinitions")
+    table = dict(interface.BASE_UNITS)
+    if target.fmi == 3:
+        table["s"] = {"s": 1}
+    for name, exps in table.items():
+        SubElement(SubElement(units, "Unit", name=name), "BaseUnit",
+                   {k: str(e) for k, e in exps.items()})
+
+
+def _variable_element(parent: Element, target: NativeTarget, vr: int,
+                      var: interface.Variable) -> None:
+    attrs = {"name": var.name, "valueReference": str(vr),
+             "description": var.description, "causality": var.causality,
+             "variability": var.variability}
+    if var.initial is not None:
+        attrs["initial"] = var.initial
+    typed = dict(_bounds(var))
+    if var.unit is not None and var.type == "Real":
+        typed["unit"] = var.unit
+    start = _start_text(var)
+    if start is not None:
+        typed["start"] = start
+    if target.fmi == 2:
+        SubElement(SubElement(parent, "ScalarVariable", attrs), var.type, typed)
+    else:
+        SubElement(parent, _FMI3_TYPE[var.type], {**attrs, **typed})
+
+
+def _structure(root: Element, target: NativeTarget, variables) -> None:
+    # FMI 2.0 refers to variables by 1-based index, FMI 3.0 by value reference
+    ref = {var.name: str(vr + 1 if target.fmi == 2 else vr) for vr, var in variables}
+    outputs = []
+    for vr, var in variables:
+        if var.causality != "output":
+            continue
+        prefix, _, axis = var.name.rpartition("_")
+        if var.name == "E_fr":
+            deps = [f"{d}_{a}" for a in AXES for d in _DEPENDS["E_fr"]]
+        else:
+            deps = [f"{d}_{axis}" for d in _DEPENDS[prefix]]
+        outputs.append((ref[var.name], " ".join(ref[d] for d in deps)))
+    structure = SubElement(root, "ModelStructure")
+    if target.fmi == 2:
+        out_el = SubElement(structure, "Outputs")
+        init_el = SubElement(structure, "InitialUnknowns")
+        for index, deps in outputs:
+            SubElement(out_el, "Unknown", index=index, dependencies=deps)
+        for index, _ in outputs:
+            SubElement(init_el, "Unknown", index=index)
+        return
+    for index, deps in outputs:
+        SubElement(structure, "Output", valueReference=index, dependencies=deps)
+    for index, _ in outputs:
+        SubElement(structure, "InitialUnknown", valueReference=index)
+
+
+def model_description(target: NativeTarget, token: str) -> bytes:
+    """``modelDescription.xml`` of the FMI 2.0 or FMI 3.0 flavour."""
+    root = Element("fmiModelDescription", _header_attributes(target, token))
+    _cosimulation(root, target)
+    _units(root, target)
+    cats = SubElement(root, "LogCategories")
+    for name in _LOG_CATEGORIES:
+        SubElement(cats, "Category", name=name)
+    SubElement(root, "DefaultExperiment",
+               {k: repr(float(v)) for k, v in interface.DEFAULT_EXPERIMENT.items()})
+    variables = _variables(target)
+    mv = SubElement(root, "ModelVariables")
+    for vr, var in variables:
+        _variable_element(mv, target, vr, var)
+    _structure(root, target, variables)
+    indent(root)
+    return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+
+
+def build_description(target: NativeTarget) -> bytes:
+    """``sources/buildDescription.xml`` (FMI 3.0)."""
+    root = Element("fmiBuildDescription", fmiVersion="3.0")
+    conf = SubElement(root, "BuildConfiguration",
+                      modelIdentifier=target.model_identifier)
+    files = SubElement(conf, "SourceFileSet", language="C99")
+    for name in _source_names(target):
+        if name.endswith(".c"):
+            SubElement(files, "SourceFile", name=name)
+    SubElement(conf, "Library", name="m", description="libm (C math library)")
+    indent(root)
+    return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+
+
+# ---------------------------------------------------------------------- archive
+
+
+def _source_names(target: NativeTarget) -> list[str]:
+    return sorted([*COMMON_SOURCES, *GLUE[target.fmi], "model_variables.h"])
+
+
+def _sources(target: NativeTarget, token: str) -> dict[str, bytes]:
+    out = {name: (SOURCE_DIR / name).read_bytes()
+           for name in (*COMMON_SOURCES, *GLUE[target.fmi])}
+    out["model_variables.h"] = variables_header(target, token).encode()
+    return out
+
+
+def _token(target: NativeTarget) -> str:
+    """GUID / instantiation token: a hash of the sources and the model description
+    written with a placeholder token."""
+    h = hashlib.sha256()
+    for name, data in sorted(_sources(target, "{TOKEN}").items()):
+        h.update(name.encode() + b"\0" + data + b"\0")
+    h.update(model_description(target, "{TOKEN}"))
+    return "{" + str(uuid.UUID(bytes=h.digest()[:16])) + "}"
+
+
+def _compile(target: NativeTarget, folder: Path, platform: str) -> Path | None:
+    """Compile the binary of ``platform`` in ``folder``; None if no compiler."""
+    compiler, extra, suffix = PLATFORMS[target.fmi][platform]
+    if shutil.which(compiler) is None:
+        if compiler == "gcc":
+            raise NativeBuildError("gcc is required to build the native FMU "
+                                   "(apt-get install gcc)")
+        return None
+    out = folder / (target.model_identifier + suffix)
+    # relative names in the build folder: no temporary path ends up in the binary
+    c_files = [n for n in _source_names(target) if n.endswith(".c")]
+    cmd = [compiler, *CFLAGS, *extra, "-o", out.name, *c_files, "-lm"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=False,
+                          cwd=folder)
+    if proc.returncode != 0:
+        raise NativeBuildError(f"{' '.join(cmd)} failed:\n{proc.stderr}")
+    return out
+
+
+def _documentation(target: NativeTarget, missing: list[str]) -> bytes:
+    ident = target.model_identifier
+    rows = "\n".join(f"<tr><td>{p}</td><td><code>{c.format(id=ident)}</code></td></tr>"
+                     for p, c in COMPILE.items())
+    missing_text = (f"<p>Not compiled into this archive: {', '.join(missing)} (no "
+                    f"cross compiler on the build machine); use the commands below."
+                    f"</p>" if missing else "")
+    return f"""<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>{ident}</title></head><body>
+<h1>{ident}: friction-damped engine mount (FMI {target.fmi}.0 Co-Simulation, C)</h1>
+<p>The native build of drymount's FrictionMount FMU: the same variables, units, start
+values and default experiment as the PythonFMU build (FrictionMount.fmu), the mount law
+ported to C99. It needs only the C standard library and libm: no Python.</p>
+<p>Variables per axis (axial, radial1, radial2): parameters &lt;axis&gt;_law, _k1, _kc,
+_k2, _delta, _delta_neg, _c, _friction, _kf, _mu, _n0; inputs u_, v_, n_; outputs F_,
+Ffr_, kt_, slip_, E_fr_; the output E_fr and the locals w_ (slider positions, settable
+also between steps, as in the PythonFMU build).</p>
+{missing_text}
+<h2>Compiling the sources for another platform</h2>
+<p>Run in the folder of the unzipped FMU, then put the library into
+<code>binaries/&lt;platform&gt;/</code> (darwin:
+<code>binaries/{DARWIN_FOLDER[target.fmi]}/</code>)
+and zip the folder again.</p>
+<table>{rows}</table>
+</body></html>
+""".encode()
+
+
+def write_zip(path: Path, files: dict[str, bytes],
+              first: str = "modelDescription.xml") -> None:
+    """Reproducible archive (FMU, SSP): ``first`` first, the rest sorted, fixed
+    timestamps and permissions; written to a temporary name and moved."""
+    names = [first] + sorted(n for n in files if n != first)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".partial")
+    with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
+        for name in names:
+            info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+            info.external_attr = 0o644 << 16
+            info.compress_type = zipfile.ZIP_DEFLATED
+            zf.writestr(info, files[name])
+    tmp.replace(path)
+
+
+def build_native_fmu(dest=None, *, fmi: int = 2, null: bool = False) -> NativeBuild:
+    """Build the native FMU of FMI version ``fmi`` (2 or 3) into ``dest`` (default
+    ``dist/<model identifier>.fmu``) and return what was written."""
+    target = NativeTarget(fmi, null)
+    _check_laws()
+    path = Path(dest) if dest is not None else Path("dist") / target.file_name
+    token = _token(target)
+    sources = _sources(target, token)
+    files = {"modelDescription.xml": model_description(target, token)}
+    files.update({f"sources/{n}": data for n, data in sources.items()})
+    if fmi == 3:
+        files["sources/buildDescription.xml"] = build_description(target)
+    built, missing = [], []
+    with tempfile.TemporaryDirectory(prefix="drymount-native-") as tmp:
+        for name, data in sources.items():
+            (Path(tmp) / name).write_bytes(data)
+        for platform in PLATFORMS[fmi]:
+            lib = _compile(target, Path(tmp), platform)
+            if lib is None:
+                missing.append(platform)
+                continue
+            files[f"binaries/{platform}/{lib.name}"] = lib.read_bytes()
+            built.append(platform)
+    missing.append("darwin")
+    files["documentation/index.html"] = _documentation(target, missing)
+    write_zip(path, files)
+    return NativeBuild(path, target, token, tuple(built), tuple(missing))

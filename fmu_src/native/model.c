@@ -1,0 +1,501 @@
+/* The native FrictionMount instance (see model.h). */
+#include "model.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model_variables.h"
+
+static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
+static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
+static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
+                                          "StepMode", "Terminated"};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '1'};
+
+size_t md_n_variables(void) { return MD_N_VARIABLES; }
+
+const char *md_instantiation_token(void) { return MD_INSTANTIATION_TOKEN; }
+
+const md_variable *md_variable_at(size_t vr)
+{
+    return vr < MD_N_VARIABLES ? &MD_VARIABLES[vr] : NULL;
+}
+
+const char *md_mode_name(md_mode mode) { return MODE_NAMES[mode]; }
+
+void md_log(md_instance *m, md_status status, const char *fmt, ...)
+{
+    char text[2048];
+    va_list ap;
+    static const char *const CATEGORY[5] = {"logAll", "logStatusWarning",
+                                            "logStatusDiscard", "logStatusError",
+                                            "logStatusFatal"};
+    if (m->log == NULL || (status == MD_OK && !m->logging_on))
+        return;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    m->log(m->env, m->name, status, CATEGORY[status], text);
+}
+
+md_status md_check_mode(md_instance *m, const char *call, unsigned allowed)
+{
+    char list[128] = "";
+    int i;
+    if (allowed & MD_IN(m->d.mode))
+        return MD_OK;
+    for (i = 0; i < 4; ++i) {
+        if (!(allowed & MD_IN((md_mode)i)))
+            continue;
+        if (list[0])
+            strcat(list, ", ");
+        strcat(list, MODE_NAMES[i]);
+    }
+    md_log(m, MD_ERROR, "%s is not allowed in state %s (allowed in: %s)", call,
+           MODE_NAMES[m->d.mode], list);
+    return MD_ERROR;
+}
+
+/* ------------------------------------------------------------------ life cycle */
+
+static void set_field(ml_axis_params *p, md_field field, double value)
+{
+    switch (field) {
+    case MD_P_LAW: p->law = (int)value; break;
+    case MD_P_K1: p->k1 = value; break;
+    case MD_P_KC: p->kc = value; break;
+    case MD_P_K2: p->k2 = value; break;
+    case MD_P_DELTA: p->delta = value; break;
+    case MD_P_DELTA_NEG: p->delta_neg = value; break;
+    case MD_P_C: p->c = value; break;
+    case MD_P_FRICTION: p->friction = value != 0.0; break;
+    case MD_P_KF: p->kf = value; break;
+    case MD_P_MU: p->mu = value; break;
+    case MD_P_N0: p->n0 = value; break;
+    case MD_P_NONE: break;
+    }
+}
+
+static double get_field(const ml_axis_params *p, md_field field)
+{
+    switch (field) {
+    case MD_P_LAW: return p->law;
+    case MD_P_K1: return p->k1;
+    case MD_P_KC: return p->kc;
+    case MD_P_K2: return p->k2;
+    case MD_P_DELTA: return p->delta;
+    case MD_P_DELTA_NEG: return p->delta_neg;
+    case MD_P_C: return p->c;
+    case MD_P_FRICTION: return p->friction;
+    case MD_P_KF: return p->kf;
+    case MD_P_MU: return p->mu;
+    case MD_P_N0: return p->n0;
+    case MD_P_NONE: break;
+    }
+    return 0.0;
+}
+
+static void invalidate(md_instance *m)
+{
+    m->valid[0] = m->valid[1] = m->valid[2] = 0;
+}
+
+void md_reset(md_instance *m)
+{
+    size_t i;
+    int j;
+    memset(&m->d, 0, sizeof m->d);
+    for (j = 0; j < 3; ++j)
+        m->d.p[j] = ml_default_params();
+    for (i = 0; i < MD_N_VARIABLES; ++i) {
+        const md_variable *var = &MD_VARIABLES[i];
+        switch (var->role) {
+        case MD_PARAMETER: set_field(&m->d.p[var->axis], var->field, var->start); break;
+        case MD_INPUT_U: m->d.u[var->axis] = var->start; break;
+        case MD_INPUT_V: m->d.v[var->axis] = var->start; break;
+        case MD_LOCAL_W: m->d.w[var->axis] = var->start; break;
+        default: break;  /* n follows <axis>_n0 until set; outputs are computed */
+        }
+    }
+    m->d.mode = MD_INSTANTIATED;
+    m->params_ok = 0;
+    m->start_time = 0.0;
+    m->last_time_ok = 0.0;
+    invalidate(m);
+}
+
+md_instance *md_new(const char *name, const char *api, md_log_fn log, void *env,
+                    md_alloc_fn alloc, md_free_fn free_fn, int logging_on)
+{
+    md_instance *m;
+    size_t len = strlen(name ? name : "") + 1;
+    if (alloc == NULL || free_fn == NULL) {
+        alloc = calloc;
+        free_fn = free;
+    }
+    m = (md_instance *)alloc(1, sizeof *m);
+    if (m == NULL)
+        return NULL;
+    memset(m, 0, sizeof *m);
+    m->name = (char *)alloc(len, 1);
+    if (m->name == NULL) {
+        free_fn(m);
+        return NULL;
+    }
+    memcpy(m->name, name ? name : "", len);
+    m->api = api;
+    m->log = log;
+    m->env = env;
+    m->alloc = alloc;
+    m->free = free_fn;
+    m->logging_on = logging_on;
+    md_reset(m);
+    return m;
+}
+
+void md_delete(md_instance *m)
+{
+    md_free_fn free_fn;
+    if (m == NULL)
+        return;
+    free_fn = m->free;
+    free_fn(m->name);
+    free_fn(m);
+}
+
+/* ------------------------------------------------------------------ the law */
+
+/* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
+static md_status check_parameters(md_instance *m, const char *call)
+{
+    char all[2048] = "", one[1024], prefix[16];
+    int j, count = 0;
+    if (m->params_ok)
+        return MD_OK;
+    for (j = 0; j < 3; ++j) {
+        snprintf(prefix, sizeof prefix, "%s_", AXIS_NAMES[j]);
+        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0)
+            continue;
+        if (count++)
+            strncat(all, "; ", sizeof all - strlen(all) - 1);
+        strncat(all, one, sizeof all - strlen(all) - 1);
+    }
+    if (count) {
+        md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all, call);
+        return MD_ERROR;
+    }
+    m->params_ok = 1;
+    return MD_OK;
+}
+
+static double normal_force(const md_instance *m, int j)
+{
+    return m->d.n_set[j] ? m->d.n[j] : m->d.p[j].n0;
+}
+
+/* The trial return map of axis j at the current inputs (cached; commits nothing). */
+static md_status evaluate(md_instance *m, const char *call, int j)
+{
+    double u = m->d.u[j], v = m->d.v[j], n = normal_force(m, j);
+    char su[40], sv[40], sn[40];
+    md_status status;
+    if (m->valid[j])
+        return MD_OK;
+    status = check_parameters(m, call);
+    if (status != MD_OK)
+        return status;
+    if (!(isfinite(u) && isfinite(v) && isfinite(n))) {
+        const char *a = AXIS_NAMES[j];
+        ml_repr_double(u, su, sizeof su);
+        ml_repr_double(v, sv, sizeof sv);
+        ml_repr_double(n, sn, sizeof sn);
+        md_log(m, MD_DISCARD, "FrictionMount: inputs of axis %s must be finite, got "
+               "u_%s=%s, v_%s=%s, n_%s=%s (in %s)", a, a, su, a, sv, a, sn, call);
+        return MD_DISCARD;
+    }
+#ifdef DRYMOUNT_NULL_MODEL
+    /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
+    memset(&m->res[j], 0, sizeof m->res[j]);
+    m->res[j].w_new = m->d.w[j];
+#else
+    m->res[j] = ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n);
+    if (!(isfinite(m->res[j].force) && isfinite(m->res[j].tangent))) {
+        const char *a = AXIS_NAMES[j];
+        char sf[40];
+        ml_repr_double(u, su, sizeof su);
+        ml_repr_double(v, sv, sizeof sv);
+        ml_repr_double(m->res[j].force, sf, sizeof sf);
+        md_log(m, MD_ERROR, "FrictionMount: force of axis %s overflowed at u_%s=%s, "
+               "v_%s=%s: F=%s (in %s)", a, a, su, a, sv, sf, call);
+        return MD_ERROR;
+    }
+#endif
+    m->valid[j] = 1;
+    return MD_OK;
+}
+
+static md_status energy_total(md_instance *m, const char *call, double *value)
+{
+    int j;
+    md_status status;
+    for (j = 0; j < 3; ++j) {
+        status = evaluate(m, call, j);
+        if (status != MD_OK)
+            return status;
+    }
+    /* the same summation order as FrictionMount._energy_total */
+    *value = m->d.e[0] + m->res[0].dissipated + m->d.e[1] + m->res[1].dissipated
+             + m->d.e[2] + m->res[2].dissipated;
+    return MD_OK;
+}
+
+/* ------------------------------------------------------------------ modes */
+
+md_status md_enter_initialization(md_instance *m, const char *call, double start)
+{
+    if (md_check_mode(m, call, MD_IN(MD_INSTANTIATED)) != MD_OK)
+        return MD_ERROR;
+    if (!isfinite(start)) {
+        md_log(m, MD_ERROR, "%s: startTime must be finite, got %g", call, start);
+        return MD_ERROR;
+    }
+    m->start_time = start;
+    m->d.time = start;
+    m->last_time_ok = start;
+    m->d.started = 0;
+    m->d.mode = MD_INIT;
+    return MD_OK;
+}
+
+md_status md_exit_initialization(md_instance *m, const char *call)
+{
+    if (md_check_mode(m, call, MD_IN(MD_INIT)) != MD_OK)
+        return MD_ERROR;
+    if (check_parameters(m, call) != MD_OK)
+        return MD_ERROR;
+    m->d.mode = MD_STEP;
+    return MD_OK;
+}
+
+md_status md_terminate(md_instance *m, const char *call)
+{
+    if (md_check_mode(m, call, MD_IN(MD_STEP)) != MD_OK)
+        return MD_ERROR;
+    m->d.mode = MD_TERMINATED;
+    return MD_OK;
+}
+
+md_status md_do_step(md_instance *m, const char *call, double t, double h)
+{
+    int j;
+    md_status status;
+    if (md_check_mode(m, call, MD_IN(MD_STEP)) != MD_OK)
+        return MD_ERROR;
+    if (!(isfinite(h) && h > 0.0)) {
+        md_log(m, MD_ERROR, "%s: communicationStepSize must be finite and > 0, got %g",
+               call, h);
+        return MD_ERROR;
+    }
+    /* time continues from the end of the last step (rounding of t_n = t0 + n h
+     * allowed: 1e-9 of |t| + h) */
+    if (!isfinite(t) || fabs(t - m->d.time) > 1e-9 * (fabs(m->d.time) + h)) {
+        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must continue from the end "
+               "of the last step, %.17g, got %.17g", call, m->d.time, t);
+        return MD_ERROR;
+    }
+    for (j = 0; j < 3; ++j) {
+        status = evaluate(m, call, j);
+        if (status != MD_OK)
+            return status;  /* discard or error: nothing committed */
+    }
+    for (j = 0; j < 3; ++j) {
+        m->d.w[j] = m->res[j].w_new;
+        m->d.e[j] += m->res[j].dissipated;
+    }
+    m->d.time = t + h;
+    m->d.started = 1;
+    m->last_time_ok = m->d.time;
+    invalidate(m);  /* outputs now follow the committed state */
+    return MD_OK;
+}
+
+/* ------------------------------------------------------------------ values */
+
+static md_status lookup(md_instance *m, const char *call, md_type type, unsigned vr,
+                        const md_variable **var)
+{
+    if (vr >= MD_N_VARIABLES) {
+        md_log(m, MD_ERROR, "%s: unknown value reference %u (the model has %u)", call,
+               vr, (unsigned)MD_N_VARIABLES);
+        return MD_ERROR;
+    }
+    *var = &MD_VARIABLES[vr];
+    if ((*var)->type != type) {
+        md_log(m, MD_ERROR, "%s: value reference %u (%s) is a %s variable, not %s",
+               call, vr, (*var)->name, TYPE_NAMES[(*var)->type], TYPE_NAMES[type]);
+        return MD_ERROR;
+    }
+    return MD_OK;
+}
+
+md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
+                 double *value)
+{
+    const md_variable *var;
+    md_status status;
+    int j;
+    if (md_check_mode(m, call, MD_IN(MD_INIT) | MD_IN(MD_STEP) | MD_IN(MD_TERMINATED))
+        != MD_OK || lookup(m, call, type, vr, &var) != MD_OK)
+        return MD_ERROR;
+    j = var->axis;
+    switch (var->role) {
+    case MD_PARAMETER: *value = get_field(&m->d.p[j], var->field); return MD_OK;
+    case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
+    case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
+    case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
+    case MD_LOCAL_W: *value = m->d.w[j]; return MD_OK;
+    case MD_TIME: *value = m->d.time; return MD_OK;
+    case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
+    default: break;
+    }
+    status = evaluate(m, call, j);
+    if (status != MD_OK) {
+        *value = NAN;
+        return status;
+    }
+    switch (var->role) {
+    case MD_OUTPUT_F: *value = m->res[j].force; break;
+    case MD_OUTPUT_FFR: *value = m->res[j].friction; break;
+    case MD_OUTPUT_KT: *value = m->res[j].tangent; break;
+    case MD_OUTPUT_SLIP: *value = m->res[j].slipping; break;
+    default: *value = m->d.e[j] + m->res[j].dissipated; break;  /* E_fr_<axis> */
+    }
+    return MD_OK;
+}
+
+md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                 double value)
+{
+    const md_variable *var;
+    unsigned allowed;
+    int j;
+    if (lookup(m, call, type, vr, &var) != MD_OK)
+        return MD_ERROR;
+    j = var->axis;
+    switch (var->role) {
+    case MD_PARAMETER:  /* fixed parameters: before the end of initialization */
+        allowed = MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT);
+        break;
+    case MD_INPUT_U: case MD_INPUT_V: case MD_INPUT_N:
+    case MD_LOCAL_W:  /* w also in step mode, as the PythonFMU build (docs/fmu.md) */
+        allowed = MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT) | MD_IN(MD_STEP);
+        break;
+    default:
+        md_log(m, MD_ERROR, "%s: %s is %s and cannot be set", call, var->name,
+               var->role == MD_TIME ? "the independent variable" : "an output");
+        return MD_ERROR;
+    }
+    if (!(allowed & MD_IN(m->d.mode))) {
+        char what[96];
+        snprintf(what, sizeof what, "%s of %s", call, var->name);
+        return md_check_mode(m, what, allowed);
+    }
+    switch (var->role) {
+    case MD_PARAMETER:
+        if (var->field == MD_P_LAW && value != floor(value))
+            value = -1.0;  /* not a law code; reported by the parameter check */
+        set_field(&m->d.p[j], var->field, value);
+        m->params_ok = 0;
+        invalidate(m);
+        return MD_OK;
+    case MD_INPUT_U: m->d.u[j] = value; break;
+    case MD_INPUT_V: m->d.v[j] = value; break;
+    case MD_INPUT_N: m->d.n[j] = value; m->d.n_set[j] = 1; break;
+    default: m->d.w[j] = value; break;
+    }
+    m->valid[j] = 0;
+    return MD_OK;
+}
+
+/* ------------------------------------------------------------------ FMU state */
+
+#define STATE_MODES (MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT) | MD_IN(MD_STEP) \
+                     | MD_IN(MD_TERMINATED))
+
+md_status md_get_state(md_instance *m, const char *call, void **state)
+{
+    md_data *copy;
+    if (md_check_mode(m, call, STATE_MODES) != MD_OK)
+        return MD_ERROR;
+    copy = (md_data *)(*state != NULL ? *state : m->alloc(1, sizeof *copy));
+    if (copy == NULL) {
+        md_log(m, MD_ERROR, "%s: out of memory", call);
+        return MD_ERROR;
+    }
+    *copy = m->d;
+    *state = copy;
+    return MD_OK;
+}
+
+md_status md_set_state(md_instance *m, const char *call, const void *state)
+{
+    if (md_check_mode(m, call, STATE_MODES) != MD_OK)
+        return MD_ERROR;
+    if (state == NULL) {
+        md_log(m, MD_ERROR, "%s: the FMU state is NULL", call);
+        return MD_ERROR;
+    }
+    m->d = *(const md_data *)state;
+    m->params_ok = 0;
+    m->last_time_ok = m->d.time;
+    invalidate(m);
+    return MD_OK;
+}
+
+void md_free_state(md_instance *m, void *state)
+{
+    if (state != NULL)
+        m->free(state);
+}
+
+size_t md_serialized_size(void) { return sizeof STATE_MAGIC + sizeof(md_data); }
+
+md_status md_serialize(md_instance *m, const char *call, const void *state,
+                       unsigned char *bytes, size_t size)
+{
+    if (state == NULL || size < md_serialized_size()) {
+        md_log(m, MD_ERROR, "%s: need a state and %u bytes, got %u", call,
+               (unsigned)md_serialized_size(), (unsigned)size);
+        return MD_ERROR;
+    }
+    memcpy(bytes, STATE_MAGIC, sizeof STATE_MAGIC);
+    memcpy(bytes + sizeof STATE_MAGIC, state, sizeof(md_data));
+    return MD_OK;
+}
+
+md_status md_deserialize(md_instance *m, const char *call, const unsigned char *bytes,
+                         size_t size, void **state)
+{
+    md_data data;
+    if (size != md_serialized_size() || memcmp(bytes, STATE_MAGIC, sizeof STATE_MAGIC)) {
+        md_log(m, MD_ERROR, "%s: not a state serialized by this FMU (%u bytes)", call,
+               (unsigned)size);
+        return MD_ERROR;
+    }
+    memcpy(&data, bytes + sizeof STATE_MAGIC, sizeof data);
+    if ((unsigned)data.mode > MD_TERMINATED) {
+        md_log(m, MD_ERROR, "%s: corrupt serialized state", call);
+        return MD_ERROR;
+    }
+    if (*state == NULL)
+        *state = m->alloc(1, sizeof data);
+    if (*state == NULL) {
+        md_log(m, MD_ERROR, "%s: out of memory", call);
+        return MD_ERROR;
+    }
+    memcpy(*state, &data, sizeof data);
+    return MD_OK;
+}

@@ -1,0 +1,131 @@
+/* The native FrictionMount instance: the co-simulation protocol of
+ * fmu_src/friction_mount.py on top of the C law (mount_law.h), shared by the FMI 2.0
+ * (fmi2_glue.c) and FMI 3.0 (fmi3_glue.c) entry points.
+ *
+ * Per communication step t_n -> t_n + h the master sets u, v (and n) at t_n and may read
+ * the outputs at once: the trial return map at the current inputs and the committed
+ * slider positions (direct feedthrough, nothing committed by a get). md_do_step commits
+ * the sliders and adds the dissipated energy. Statuses use the FMI numbering (OK 0,
+ * Warning 1, Discard 2, Error 3, Fatal 4) of both standards.
+ *
+ * A refused call (out of order, unknown value reference, invalid parameters, non-finite
+ * step size) returns MD_ERROR, logs a message naming the call and the state, and changes
+ * nothing. Non-finite inputs make the outputs and md_do_step return MD_DISCARD (nothing
+ * committed; the master may correct the inputs and repeat the step).
+ */
+#ifndef DRYMOUNT_MODEL_H
+#define DRYMOUNT_MODEL_H
+
+#include <stddef.h>
+
+#include "mount_law.h"
+
+typedef enum { MD_OK = 0, MD_WARNING = 1, MD_DISCARD = 2, MD_ERROR = 3,
+               MD_FATAL = 4 } md_status;
+
+typedef enum { MD_INSTANTIATED = 0, MD_INIT = 1, MD_STEP = 2,
+               MD_TERMINATED = 3 } md_mode;
+
+typedef enum { MD_REAL = 0, MD_INTEGER = 1, MD_BOOLEAN = 2 } md_type;
+
+/* What a value reference means to the model (the builder maps the interface table's
+ * names onto these roles; see fmu_build/native.py). */
+typedef enum {
+    MD_PARAMETER = 0, MD_INPUT_U, MD_INPUT_V, MD_INPUT_N, MD_OUTPUT_F,
+    MD_OUTPUT_FFR, MD_OUTPUT_KT, MD_OUTPUT_SLIP, MD_OUTPUT_E_AXIS, MD_OUTPUT_E_TOTAL,
+    MD_LOCAL_W, MD_TIME
+} md_role;
+
+/* Fields of a parameter variable, in mount_law.AxisParameters' order. */
+typedef enum {
+    MD_P_LAW = 0, MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA, MD_P_DELTA_NEG, MD_P_C,
+    MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_NONE
+} md_field;
+
+typedef struct {
+    const char *name;
+    md_type type;
+    md_role role;
+    int axis;        /* 0 axial, 1 radial1, 2 radial2; -1 for E_fr */
+    md_field field;  /* parameters only */
+    double start;
+} md_variable;
+
+typedef void (*md_log_fn)(void *env, const char *instance, md_status status,
+                          const char *category, const char *message);
+typedef void *(*md_alloc_fn)(size_t count, size_t size);
+typedef void (*md_free_fn)(void *ptr);
+
+/* Everything an FMU state (get/set/serialize) holds. */
+typedef struct {
+    md_mode mode;
+    ml_axis_params p[3];
+    double u[3], v[3], n[3];
+    int n_set[3];
+    double w[3], e[3];
+    double time;      /* end of the last step (= start time before the first) */
+    int started;      /* a step was done since initialization */
+} md_data;
+
+typedef struct {
+    char *name;
+    const char *api;  /* "fmi2" or "fmi3", for the messages */
+    md_log_fn log;
+    void *env;
+    md_alloc_fn alloc;
+    md_free_fn free;
+    int logging_on;
+    md_data d;
+    int params_ok;         /* parameters checked since the last parameter change */
+    int valid[3];          /* cached trial results per axis */
+    ml_axis_result res[3];
+    double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
+    double last_time_ok;   /* last successful communication point */
+} md_instance;
+
+/* Number of variables, the variable table and the instantiation token (GUID), all
+ * generated from fmu_src/interface.py into model_variables.h. */
+size_t md_n_variables(void);
+const char *md_instantiation_token(void);
+const md_variable *md_variable_at(size_t vr);
+
+md_instance *md_new(const char *name, const char *api, md_log_fn log, void *env,
+                    md_alloc_fn alloc, md_free_fn free_fn, int logging_on);
+void md_delete(md_instance *m);
+const char *md_mode_name(md_mode mode);
+
+/* Log (always for status >= Warning, for OK only with logging on). */
+void md_log(md_instance *m, md_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* MD_OK if `call` is allowed in the current mode (bitmask of 1 << md_mode), else logs
+ * "<call> is not allowed in state <mode> (allowed: ...)" and returns MD_ERROR. */
+md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
+#define MD_IN(mode) (1u << (mode))
+
+void md_reset(md_instance *m);
+md_status md_enter_initialization(md_instance *m, const char *call, double start);
+md_status md_exit_initialization(md_instance *m, const char *call);
+md_status md_terminate(md_instance *m, const char *call);
+md_status md_do_step(md_instance *m, const char *call, double t, double h);
+
+/* Values, one value reference at a time; `call` names the FMI function. */
+md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
+                 double *value);
+md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                 double value);
+
+/* FMU state: a heap copy of md_data, serialized as magic + size + bytes. */
+md_status md_get_state(md_instance *m, const char *call, void **state);
+md_status md_set_state(md_instance *m, const char *call, const void *state);
+void md_free_state(md_instance *m, void *state);
+size_t md_serialized_size(void);
+md_status md_serialize(md_instance *m, const char *call, const void *state,
+                       unsigned char *bytes, size_t size);
+md_status md_deserialize(md_instance *m, const char *call, const unsigned char *bytes,
+                         size_t size, void **state);
+
+#endif

@@ -1,0 +1,236 @@
+/* C99 port of fmu_src/mount_law.py (see mount_law.h). */
+#include "mount_law.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const LAW_NAMES[ML_N_LAWS] = {
+    "linear", "cubic", "piecewise", "piecewise_asym"};
+
+ml_axis_params ml_default_params(void)
+{
+    ml_axis_params p;
+    p.law = ML_PIECEWISE;
+    p.k1 = 91870.0;
+    p.kc = 0.0;
+    p.k2 = 513800.0;
+    p.delta = 0.01225;
+    p.delta_neg = 0.01225;
+    p.c = 150.0;
+    p.friction = 0;
+    p.kf = 60000.0;
+    p.mu = 1.0;
+    p.n0 = 0.0;
+    return p;
+}
+
+void ml_elastic_force(double u, int law, double k1, double kc, double k2,
+                      double delta, double delta_neg, double *f, double *k)
+{
+    double dneg;
+    if (law == ML_LINEAR) {
+        *f = k1 * u;
+        *k = k1;
+        return;
+    }
+    if (law == ML_CUBIC) {
+        *f = k1 * u + kc * u * u * u;
+        *k = k1 + 3.0 * kc * u * u;
+        return;
+    }
+    /* piecewise: a linear spring plus a spring (k2 - k1) behind a gap */
+    if (u > delta) {
+        *f = k1 * u + (k2 - k1) * (u - delta);
+        *k = k2;
+        return;
+    }
+    dneg = law == ML_PIECEWISE_ASYM ? delta_neg : delta;
+    if (u < -dneg) {
+        *f = k1 * u + (k2 - k1) * (u + dneg);
+        *k = k2;
+        return;
+    }
+    *f = k1 * u;
+    *k = k1;
+}
+
+double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new,
+                         double *tangent, int *slipping)
+{
+    double trial = kf * (u - w);
+    if (trial > fs) {
+        *w_new = u - fs / kf;
+        *tangent = 0.0;
+        *slipping = 1;
+        return fs;
+    }
+    if (trial < -fs) {
+        *w_new = u + fs / kf;
+        *tangent = 0.0;
+        *slipping = 1;
+        return -fs;
+    }
+    *w_new = w;
+    *tangent = kf;
+    *slipping = 0;
+    return trial;
+}
+
+ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
+                             double kc, double k2, double delta, double delta_neg,
+                             double c, double kf, double fs)
+{
+    ml_axis_result r;
+    double f_el, k_el;
+    ml_elastic_force(u, law, k1, kc, k2, delta, delta_neg, &f_el, &k_el);
+    if (kf > 0.0) {
+        double k_fr;
+        r.friction = ml_jenkins_update(u, w, kf, fs, &r.w_new, &k_fr, &r.slipping);
+        r.force = f_el + c * v + r.friction;
+        r.tangent = k_el + k_fr;
+        r.dissipated = fs * fabs(r.w_new - w);
+        return r;
+    }
+    r.force = f_el + c * v;
+    r.friction = 0.0;
+    r.w_new = w;
+    r.tangent = k_el;
+    r.slipping = 0;
+    r.dissipated = 0.0;
+    return r;
+}
+
+double ml_slip_force(const ml_axis_params *p, double n)
+{
+    /* A negative normal force means lost contact: Fs = mu * max(n, 0). */
+    if (!p->friction)
+        return 0.0;
+    return n > 0.0 ? p->mu * n : 0.0;
+}
+
+ml_axis_result ml_axis_force_p(double u, double v, double w, const ml_axis_params *p,
+                               double n)
+{
+    return ml_axis_force(u, v, w, p->law, p->k1, p->kc, p->k2, p->delta,
+                         p->delta_neg, p->c, p->friction ? p->kf : 0.0,
+                         ml_slip_force(p, n));
+}
+
+/* ------------------------------------------------------------------ messages */
+
+void ml_repr_double(double x, char *buf, size_t size)
+{
+    char tmp[40], digits[24];
+    int prec, exp10, nd = 0, i;
+    const char *s;
+    char *out = buf;
+    size_t room = size;
+    if (isnan(x)) {
+        snprintf(buf, size, "nan");
+        return;
+    }
+    if (isinf(x)) {
+        snprintf(buf, size, x < 0 ? "-inf" : "inf");
+        return;
+    }
+    for (prec = 1; prec <= 17; ++prec) {
+        snprintf(tmp, sizeof tmp, "%.*e", prec - 1, x);
+        if (strtod(tmp, NULL) == x)
+            break;
+    }
+    s = tmp;
+    if (*s == '-') {
+        if (room > 1) {
+            *out++ = '-';
+            --room;
+        }
+        ++s;
+    }
+    for (; *s && *s != 'e'; ++s)
+        if (*s != '.' && nd < (int)sizeof digits - 1)
+            digits[nd++] = *s;
+    exp10 = *s == 'e' ? atoi(s + 1) : 0;
+    while (nd > 1 && digits[nd - 1] == '0')
+        --nd;
+    digits[nd] = '\0';
+    if (exp10 < -4 || exp10 >= 16) {
+        snprintf(out, room, "%c%s%s%se%c%02d", digits[0], nd > 1 ? "." : "",
+                 digits + 1, "", exp10 < 0 ? '-' : '+', abs(exp10));
+        return;
+    }
+    if (exp10 < 0) {
+        char zeros[8] = "";
+        for (i = 0; i < -exp10 - 1; ++i)
+            zeros[i] = '0';
+        zeros[-exp10 - 1] = '\0';
+        snprintf(out, room, "0.%s%s", zeros, digits);
+        return;
+    }
+    {
+        char intpart[24], frac[24];
+        for (i = 0; i <= exp10; ++i)
+            intpart[i] = i < nd ? digits[i] : '0';
+        intpart[exp10 + 1] = '\0';
+        if (nd > exp10 + 1)
+            snprintf(frac, sizeof frac, "%s", digits + exp10 + 1);
+        else
+            snprintf(frac, sizeof frac, "0");
+        snprintf(out, room, "%s.%s", intpart, frac);
+    }
+}
+
+/* Append "; " (unless first) and the formatted text to buf. */
+static void append(char *buf, size_t size, int *count, const char *text)
+{
+    size_t len = strlen(buf);
+    if (len + 1 >= size)
+        return;
+    snprintf(buf + len, size - len, "%s%s", *count ? "; " : "", text);
+    ++*count;
+}
+
+static int finite_and(double value, int strict)
+{
+    return isfinite(value) && (strict ? value > 0 : value >= 0);
+}
+
+int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
+                     size_t size)
+{
+    struct { const char *name; double value; int strict; } checks[8];
+    char text[256], val[40];
+    int count = 0, i;
+    if (size)
+        buf[0] = '\0';
+    if (p->law < 0 || p->law >= ML_N_LAWS) {
+        snprintf(text, sizeof text, "`%slaw` must be one of 0 = %s, 1 = %s, 2 = %s, "
+                 "3 = %s, got %d", prefix, LAW_NAMES[0], LAW_NAMES[1], LAW_NAMES[2],
+                 LAW_NAMES[3], p->law);
+        append(buf, size, &count, text);
+    }
+    checks[0].name = "k1"; checks[0].value = p->k1; checks[0].strict = 0;
+    checks[1].name = "kc"; checks[1].value = p->kc; checks[1].strict = 0;
+    checks[2].name = "k2"; checks[2].value = p->k2; checks[2].strict = 0;
+    checks[3].name = "delta"; checks[3].value = p->delta; checks[3].strict = 1;
+    checks[4].name = "delta_neg"; checks[4].value = p->delta_neg; checks[4].strict = 1;
+    checks[5].name = "c"; checks[5].value = p->c; checks[5].strict = 0;
+    checks[6].name = "mu"; checks[6].value = p->mu; checks[6].strict = 0;
+    checks[7].name = "n0"; checks[7].value = p->n0; checks[7].strict = 0;
+    for (i = 0; i < 8; ++i) {
+        if (finite_and(checks[i].value, checks[i].strict))
+            continue;
+        ml_repr_double(checks[i].value, val, sizeof val);
+        snprintf(text, sizeof text, "`%s%s` must be finite and %s, got %s", prefix,
+                 checks[i].name, checks[i].strict ? "> 0" : ">= 0", val);
+        append(buf, size, &count, text);
+    }
+    if (!isfinite(p->kf) || (p->friction && p->kf <= 0) || p->kf < 0) {
+        ml_repr_double(p->kf, val, sizeof val);
+        snprintf(text, sizeof text, "`%skf` must be finite and %s, got %s", prefix,
+                 p->friction ? "> 0 when friction is on" : ">= 0", val);
+        append(buf, size, &count, text);
+    }
+    return count;
+}

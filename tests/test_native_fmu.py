@@ -1,0 +1,646 @@
+"""The native FMUs (FMI 2.0 and FMI 3.0, fmu_build/native.py) against the Python law.
+
+* equivalence with ``fmu_src/mount_law.py`` on the same random trajectories: 4 x 1e5
+  steps through the FMI 2.0 binary in a plain C host started with an empty environment
+  (two instances side by side), 2 x 4000 steps through fmpy for each FMI version;
+* ``fmpy validate`` and ``fmpy simulate``; the model description is the interface table;
+* the FMI state machine: calls out of order, bad step sizes, time jumps, non-finite
+  inputs (discard), invalid parameters (the PythonFMU's message), state get/set/
+  serialize, reset;
+* the binary needs no Python: no libpython, no Py* symbol, only libc and libm.
+
+Runtime about 20 s on 2 cores (most of it the Python reference of 4e5 steps).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import zipfile
+
+import numpy as np
+import pytest
+from native_helpers import (
+    LAW_LAYOUT,
+    ROOT,
+    Outputs,
+    build,
+    parameter_values,
+    random_instance,
+    random_trajectory,
+    reference_run,
+    run,
+    worst_relative,
+)
+
+from fmu_src import interface
+from fmu_src.mount_law import AXES
+
+fmpy = pytest.importorskip("fmpy", reason="pip install -e .[fmu] installs fmpy")
+
+#: C and Python agree to this, relative to the output's scale (force, stiffness,
+#: energy). Measured: 0.0 (bit-identical) for every output, both FMI versions.
+TOL_REL = 1e-12
+HOST_STEPS = 100_000
+FMPY_STEPS = 4000
+H = 1e-4
+
+
+@pytest.fixture(scope="module", params=[2, 3], ids=["fmi2", "fmi3"])
+def native(request, tmp_path_factory):
+    fmi = request.param
+    return fmi, build(tmp_path_factory.mktemp(f"native{fmi}"), fmi)
+
+
+@pytest.fixture(scope="module")
+def native2(tmp_path_factory):
+    return build(tmp_path_factory.mktemp("native2"), 2)
+
+
+class Driver:
+    """One instance of a native FMU through fmpy (FMI 2.0 or 3.0), messages kept."""
+
+    def __init__(self, path, fmi: int, name: str = "mount"):
+        from fmpy import extract, read_model_description
+
+        self.fmi, self.messages, self.name = fmi, [], name
+        md = read_model_description(str(path))
+        self.md = md
+        self.vars = {v.name: v for v in md.modelVariables}
+        self.unzip = extract(str(path))
+        kw = dict(unzipDirectory=self.unzip, instanceName=name,
+                  modelIdentifier=md.coSimulation.modelIdentifier)
+        if fmi == 2:
+            from fmpy.fmi2 import (FMU2Slave, fmi2CallbackFunctions,
+                                   fmi2CallbackLoggerTYPE)
+            from fmpy.logging import addLoggerProxy
+
+            self.fmu = FMU2Slave(guid=md.guid, **kw)
+            cb = fmi2CallbackFunctions()
+            cb.logger = fmi2CallbackLoggerTYPE(self._log2)
+            cb.allocateMemory = fmpy.fmi2.fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
+            cb.freeMemory = fmpy.fmi2.fmi2CallbackFreeMemoryTYPE(fmpy.free)
+            addLoggerProxy(ctypes.byref(cb))
+            self._cb = cb
+            self.fmu.instantiate(callbacks=cb, loggingOn=True)
+        else:
+            from fmpy.fmi3 import FMU3Slave
+
+            self.fmu = FMU3Slave(guid=md.guid, **kw)
+            self.fmu.instantiate(loggingOn=True, logMessage=self._log3)
+
+    def _log2(self, env, instance, status, category, message):
+        self.messages.append((status, message.decode()))
+
+    def _log3(self, env, status, category, message):
+        self.messages.append((status, message.decode()))
+
+    def vr(self, names):
+        return [self.vars[n].valueReference for n in names]
+
+    def set(self, values: dict) -> None:
+        f = self.fmu
+        for name, value in values.items():
+            typ = self.vars[name].type
+            if typ in ("Real", "Float64"):
+                (f.setReal if self.fmi == 2 else f.setFloat64)(self.vr([name]), [value])
+            elif typ in ("Integer", "Int32"):
+                set_int = f.setInteger if self.fmi == 2 else f.setInt32
+                set_int(self.vr([name]), [value])
+            else:
+                f.setBoolean(self.vr([name]), [bool(value)])
+
+    def get(self, names) -> list:
+        f = self.fmu
+        typ = self.vars[names[0]].type
+        if typ in ("Real", "Float64"):
+            return list((f.getReal if self.fmi == 2 else f.getFloat64)(self.vr(names)))
+        return list(f.getBoolean(self.vr(names)))
+
+    def init(self, start: float = 0.0) -> None:
+        if self.fmi == 2:
+            self.fmu.setupExperiment(startTime=start)
+            self.fmu.enterInitializationMode()
+        else:
+            self.fmu.enterInitializationMode(startTime=start)
+        self.fmu.exitInitializationMode()
+
+    def step(self, t: float, h: float = H) -> None:
+        self.fmu.doStep(t, h)
+
+    def last(self) -> str:
+        """The last message (FMI 3.0's logger has no instance argument: the FMU
+        prefixes the instance name, removed here)."""
+        text = self.messages[-1][1] if self.messages else ""
+        return text.removeprefix(self.name + ": ") if self.fmi == 3 else text
+
+    def close(self) -> None:
+        import shutil
+
+        self.fmu.freeInstance()
+        shutil.rmtree(self.unzip, ignore_errors=True)
+
+
+def _status(excinfo) -> int:
+    return excinfo.value.status
+
+
+def _drive_fmpy(path, fmi, axes, traj) -> Outputs:
+    d = Driver(path, fmi)
+    try:
+        d.set(parameter_values(axes))
+        d.init()
+        ins = [f"{q}_{a}" for a in AXES for q in ("u", "v", "n")]
+        reals = [f"{q}_{a}" for q in ("F", "Ffr", "kt", "E_fr") for a in AXES]
+        reals.append("E_fr")
+        slips = [f"slip_{a}" for a in AXES]
+        f = d.fmu
+        set_real = f.setReal if fmi == 2 else f.setFloat64
+        get_real = f.getReal if fmi == 2 else f.getFloat64
+        vin, vout, vslip = d.vr(ins), d.vr(reals), d.vr(slips)
+        steps = traj.u.shape[0]
+        rows = np.zeros((steps, 13))
+        slip = np.zeros((steps, 3))
+        x = np.stack([traj.u, traj.v, traj.n], axis=2).reshape(steps, 9)
+        for k in range(steps):
+            set_real(vin, x[k].tolist())
+            rows[k] = get_real(vout)
+            slip[k] = f.getBoolean(vslip)
+            f.doStep(k * H, H)
+    finally:
+        d.close()
+    return Outputs(F=rows[:, 0:3], Ffr=rows[:, 3:6], kt=rows[:, 6:9], slip=slip,
+                   E_fr=rows[:, 9:12], E_total=rows[:, 12])
+
+
+@pytest.mark.parametrize("layout", [0, 1])
+def test_fmpy_equals_python_law(native, layout):
+    fmi, path = native
+    rng = np.random.default_rng(100 + layout)
+    axes = random_instance(rng, LAW_LAYOUT[layout])
+    traj = random_trajectory(rng, FMPY_STEPS)
+    ref = reference_run(axes, traj)
+    got = _drive_fmpy(path, fmi, axes, traj)
+    errors = worst_relative(ref, got)
+    assert max(errors.values()) <= TOL_REL, errors
+    assert 0 < ref.slip.mean() < 1 and (traj.n < 0).any()  # both regimes visited
+
+
+# ---------------------------------------------------------------------- C host
+
+
+@pytest.fixture(scope="module")
+def c_host(tmp_path_factory):
+    exe = tmp_path_factory.mktemp("host") / "native_host"
+    proc = run(["gcc", "-std=c99", "-D_POSIX_C_SOURCE=200809L", "-Wall", "-Wextra",
+                "-Werror", "-O2", "-o", exe,
+                ROOT / "tests" / "c_host" / "native_host.c", "-ldl"])
+    assert proc.returncode == 0, proc.stderr
+    return exe
+
+
+def _host_config(folder, md, instances) -> str:
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    types = {v.name: v.type for v in md.modelVariables}
+    ins = [vr[f"{q}_{a}"] for a in AXES for q in ("u", "v", "n")]
+    outs = [vr[f"{q}_{a}"] for q in ("F", "Ffr", "kt", "E_fr") for a in AXES]
+    outs.append(vr["E_fr"])
+    lines = [f"steps {HOST_STEPS} h {H!r}",
+             f"inputs {len(ins)} " + " ".join(map(str, ins)),
+             f"outputs {len(outs)} " + " ".join(map(str, outs)),
+             "booleans 3 " + " ".join(str(vr[f"slip_{a}"]) for a in AXES)]
+    for i, (axes, traj) in enumerate(instances):
+        x = np.stack([traj.u, traj.v, traj.n], axis=2).reshape(HOST_STEPS, 9)
+        x.astype("<f8").tofile(folder / f"in{i}.bin")
+        src, dst = folder / f"in{i}.bin", folder / f"out{i}.bin"
+        lines.append(f"instance mount{i} {src} {dst}")
+        for name, value in parameter_values(axes).items():
+            kind = {"Real": "real", "Integer": "integer", "Boolean": "boolean"}[
+                types[name]]
+            lines.append(f"{kind} {vr[name]} {float(value)!r}")
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("pair", [(0, 1), (2, 3)], ids=["layouts01", "layouts23"])
+def test_c_host_empty_environment_two_instances(native2, c_host, tmp_path, pair):
+    """1e5 steps per instance and law (every law with and without friction over the
+    two pairs), two instances of one binary stepped side by side, host run with
+    ``env -i``: outputs equal the Python law to TOL_REL."""
+    from fmpy import extract, read_model_description
+
+    md = read_model_description(str(native2))
+    unzip = extract(str(native2), str(tmp_path / "fmu"))
+    rng = np.random.default_rng(200 + pair[0])
+    instances = [(random_instance(rng, LAW_LAYOUT[i]),
+                  random_trajectory(rng, HOST_STEPS)) for i in pair]
+    cfg = tmp_path / "host.cfg"
+    cfg.write_text(_host_config(tmp_path, md, instances))
+    lib = f"{unzip}/binaries/linux64/{md.coSimulation.modelIdentifier}.so"
+    proc = run(["env", "-i", c_host, lib, md.guid, cfg])
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert f"DONE {HOST_STEPS} steps, 2 instances" in proc.stdout
+    for i, (axes, traj) in enumerate(instances):
+        rows = np.fromfile(tmp_path / f"out{i}.bin", "<f8").reshape(HOST_STEPS, 16)
+        got = Outputs(F=rows[:, 0:3], Ffr=rows[:, 3:6], kt=rows[:, 6:9],
+                      E_fr=rows[:, 9:12], E_total=rows[:, 12], slip=rows[:, 13:16])
+        ref = reference_run(axes, traj)
+        errors = worst_relative(ref, got)
+        assert max(errors.values()) <= TOL_REL, (i, errors)
+        assert ref.E_total[-1] > 0  # friction dissipated energy
+
+
+# ---------------------------------------------------------------------- validity
+
+
+def test_fmpy_validate_clean(native):
+    from fmpy.validation import validate_fmu
+
+    assert validate_fmu(str(native[1])) == []
+
+
+def test_fmpy_simulate_default_experiment(native):
+    fmi, path = native
+    result = fmpy.simulate_fmu(str(path))
+    exp = interface.DEFAULT_EXPERIMENT
+    assert result["time"][0] == exp["startTime"]
+    assert math.isclose(result["time"][-1], exp["stopTime"])
+    assert np.all(result["F_axial"] == 0.0)  # at rest, no input: no force
+    assert np.all(result["kt_axial"] == interface.variable("axial_k1").start)
+
+
+def test_model_description_is_the_interface_table(native):
+    from fmpy import read_model_description
+
+    fmi, path = native
+    md = read_model_description(str(path))
+    fmi3_type = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
+    by_name = {v.name: v for v in md.modelVariables}
+    for vr, var in enumerate(interface.VARIABLES):
+        got = by_name[var.name]
+        assert got.valueReference == vr
+        assert got.type == (var.type if fmi == 2 else fmi3_type[var.type])
+        assert (got.causality, got.variability) == (var.causality, var.variability)
+        assert got.description == var.description
+        assert (got.unit or None) == (var.unit if var.type == "Real" else None)
+        if var.start is not None:
+            assert got.start == (str(var.start).lower() if var.type == "Boolean"
+                                 else repr(float(var.start)) if var.type == "Real"
+                                 else str(var.start))
+    extra = set(by_name) - {v.name for v in interface.VARIABLES}
+    assert extra == (set() if fmi == 2 else {"time"})
+    exp = md.defaultExperiment
+    assert float(exp.stopTime) == interface.DEFAULT_EXPERIMENT["stopTime"]
+    assert float(exp.stepSize) == interface.DEFAULT_EXPERIMENT["stepSize"]
+    assert md.coSimulation.modelIdentifier == (
+        "FrictionMountNative" if fmi == 2 else "FrictionMountNative3")
+    assert md.coSimulation.canGetAndSetFMUstate
+    assert md.coSimulation.canSerializeFMUstate
+
+
+def test_archive_layout_sources_and_binaries(native):
+    fmi, path = native
+    names = set(zipfile.ZipFile(path).namelist())
+    ident = "FrictionMountNative" if fmi == 2 else "FrictionMountNative3"
+    linux, win = (("linux64", "win64") if fmi == 2
+                  else ("x86_64-linux", "x86_64-windows"))
+    assert f"binaries/{linux}/{ident}.so" in names
+    glue = f"fmi{fmi}_glue.c"
+    for src in ("mount_law.c", "mount_law.h", "model.c", "model.h",
+                "model_variables.h", glue):
+        assert f"sources/{src}" in names
+    assert ("sources/buildDescription.xml" in names) == (fmi == 3)
+    assert "documentation/index.html" in names
+    import shutil
+    if shutil.which("x86_64-w64-mingw32-gcc"):
+        dll = zipfile.ZipFile(path).read(f"binaries/{win}/{ident}.dll")
+        assert dll[:2] == b"MZ"
+
+
+def test_build_is_reproducible_and_tokens_distinct(tmp_path):
+    from fmu_build.native import build_native_fmu
+
+    a = build_native_fmu(tmp_path / "a.fmu", fmi=2)
+    b = build_native_fmu(tmp_path / "b.fmu", fmi=2)
+    c = build_native_fmu(tmp_path / "c.fmu", fmi=3)
+    n = build_native_fmu(tmp_path / "n.fmu", fmi=2, null=True)
+    assert a.path.read_bytes() == b.path.read_bytes()
+    assert len({a.token, c.token, n.token}) == 3
+    assert n.target.model_identifier == "NullMountNative"
+
+
+def test_documented_compile_command_builds_the_sources(native, tmp_path):
+    """The one-line linux command of documentation/index.html compiles sources/."""
+    from fmu_build.native import COMPILE
+
+    fmi, path = native
+    zipfile.ZipFile(path).extractall(tmp_path)
+    ident = "FrictionMountNative" if fmi == 2 else "FrictionMountNative3"
+    cmd = COMPILE["linux"].format(id=ident)
+    assert cmd in (tmp_path / "documentation" / "index.html").read_text()
+    proc = run(["sh", "-c", cmd], cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    nm = run(["nm", "-D", "--defined-only", tmp_path / f"{ident}.so"]).stdout
+    assert f" T fmi{fmi}DoStep" in nm
+
+
+def test_binary_needs_no_python(native):
+    """Only libc and libm in the dynamic section, no undefined Py* symbol, every
+    exported symbol an FMI function."""
+    fmi, path = native
+    linux = "linux64" if fmi == 2 else "x86_64-linux"
+    ident = "FrictionMountNative" if fmi == 2 else "FrictionMountNative3"
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        lib = zipfile.ZipFile(path).extract(f"binaries/{linux}/{ident}.so", tmp)
+        dynamic = run(["readelf", "-d", lib]).stdout
+        undefined = run(["nm", "-D", "--undefined-only", lib]).stdout.split()
+        defined = run(["nm", "-D", "--defined-only", lib]).stdout.splitlines()
+    needed = {line.split("[")[1].rstrip("]") for line in dynamic.splitlines()
+              if "(NEEDED)" in line}
+    assert needed <= {"libc.so.6", "libm.so.6"}, needed
+    assert "python" not in dynamic.lower()
+    names = [w.split("@")[0] for w in undefined if w not in ("U", "w")]
+    assert names and not [n for n in names if n.lstrip("_").startswith("Py")]
+    exported = [line.split()[-1] for line in defined if " T " in line]
+    assert exported and all(n.startswith(f"fmi{fmi}") for n in exported), exported
+
+
+# ---------------------------------------------------------------------- state machine
+
+
+@pytest.fixture
+def driver(native):
+    fmi, path = native
+    d = Driver(path, fmi)
+    yield d
+    d.close()
+
+
+def _call(d, fn, *args):
+    with pytest.raises(fmpy.fmi1.FMICallException) as exc:
+        fn(*args)
+    return _status(exc), d.last()
+
+
+def test_calls_out_of_order_are_refused_with_a_message(driver):
+    d, p = driver, f"fmi{driver.fmi}"
+    status, msg = _call(d, d.step, 0.0)
+    assert status == 3 and f"{p}DoStep is not allowed in state Instantiated" in msg
+    status, msg = _call(d, d.get, ["F_axial"])
+    assert status == 3 and "is not allowed in state Instantiated" in msg
+    status, msg = _call(d, d.fmu.exitInitializationMode)
+    assert status == 3 and "not allowed in state Instantiated" in msg
+    d.init()
+    set_name = "SetReal" if d.fmi == 2 else "SetFloat64"
+    status, msg = _call(d, d.set, {"axial_k1": 1.0})
+    assert status == 3
+    assert f"{p}{set_name} of axial_k1 is not allowed in state StepMode" in msg
+    status, msg = _call(d, d.set, {"F_axial": 1.0})
+    assert status == 3 and "F_axial is an output and cannot be set" in msg
+    status, msg = _call(d, d.fmu.enterInitializationMode)
+    assert status == 3 and "not allowed in state StepMode" in msg
+    # refused calls change nothing: the instance steps on
+    d.set({"u_axial": 0.001})
+    d.step(0.0)
+    assert d.get(["F_axial"])[0] == pytest.approx(91.87)
+    d.fmu.terminate()
+    status, msg = _call(d, d.step, H)
+    assert status == 3 and "not allowed in state Terminated" in msg
+
+
+@pytest.mark.parametrize("h", [0.0, -1e-4, math.nan, math.inf])
+def test_step_size_must_be_finite_and_positive(driver, h):
+    driver.init()
+    status, msg = _call(driver, driver.step, 0.0, h)
+    assert status == 3 and "communicationStepSize must be finite and > 0" in msg
+    driver.step(0.0)  # still usable
+
+
+def test_time_continues_from_the_last_step(driver):
+    driver.init(start=0.5)
+    status, msg = _call(driver, driver.step, 0.0)
+    assert status == 3 and "must continue from the end of the last step, 0.5" in msg
+    driver.step(0.5)
+    status, msg = _call(driver, driver.step, 0.5)  # the same step again
+    assert status == 3 and "0.50009999999999999" in msg
+    driver.step(0.5 + H)
+    status, msg = _call(driver, driver.step, 0.5 + 3 * H)  # a step skipped
+    assert status == 3
+
+
+def test_unknown_value_reference_and_wrong_type(driver):
+    driver.init()
+    f = driver.fmu
+    get = f.getReal if driver.fmi == 2 else f.getFloat64
+    n = len(driver.vars)
+    status, msg = _call(driver, get, [n + 5])
+    assert status == 3 and f"unknown value reference {n + 5}" in msg
+    status, msg = _call(driver, get, driver.vr(["axial_law"]))
+    assert status == 3 and "(axial_law) is a Integer variable, not Real" in msg
+
+
+def test_non_finite_input_discards_and_commits_nothing(driver):
+    d = driver
+    d.set({"axial_friction": True, "axial_n0": 100.0})
+    d.init()
+    d.set({"u_axial": 0.01})
+    d.step(0.0)
+    w = d.get(["w_axial"])[0]
+    d.set({"u_axial": math.nan})
+    status, msg = _call(d, d.get, ["F_axial"])
+    assert status == 2
+    assert msg.startswith("FrictionMount: inputs of axis axial must be finite, got "
+                          "u_axial=nan, v_axial=0.0, n_axial=100.0")
+    status, msg = _call(d, d.step, H)
+    assert status == 2 and d.get(["w_axial"]) == [w]
+    d.set({"u_axial": -0.01})  # corrected: the same step is repeated
+    d.step(H)
+    assert d.get(["w_axial"])[0] != w
+
+
+def test_invalid_parameters_give_the_pythonfmu_message(driver):
+    from fmu_src.friction_mount import FrictionMount
+
+    bad = {"axial_k1": -1.0, "radial2_delta": 0.0, "radial1_friction": True,
+           "radial1_kf": 0.0, "axial_law": 9}
+    slave = FrictionMount(instance_name="reference")
+    for name, value in bad.items():
+        setattr(slave, name, value)
+    with pytest.raises(ValueError) as ref:
+        slave.exit_initialization_mode()
+    d = driver
+    d.set(bad)
+    if d.fmi == 2:
+        d.fmu.setupExperiment(startTime=0.0)
+        d.fmu.enterInitializationMode()
+    else:
+        d.fmu.enterInitializationMode(startTime=0.0)
+    status, msg = _call(d, d.fmu.exitInitializationMode)
+    assert status == 3
+    assert msg == f"{ref.value} (in fmi{d.fmi}ExitInitializationMode)"
+    d.set({"axial_k1": 1.0, "radial2_delta": 0.01, "radial1_kf": 1.0, "axial_law": 0})
+    d.fmu.exitInitializationMode()  # fixed in initialization mode: accepted
+
+
+def test_normal_force_follows_n0_until_set(driver):
+    d = driver
+    d.set({"axial_friction": True, "axial_n0": 150.0, "axial_mu": 0.5})
+    d.init()
+    d.set({"u_axial": 1.0})  # far beyond slip: |Ffr| = mu n0
+    assert d.get(["Ffr_axial", "n_axial"]) == [75.0, 150.0]
+    d.set({"n_axial": -10.0})  # contact lost
+    assert d.get(["Ffr_axial"]) == [0.0]
+    d.set({"n_axial": 300.0})
+    assert d.get(["Ffr_axial"]) == [150.0]
+
+
+def _run_steps(d, k0, k1, traj):
+    out = []
+    for k in range(k0, k1):
+        d.set({"u_axial": float(traj.u[k, 0]), "v_axial": float(traj.v[k, 0]),
+               "n_axial": float(traj.n[k, 0])})
+        out.append(d.get(["F_axial", "Ffr_axial", "E_fr", "w_axial"]))
+        d.step(k * H)
+    return out
+
+
+def test_state_get_set_serialize_replays_identically(driver):
+    d = driver
+    d.set({"axial_friction": True, "axial_n0": 300.0})
+    d.init()
+    traj = random_trajectory(np.random.default_rng(7), 200)
+    _run_steps(d, 0, 100, traj)
+    f = d.fmu
+    state = f.getFMUstate() if d.fmi == 2 else f.getFMUState()
+    blob = (f.serializeFMUstate(state) if d.fmi == 2 else f.serializeFMUState(state))
+    first = _run_steps(d, 100, 200, traj)
+    f.setFMUstate(state) if d.fmi == 2 else f.setFMUState(state)
+    assert _run_steps(d, 100, 200, traj) == first
+    restored = (f.deSerializeFMUstate(blob) if d.fmi == 2
+                else f.deserializeFMUState(blob))
+    f.setFMUstate(restored) if d.fmi == 2 else f.setFMUState(restored)
+    assert _run_steps(d, 100, 200, traj) == first
+    assert first[-1][2] > 0
+    for s in (state, restored):
+        f.freeFMUstate(s) if d.fmi == 2 else f.freeFMUState(s)
+
+
+def test_reset_starts_over(driver):
+    d = driver
+    d.set({"axial_friction": True, "axial_n0": 300.0, "axial_k1": 5e4})
+    d.init()
+    traj = random_trajectory(np.random.default_rng(8), 50)
+    first = _run_steps(d, 0, 50, traj)
+    d.fmu.reset()
+    assert d.fmu is not None
+    d.set({"axial_friction": True, "axial_n0": 300.0, "axial_k1": 5e4})
+    d.init()
+    assert _run_steps(d, 0, 50, traj) == first
+
+
+def test_wrong_guid_is_refused(native, tmp_path):
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+    from fmpy.fmi3 import FMU3Slave
+
+    fmi, path = native
+    md = read_model_description(str(path))
+    kw = dict(unzipDirectory=extract(str(path), str(tmp_path / "x")),
+              modelIdentifier=md.coSimulation.modelIdentifier, instanceName="x")
+    fmu = (FMU2Slave(guid="{00000000-0000-0000-0000-000000000000}", **kw) if fmi == 2
+           else FMU3Slave(guid="{wrong}", **kw))
+    with pytest.raises(Exception, match="instantiat|Failed"):
+        fmu.instantiate()
+    fmu.freeLibrary()
+
+
+# ---------------------------------------------------------------------- PythonFMU
+
+
+@pytest.fixture(scope="module")
+def python_fmu(tmp_path_factory):
+    from fmu_build import build_fmu
+
+    return build_fmu(tmp_path_factory.mktemp("pythonfmu") / "FrictionMount.fmu")
+
+
+def _start(var):
+    if var.start is None:
+        return None
+    if var.type in ("Real", "Float64"):
+        return float(var.start)
+    if var.type in ("Integer", "Int32"):
+        return int(var.start)
+    return str(var.start).lower() in ("true", "1")
+
+
+def test_same_interface_as_the_pythonfmu_build(native, python_fmu):
+    """Names, value references, causality, variability, initial, units, descriptions,
+    start values, ranges, unit definitions and default experiment equal the PythonFMU
+    build's (both are generated from fmu_src/interface.py)."""
+    from fmpy import read_model_description
+
+    fmi, path = native
+    ours, theirs = (read_model_description(str(p)) for p in (path, python_fmu))
+    mine = {v.name: v for v in ours.modelVariables}
+    assert len(theirs.modelVariables) == len(interface.VARIABLES)
+    for var in theirs.modelVariables:
+        got = mine[var.name]
+        for attr in ("valueReference", "causality", "variability", "initial",
+                     "description", "unit", "min", "max"):
+            assert getattr(got, attr) == getattr(var, attr), (var.name, attr)
+        assert _start(got) == _start(var), var.name
+    def exps(unit):
+        return tuple(getattr(unit.baseUnit, k, None)
+                     for k in ("kg", "m", "s", "A", "K", "mol", "cd", "rad"))
+
+    units = {u.name: exps(u) for u in theirs.unitDefinitions}
+    assert units == {u.name: exps(u) for u in ours.unitDefinitions
+                     if u.name in units}
+    assert len(units) == len(interface.BASE_UNITS)
+    for attr in ("startTime", "stopTime", "stepSize"):
+        a, b = (getattr(md.defaultExperiment, attr) for md in (ours, theirs))
+        assert float(a) == float(b)
+    # the PythonFMU build writes no tolerance (pythonfmu's DefaultExperiment); the
+    # native builds write the table's
+    tol = ours.defaultExperiment.tolerance
+    assert float(tol) == interface.DEFAULT_EXPERIMENT["tolerance"]
+
+
+def test_fmi3_build_description_is_schema_valid(tmp_path):
+    """sources/buildDescription.xml against the FMI 3.0 schema fmpy ships; it lists
+    exactly the C files of sources/."""
+    import os
+
+    from lxml import etree
+
+    path = build(tmp_path, 3)
+    schema_dir = os.path.join(os.path.dirname(fmpy.__file__), "schema", "fmi3")
+    schema = etree.XMLSchema(etree.parse(os.path.join(schema_dir,
+                                                      "fmi3BuildDescription.xsd")))
+    zf = zipfile.ZipFile(path)
+    doc = etree.fromstring(zf.read("sources/buildDescription.xml"))
+    assert schema.validate(doc), schema.error_log
+    listed = {e.get("name") for e in doc.iter("SourceFile")}
+    present = {n.removeprefix("sources/") for n in zf.namelist()
+               if n.startswith("sources/") and n.endswith(".c")}
+    assert listed == present
+
+
+def test_windows_dll_needs_only_the_c_runtime(native, tmp_path):
+    """The cross-compiled DLL imports only KERNEL32 and the C runtime and exports the
+    FMI functions (skipped without the MinGW cross tools)."""
+    import shutil
+
+    objdump = shutil.which("x86_64-w64-mingw32-objdump")
+    if objdump is None or shutil.which("x86_64-w64-mingw32-gcc") is None:
+        pytest.skip("apt-get install gcc-mingw-w64-x86-64 cross-compiles the DLL")
+    fmi, path = native
+    win = "win64" if fmi == 2 else "x86_64-windows"
+    ident = "FrictionMountNative" if fmi == 2 else "FrictionMountNative3"
+    dll = zipfile.ZipFile(path).extract(f"binaries/{win}/{ident}.dll", tmp_path)
+    text = run([objdump, "-p", dll]).stdout
+    imports = {line.split(":")[1].strip().lower() for line in text.splitlines()
+               if "DLL Name:" in line}
+    assert imports <= {"kernel32.dll", "msvcrt.dll"}, imports
+    assert f"] fmi{fmi}DoStep" in text and "python" not in text.lower()

@@ -1,0 +1,171 @@
+"""SSP export (drymount/ssp.py): the archive's structure against the FMU's interface,
+and the archive run in an independent SSP importer (Ecos, ``pip install ecospy``; needs
+the Debian package libtbb12) against the mount law with the configuration's parameters.
+
+No SSP XML schema ships with the registries' packages here, so the structure test checks
+what the SSP 1.0 schema requires of these elements (namespaces, version, element order,
+required attributes) and their consistency with the FMU. Runtime about 10 s.
+"""
+
+from __future__ import annotations
+
+import zipfile
+from xml.etree import ElementTree as ET
+
+import numpy as np
+import pytest
+from native_helpers import build, random_trajectory
+
+from drymount.config import load_preset
+from drymount.ssp import SSC, SSD, SSV, export_ssp
+from fmu_src import interface
+from fmu_src.mount_law import AXES, axis_force, law_code
+
+#: Ecos's forces against the law, relative to the force scale. The arithmetic is the
+#: same (measured: 0.0 for every mount, native and PythonFMU FMU); the energy sum's
+#: order differs by rounding only.
+TOL_REL = 1e-12
+STEPS = 1500
+H = 1e-4
+
+
+@pytest.fixture(scope="module")
+def cfg():
+    return load_preset("six_dof_halved")
+
+
+@pytest.fixture(scope="module", params=["native", "pythonfmu"])
+def ssp(request, cfg, tmp_path_factory):
+    """The archive with the native FMI 2.0 FMU or the PythonFMU build inside."""
+    folder = tmp_path_factory.mktemp("ssp")
+    if request.param == "native":
+        fmu = build(folder, 2)
+    else:
+        from fmu_build import build_fmu
+
+        fmu = build_fmu(folder / "FrictionMount.fmu")
+    return export_ssp(cfg, folder / "six_dof.ssp", fmu_path=fmu)
+
+
+def _xml(ssp, name):
+    return ET.fromstring(zipfile.ZipFile(ssp.path).read(name))
+
+
+def test_structure_matches_the_fmu_interface(cfg, ssp):
+    names = set(zipfile.ZipFile(ssp.path).namelist())
+    root = _xml(ssp, "SystemStructure.ssd")
+    assert root.tag == f"{{{SSD}}}SystemStructureDescription"
+    assert root.get("version") == "1.0" and root.get("name")
+    assert [c.tag.split("}")[1] for c in root] == ["System", "Units",
+                                                    "DefaultExperiment"]
+    units = {u.get("name"): u for u in root.find(f"{{{SSD}}}Units")}
+    comps = root.findall(f"{{{SSD}}}System/{{{SSD}}}Elements/{{{SSD}}}Component")
+    assert [c.get("name") for c in comps] == [el.name for el in cfg.system.elements]
+    for comp in comps:
+        assert comp.get("type") == "application/x-fmu-sharedlibrary"
+        assert comp.get("source") in names
+        for con in comp.find(f"{{{SSD}}}Connectors"):
+            var = interface.variable(con.get("name"))
+            assert con.get("kind") == var.causality
+            real = con.find(f"{{{SSC}}}Real")
+            assert real.get("unit") == var.unit and var.unit in units
+        binding = comp.find(f"{{{SSD}}}ParameterBindings/{{{SSD}}}ParameterBinding")
+        assert binding.get("source") == f"resources/{comp.get('name')}.ssv"
+        assert binding.get("source") in names
+    assert "documentation/README.txt" in names
+
+
+def test_parameter_sets_hold_the_configuration(cfg, ssp):
+    for el in cfg.system.elements:
+        root = _xml(ssp, f"resources/{el.name}.ssv")
+        assert root.tag == f"{{{SSV}}}ParameterSet" and root.get("version") == "1.0"
+        assert root.get("name") == ssp.parameter_set
+        assert [c.tag.split("}")[1] for c in root] == ["Parameters", "Units"]
+        units = {u.get("name") for u in root.find(f"{{{SSV}}}Units")}
+        got = {}
+        for p in root.find(f"{{{SSV}}}Parameters"):
+            (typed,) = list(p)
+            var = interface.variable(p.get("name"))
+            assert var.causality == "parameter"
+            assert typed.tag == f"{{{SSV}}}{var.type}"
+            assert typed.get("unit") == var.unit and (var.unit is None
+                                                       or var.unit in units)
+            got[var.name] = typed.get("value")
+        assert len(got) == len(interface.by_causality("parameter"))
+        for axis, p in zip(AXES, el.params.axes, strict=True):
+            assert got[f"{axis}_law"] == str(law_code(p.law))
+            assert got[f"{axis}_friction"] == ("true" if p.friction else "false")
+            for field in ("k1", "kc", "k2", "delta", "delta_neg", "c", "kf", "mu",
+                          "n0"):
+                assert float(got[f"{axis}_{field}"]) == getattr(p, field)
+
+
+def _post_commit_reference(axes, traj):
+    """Forces an importer reads after ``doStep``: the trial at u_k with the slider
+    committed at u_k (Ecos reads outputs after stepping)."""
+    steps = traj.u.shape[0]
+    F, E = np.zeros((steps, 3)), np.zeros(steps)
+    e_total = 0.0
+    for j, p in enumerate(axes):
+        w = e = 0.0
+        mu = p.mu if p.friction else 0.0
+        for k in range(steps):
+            u, v, n = traj.u[k, j], traj.v[k, j], traj.n[k, j]
+            fs = mu * n if n > 0.0 else 0.0
+            r = axis_force(u, v, w, p, fs)
+            w, e = r.w_new, e + r.dissipated
+            after = axis_force(u, v, w, p, fs)
+            F[k, j] = after.force
+            E[k] += e + after.dissipated
+        e_total += e
+    return F, E
+
+
+def test_ecos_runs_the_archive_forces_equal_the_law(cfg, ssp):
+    ecospy = pytest.importorskip("ecospy", reason="pip install ecospy (and apt-get "
+                                                  "install libtbb12)")
+    rng = np.random.default_rng(31)
+    trajs = {el.name: random_trajectory(rng, STEPS, n0=300.0)
+             for el in cfg.system.elements}
+    got = {el.name: (np.zeros((STEPS, 3)), np.zeros(STEPS))
+           for el in cfg.system.elements}
+    sim = ecospy.EcosSimulation(step_size=H, ssp_path=str(ssp.path))
+    try:
+        sim.init(parameter_set=ssp.parameter_set)
+        for k in range(STEPS):
+            for name, traj in trajs.items():
+                for j, a in enumerate(AXES):
+                    sim.set_real(f"{name}::u_{a}", float(traj.u[k, j]))
+                    sim.set_real(f"{name}::v_{a}", float(traj.v[k, j]))
+                    sim.set_real(f"{name}::n_{a}", float(traj.n[k, j]))
+            sim.step()
+            for name in trajs:
+                F, E = got[name]
+                F[k] = [sim.get_real(f"{name}::F_{a}") for a in AXES]
+                E[k] = sim.get_real(f"{name}::E_fr")
+    finally:
+        sim.terminate()
+    for el in cfg.system.elements:
+        F_ref, E_ref = _post_commit_reference(el.params.axes, trajs[el.name])
+        F, E = got[el.name]
+        scale = np.abs(F_ref).max()
+        assert np.abs(F - F_ref).max() <= TOL_REL * scale, el.name
+        assert np.abs(E - E_ref).max() <= TOL_REL * max(1.0, E_ref.max()), el.name
+    assert any(p.friction for el in cfg.system.elements for p in el.params.axes)
+
+
+def test_cli_export_ssp(tmp_path):
+    import subprocess
+    import sys
+
+    from native_helpers import ROOT
+
+    fmu = build(tmp_path, 2)
+    out = tmp_path / "sdof.ssp"
+    proc = subprocess.run([sys.executable, "-m", "drymount.cli", "export-ssp",
+                           "sdof_halved", "--out", str(out), "--fmu", str(fmu)],
+                          cwd=ROOT, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "1 mount components" in proc.stderr
+    names = zipfile.ZipFile(out).namelist()
+    assert f"resources/{fmu.name}" in names and "SystemStructure.ssd" in names
