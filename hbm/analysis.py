@@ -388,11 +388,14 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     fmin_hz, fmax_hz : float
         Frequency range, Hz, ``0 < fmin_hz < fmax_hz``.
     harmonics : int, optional
-        Number of harmonics H (default ``options.harmonics`` = 7).
+        Number of harmonics H, fixed. Default: ``options.harmonics`` (7), where the
+        ``options.tol`` adaptation starts (it raises H and N until the estimated
+        error is below ``tol / 2``, :mod:`hbm.error_estimate`).
     n_samples : int, optional
-        AFT samples per period (default ``max(64, 8H)`` rounded to a power of 2);
-        doubled up to ``options.refine_samples`` times when the continuation
-        stalls or dead-ends at a kink of the sampled residual.
+        AFT samples per period, fixed (default ``max(64, 8H)`` rounded to a power of
+        2, raised by ``tol``); doubled up to ``options.refine_samples`` times when the
+        continuation stalls, dead-ends at a kink of the sampled residual or finds no
+        start.
     closed_form : bool, optional
         H = 1 closed forms (default: when H == 1 and every law has one).
     options : HBMOptions, optional
@@ -403,7 +406,9 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     -------
     FrequencyResponse
         ``success`` False (with the branch so far and ``message``) if the
-        continuation stalled, also after refining the samples.
+        continuation stalled, also after refining the samples. With its error
+        estimates, located folds and peaks; ``tol_met`` and ``message`` say whether
+        the tolerance was met and, if not, why.
 
     Raises
     ------
