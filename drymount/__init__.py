@@ -1,0 +1,34 @@
+"""drymount: friction-damped engine mounts, scriptable.
+
+The public API (documented in :mod:`drymount.api`, units SI)::
+
+    import drymount
+
+    model = drymount.load("sdof_halved")                # preset name or TOML file
+    model = model.replace("mount.friction.n0", 40.0)    # N
+    curve = drymount.hbm(model, 1.0, 30.0)              # Hz
+    print(curve.peak())                                 # peak transmissibility
+
+- :func:`load` -> :class:`Model` (``replace``, ``with_``);
+- :func:`hbm`, :func:`sweep` -> :class:`Curve` (``freq_hz``, ``transmissibility``,
+  ``peak(dof)``, ``to_csv``, ``plot``);
+- :func:`cosim` -> :class:`CosimResult` (measured road/engine inputs, ``spectra``,
+  ``to_csv``, ``plot``); :class:`Peak`.
+
+The names are imported on first use, so ``import drymount`` (and the command line,
+``python -m drymount.cli``) stays fast.
+"""
+
+__all__ = ["Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim"]
+
+
+def __getattr__(name):
+    if name in __all__:
+        from drymount import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'drymount' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(__all__)

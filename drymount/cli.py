@@ -125,9 +125,26 @@ def cmd_presets(args) -> int:
         return EXIT_OK
     if args.path.exists() and not args.force:
         raise UsageError(f"{args.path} exists; use --force to overwrite it")
-    atomic_write_text(args.path, text)
-    _info(f"wrote {args.path} (preset {args.name})")
+    name = args.as_name if args.as_name is not None else args.path.stem
+    atomic_write_text(args.path, _with_name(text, name))
+    _info(f"wrote {args.path} (preset {args.name}, named {name!r})")
     return EXIT_OK
+
+
+def _with_name(text: str, name: str) -> str:
+    """``text`` (a preset's TOML) with its top-level ``name = ...`` set to ``name``."""
+    import json
+    import re
+
+    if not name.strip():
+        raise UsageError(f"`--name` must be a non-empty name, got {name!r}")
+    line = f"name = {json.dumps(name)}"  # a JSON string is a TOML basic string
+    head, sep, tables = text.partition("\n[")  # the top level ends at the first table
+    if re.search(r"(?m)^name\s*=.*$", head):
+        head = re.sub(r"(?m)^name\s*=.*$", lambda _: line, head, count=1)
+    else:
+        head = head.rstrip("\n") + "\n" + line + "\n"
+    return head + sep + tables
 
 
 def cmd_build_fmu(args) -> int:
@@ -234,30 +251,39 @@ def _print_hbm_accuracy(fr) -> None:
 
 
 def cmd_cosim(args) -> int:
-    cfg = _load(args.config, args.overrides)
-    freq = args.freq if args.freq is not None else cfg.cosim.freq_hz
-    if freq is None:
-        raise UsageError(f"give --freq (the configuration {cfg.source} has no "
-                         f"[cosim] freq_hz)")
-    backend = args.backend or cfg.cosim.backend
-    spp = args.steps_per_period or cfg.cosim.steps_per_period
-    duration = args.duration if args.duration is not None else cfg.cosim.duration
-    kw = {"backend": backend}
-    if spp is not None:
-        kw["dt"] = 1.0 / (freq * spp)
-    if duration is not None:
-        kw["duration"] = duration
-    if backend == "fmu":
-        kw["fmu_path"] = _fmu_path(args.fmu)
-    out = args.out or Path(f"{cfg.name}_cosim.csv")
-    import vehicle
+    from drymount.api import Model, cosim
+    from drymount.measured import MeasuredInputError, configured_inputs
 
-    th = vehicle.simulate(cfg.system, freq, **kw)
+    cfg = _load(args.config, args.overrides)
+    conf = configured_inputs(cfg)
+    measured = any(p is not None for p in (args.road, args.engine, conf.road,
+                                           conf.engine))
+    freq = args.freq if args.freq is not None else cfg.cosim.freq_hz
+    if freq is None and not measured:
+        raise UsageError(f"give --freq, --road or --engine (the configuration "
+                         f"{cfg.source} has no [cosim] freq_hz or [cosim.input])")
+    backend = args.backend or cfg.cosim.backend
+    out = args.out or Path(f"{cfg.name}_cosim.csv")
+    try:
+        run = cosim(Model(cfg), args.freq, duration=args.duration, backend=backend,
+                    steps_per_period=args.steps_per_period, road=args.road,
+                    speed=args.speed, engine=args.engine, fmu_path=args.fmu)
+    except MeasuredInputError as exc:
+        raise UsageError(str(exc)) from None
+    th = run.history
     _write_with(out, th.to_csv)
     _info(f"wrote {out} ({len(th.t)} time steps, {th.t[-1]:g} s, backend {backend})")
     if args.plot is not None:
-        _write_with(args.plot, lambda p: _plot_time_history(th, cfg, freq, p))
+        _write_with(args.plot, lambda p: _plot_time_history(
+            th, cfg, None if measured and args.freq is None else freq, p))
         _info(f"wrote {args.plot}")
+    if args.spectra is not None or args.spectra_plot is not None:
+        sp = run.spectra(skip=args.skip)
+        for path, write in ((args.spectra, sp.to_csv),
+                            (args.spectra_plot, lambda p: sp.plot(path=p))):
+            if path is not None:
+                write(path)
+                _info(f"wrote {path} (PSDs, Welch, {sp.segment_s:.3g} s segments)")
     return EXIT_OK
 
 
@@ -284,7 +310,8 @@ def _plot_time_history(th, cfg, freq, path) -> None:
         ax.set_ylabel(f"{name} [{unit}]")
         ax.grid(True, alpha=0.3)
         if j == 0:
-            ax.set_title(f"{cfg.name}: co-simulation at {freq:g} Hz", fontsize=10)
+            how = f"at {freq:g} Hz" if freq is not None else "with measured inputs"
+            ax.set_title(f"{cfg.name}: co-simulation {how}", fontsize=10)
     ax.set_xlabel("time [s]")
     fig.tight_layout()
     fig.savefig(path, dpi=120)

@@ -181,6 +181,9 @@ def build_parser() -> argparse.ArgumentParser:
                         formatter_class=_Formatter)
     q.add_argument("name", metavar="NAME", help="preset name")
     q.add_argument("path", metavar="PATH", type=Path, help="file to write")
+    q.add_argument("--name", dest="as_name", default=None,
+                   help="the configuration's `name` (output files start with it); "
+                        "default: the stem of PATH")
     q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
 
     # build-fmu ----------------------------------------------------------------
@@ -255,7 +258,10 @@ def build_parser() -> argparse.ArgumentParser:
              mount force.""",
              ["drymount cosim sdof_halved --freq 5 --duration 4 --out run.csv",
               "drymount cosim six_dof_halved --freq 7 --duration 3 --backend native "
-              "--out run.csv --plot run.png"])
+              "--out run.csv --plot run.png",
+              "drymount cosim six_dof_halved --road examples/data/road_profile.csv "
+              "--speed 20 --backend native --spectra psd.csv --spectra-plot psd.png "
+              "--skip 0.5"])
     _config_arg(p)
     p.add_argument("--freq", type=_positive_float, default=None,
                    help="excitation frequency in Hz (default: [cosim] freq_hz)")
@@ -265,6 +271,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--backend", choices=("fmu", "native"), default=None,
                    help="fmu: FMU instances through fmpy; native: in-process law "
                         "(default: [cosim] backend)")
+    p.add_argument("--road", type=Path, default=None, metavar="CSV",
+                   help="measured road profile or base displacement: distance [m] or "
+                        "time [s], elevation [mm|m] (default: [cosim.input] road)")
+    p.add_argument("--speed", type=_positive_float, default=None,
+                   help="vehicle speed in m/s for a road over distance (default: "
+                        "[cosim.input] speed)")
+    p.add_argument("--engine", type=Path, default=None, metavar="CSV",
+                   help="measured engine forces/moments or accelerations: time [s] "
+                        "and one column per DOF (default: [cosim.input] engine)")
+    p.add_argument("--spectra", type=Path, default=None, metavar="CSV",
+                   help="write the PSDs of the mount forces and DOF accelerations")
+    p.add_argument("--spectra-plot", type=Path, default=None, metavar="PNG",
+                   help="plot the PSDs")
+    p.add_argument("--skip", type=float, default=0.0, metavar="SECONDS",
+                   help="start-up transient left out of the spectra (default 0 s)")
     _harness_args(p, "cosim")
 
     # sweep --------------------------------------------------------------------

@@ -11,7 +11,7 @@ design variables of ``[design]`` (:mod:`drymount.design`).
 
 Public: :class:`FieldPath`, :class:`PathError`, :func:`parse_path`, :func:`expand`,
 :func:`get_value`, :func:`set_value`, :func:`parse_assignment`,
-:func:`apply_overrides`, :func:`load_with_overrides`.
+:func:`apply_overrides`, :func:`load_with_overrides`, :func:`override_config`.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ else:  # pragma: no cover - Python 3.10
 
 __all__ = ["WILDCARD", "FieldPath", "PathError", "parse_path", "expand", "get_value",
            "set_value", "format_parts", "parse_assignment", "apply_overrides",
-           "load_with_overrides"]
+           "load_with_overrides", "override_config"]
 
 #: The ``[*]`` part of a path: every item of an array.
 WILDCARD = "*"
@@ -268,9 +268,18 @@ def load_with_overrides(spec, overrides: Sequence = ()):
     drymount.config.ConfigError
         A bad path (every one is listed) or an invalid resulting configuration.
     """
-    from drymount.config import ConfigError, config_from_dict, resolve_config
+    from drymount.config import resolve_config
 
-    cfg = resolve_config(spec)
+    return override_config(resolve_config(spec), overrides)
+
+
+def override_config(cfg, overrides: Sequence = ()):
+    """A checked :class:`drymount.config.Config`: ``cfg`` with ``overrides`` applied
+    (``"PATH=VALUE"`` strings or ``(path, value)`` pairs); ``cfg`` itself is left
+    unchanged. Raises :class:`drymount.config.ConfigError` like
+    :func:`load_with_overrides`."""
+    from drymount.config import ConfigError, config_from_dict
+
     if not overrides:
         return cfg
     data, problems = apply_overrides(cfg.data, overrides)

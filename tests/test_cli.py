@@ -184,6 +184,27 @@ def test_presets_export_round_trip(name, tmp_path, capsys):
     assert run(["presets", "export", name, str(path), "--force"], capsys)[0] == 0
 
 
+def test_presets_export_takes_the_file_stem_as_name(tmp_path, capsys):
+    """``presets export six_dof_halved my_engine.toml`` names it ``my_engine`` (the
+    outputs of ``hbm my_engine.toml`` start with it); ``--name`` wins; the rest of
+    the text (comments, mount names) is kept."""
+    path = tmp_path / "my_engine.toml"
+    assert run(["presets", "export", "six_dof_halved", str(path)], capsys)[0] == 0
+    assert load_config(path).name == "my_engine"
+    text = path.read_text()
+    assert text.count("\n") == preset_text("six_dof_halved").count("\n")
+    assert [ln for ln in text.splitlines() if not ln.startswith("name =")] == \
+        [ln for ln in preset_text("six_dof_halved").splitlines()
+         if not ln.startswith("name =")]
+    other = tmp_path / "x.toml"
+    assert run(["presets", "export", "sdof_halved", str(other), "--name",
+                'bench "7"'], capsys)[0] == 0
+    assert load_config(other).name == 'bench "7"'
+    code, _, err = run(["presets", "export", "sdof_halved", str(tmp_path / "y.toml"),
+                        "--name", " "], capsys)
+    assert code == 2 and "`--name` must be a non-empty name" in err
+
+
 # ======================================================================================
 # hbm: end to end
 # ======================================================================================

@@ -7,6 +7,8 @@
   mount-force evaluation per step), :func:`simulate`.
 - :mod:`vehicle.backends`: ``native`` (the mount law in-process) and ``fmu`` (one
   ``FrictionMount.fmu`` instance per mount through fmpy).
+- :mod:`vehicle.sampled`: measured (sampled) base displacement and DOF forces,
+  resampled to the step by a cubic spline.
 - :mod:`vehicle.steady`: periodic steady state, :func:`steady_state`.
 - :mod:`vehicle.sweep`: stepped-sine sweeps, :func:`sweep`.
 """
@@ -27,6 +29,7 @@ from hbm.systems import quarter_car, rigid_engine, sdof
 
 from .master import DivergenceError, Master, simulate
 from .results import TimeHistory
+from .sampled import SampledBase, SampledForce
 from .steady import SteadyState, steady_state
 from .sweep import SweepResult, sweep
 
@@ -40,6 +43,8 @@ __all__ = [
     "Input",
     "Master",
     "RandomRoad",
+    "SampledBase",
+    "SampledForce",
     "SineRoad",
     "SteadyState",
     "SumInput",

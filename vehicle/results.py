@@ -99,6 +99,8 @@ class TimeHistory:
             ax.plot(self.t, self.q[:, i], label=f"{name} [{dof_unit(name)}]")
         ax.set_xlabel("time [s]")
         ax.set_ylabel("displacement [m] / rotation [rad]")
+        ax.set_title(f"{self.system_name or 'co-simulation'}: time history "
+                     f"({self.backend} backend, dt = {self.dt:.3g} s)", fontsize=10)
         ax.legend()
         ax.grid(True, alpha=0.3)
         if path is not None:

@@ -51,7 +51,9 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
     "hbm": ("harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
             "ds_max", "max_angle"),
-    "cosim": ("backend", "freq_hz", "duration", "steps_per_period"),
+    "cosim": ("backend", "freq_hz", "duration", "steps_per_period", "input"),
+    # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
+    "cosim.input": ("road", "speed", "engine", "units"),
     "static": ("gravity", "g", "loads", "travel"),
 }
 

@@ -101,11 +101,32 @@ def _settings(ck: _Checker, data: dict):
     freq = ck.number(cs, "freq_hz", "cosim", rule=">0", unit="Hz", required=False)
     duration = ck.number(cs, "duration", "cosim", rule=">0", unit="s", required=False)
     spp = ck.integer(cs, "steps_per_period", "cosim", minimum=8)
+    _check_cosim_input(ck, cs)
     if None in (fmin, fmax, points, direction, spacing, harmonics, backend):
         return None
     return (SweepSettings(fmin, fmax, points, direction, spacing),
             HBMSettings(harmonics, n_samples, **hbm_extra),
             CosimSettings(backend, freq, duration, spp))
+
+
+def _check_cosim_input(ck: _Checker, cs: dict) -> None:
+    """``[cosim.input]``: the measured inputs of ``drymount cosim`` (CSV file names,
+    relative to the configuration file; read by :mod:`drymount.measured`)."""
+    from drymount.measured import UNITS
+
+    inp = ck.table(cs, "input", "cosim", required=False)
+    if inp is None:
+        return
+    ck.keys(inp, "cosim.input", ALLOWED_KEYS["cosim.input"])
+    for key in ("road", "engine"):
+        if key in inp and not ck.string(inp, key, "cosim.input").strip():
+            ck.add(f"`cosim.input.{key}` must name a CSV file, got {inp[key]!r}")
+    ck.number(inp, "speed", "cosim.input", rule=">0", unit="m/s", required=False)
+    units = ck.table(inp, "units", "cosim.input", required=False) or {}
+    for column, unit in units.items():
+        if unit not in UNITS:
+            ck.add(f"`cosim.input.units.{column}` must be one of "
+                   f"{', '.join(UNITS)}, got {unit!r}")
 
 
 def _check_support(ck: _Checker, system: System) -> None:

@@ -1,0 +1,51 @@
+"""Generate the API reference docs/api/ from the docstrings with pdoc (offline).
+
+    python -m pip install -e ".[docs]"
+    python docs/build_api.py            # -> docs/api/index.html
+    python docs/build_api.py OUT_DIR    # elsewhere
+
+Documents the public API (``drymount``: :mod:`drymount.api`) and the modules it
+hands out: measured inputs, spectra, field paths, and the result types of the layers
+below (``hbm.result.FrequencyResponse``, ``vehicle.sweep.SweepResult``,
+``vehicle.results.TimeHistory``, ``vehicle.sampled``). Run from the repository root.
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+OUT = REPO / "docs" / "api"
+MODULES = ["drymount", "drymount.api", "drymount.measured", "drymount.spectra",
+           "drymount.paths", "hbm.result", "vehicle.sweep", "vehicle.results",
+           "vehicle.sampled"]
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Write the reference to ``argv[0]`` (default ``docs/api``), replacing it."""
+    argv = sys.argv[1:] if argv is None else argv
+    out = Path(argv[0]).resolve() if argv else OUT
+    sys.path.insert(0, str(REPO))
+    import pdoc
+    import pdoc.render
+
+    import drymount
+    from drymount import api
+
+    for name in drymount.__all__:  # the lazy names, resolved for the package page
+        setattr(drymount, name, getattr(api, name))
+    pdoc.render.configure(docformat="numpy", footer_text="drymount API reference",
+                          search=False, show_source=False)
+    tmp = out.with_name(out.name + ".tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    pdoc.pdoc(*MODULES, output_directory=tmp)
+    shutil.rmtree(out, ignore_errors=True)
+    tmp.rename(out)
+    print(f"wrote {out / 'index.html'} ({len(list(out.rglob('*.html')))} pages)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
