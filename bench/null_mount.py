@@ -36,7 +36,7 @@ from pythonfmu.variables import Boolean, Integer, Real  # noqa: E402
 _AXES = ("axial", "radial1", "radial2")
 _REAL_PARAMS = (("k1", 91870.0), ("kc", 0.0), ("k2", 513800.0), ("delta", 0.01225),
                 ("delta_neg", 0.01225), ("c", 150.0), ("kf", 60000.0), ("mu", 1.0),
-                ("n0", 0.0))
+                ("n0", 0.0), ("spread", 0.0), ("fs_ratio", 1.0))
 
 
 class NullMount(Fmi2Slave):
@@ -77,6 +77,10 @@ class NullMount(Fmi2Slave):
             self.register_variable(Integer(
                 f"{a}_law", causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed, start=0, description="law code"))
+            setattr(self, f"{a}_sliders", 1)
+            self.register_variable(Integer(
+                f"{a}_sliders", causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed, start=1, description="sliders"))
             for name, value in _REAL_PARAMS:
                 setattr(self, f"{a}_{name}", value)
                 self.register_variable(Real(

@@ -435,7 +435,9 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
         dt = 1.0 / (freq * spp)
     inputs = None if parts is None else (
         parts[0] if len(parts) == 1 else vehicle.SumInput(parts))
+    kw = _fmu_kw(backend, fmu_path)
+    if m.config.control is not None:  # [control]: scheduled on the excitation frequency
+        kw["control"] = m.config.control.controllers(m.system, lambda t: freq)
     th = vehicle.simulate(m.system, freq if parts is None else freq_hz, duration,
-                          backend=backend, dt=dt, inputs=inputs,
-                          **_fmu_kw(backend, fmu_path))
+                          backend=backend, dt=dt, inputs=inputs, **kw)
     return CosimResult(th)

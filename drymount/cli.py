@@ -23,6 +23,11 @@ A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 Exit status: 0 success; 2 bad usage or an invalid configuration (every problem is
 listed, no traceback); 1 a numerical failure (what was computed is still written);
 130 interrupted.
+
+Environment: ``DRYMOUNT_THREADS`` = BLAS/OpenMP threads (default 1; ``default`` keeps
+the libraries' own; see :mod:`drymount.threads`), ``DRYMOUNT_TRACEBACK`` = show
+tracebacks, ``DRYMOUNT_MARCH`` = Jenkins march backend of the HBM
+(:mod:`hbm.friction_march`).
 """
 
 from __future__ import annotations
@@ -476,6 +481,13 @@ def main(argv: list[str] | None = None) -> int:
     Usage errors and configuration errors print a clean message (no traceback) and
     return 2; numerical failures return 1 after writing what was computed.
     """
+    from drymount.threads import limit_threads
+
+    try:
+        limit_threads()  # one BLAS thread unless $DRYMOUNT_THREADS says otherwise
+    except ValueError as exc:
+        _err(str(exc))
+        return EXIT_USAGE
     from drymount.config import ConfigError
 
     parser = build_parser()

@@ -11,7 +11,7 @@ from pathlib import Path
 __all__ = ["build_parser", "STUDY_NAMES"]
 
 STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump", "laws",
-               "six-dof-75")
+               "six-dof-75", "incline", "semi-active")
 
 
 # ======================================================================================
@@ -359,6 +359,10 @@ def build_parser() -> argparse.ArgumentParser:
                            fits at one excitation (Fig. 4.5)
              six-dof-75    6-DOF original mounts at 75 % with friction
                            (Figs. 4.45-4.50)
+             incline       inclined friction surfaces (Ch. 5): theta, k, preload;
+                           transmissibility and static deflection under the weight
+             semi-active   passive vs controlled normal force: engine run-up and
+                           ISO 8608 road, quarter car and 6-DOF (co-simulation)
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])

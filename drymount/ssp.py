@@ -79,8 +79,10 @@ def _fmu_values(params) -> list[tuple[interface.Variable, str]]:
     for axis, p in zip(AXES, params.axes, strict=True):
         for name, value in p.to_dict().items():
             var = interface.variable(f"{axis}_{name}")
-            if var.type == "Integer":
+            if name == "law":
                 text = str(law_code(value))
+            elif var.type == "Integer":
+                text = str(int(value))
             elif var.type == "Boolean":
                 text = "true" if value else "false"
             else:

@@ -74,7 +74,7 @@ DARWIN_FOLDER = {2: "darwin64", 3: "aarch64-darwin (or x86_64-darwin)"}
 _C_TYPE = {"Real": "MD_REAL", "Integer": "MD_INTEGER", "Boolean": "MD_BOOLEAN"}
 _FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
 _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
-           "mu", "n0")
+           "mu", "n0", "sliders", "spread", "fs_ratio")
 _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",

@@ -45,7 +45,8 @@ from .interface import (
     PARAMETER_FIELDS,
     VARIABLES,
 )
-from .mount_law import AXES, LAWS, AxisParameters, axis_force, law_code, law_name
+from .mount_law import (AXES, LAWS, AxisParameters, axis_force, initial_sliders,
+                        law_code, law_name, mean_slider)
 
 try:  # written by fmu_build into the FMU's package; absent in the repository
     from . import FMU_VERSION
@@ -171,7 +172,10 @@ class FrictionMount(Fmi2Slave):
             return ((lambda a=name: getattr(self, a)),
                     (lambda value, a=name: self._set_parameter(a, value)))
         j = AXES.index(axis)
-        inputs = {"u": self._u, "v": self._v, "w": self._w}
+        if quantity == "w":
+            return ((lambda: mean_slider(self._w[j])),
+                    (lambda value: self._set_sliders(j, value)))
+        inputs = {"u": self._u, "v": self._v}
         if quantity in inputs:
             store = inputs[quantity]
             return ((lambda: store[j]),
@@ -201,6 +205,13 @@ class FrictionMount(Fmi2Slave):
 
     def _set_input(self, store: list, j: int, value: float) -> None:
         store[j] = value
+        self._res[j] = None
+
+    def _set_sliders(self, j: int, value: float) -> None:
+        """``w_<axis>`` = value: every slider of the axis at ``value`` (m)."""
+        n = getattr(self, f"{AXES[j]}_sliders")
+        multi = isinstance(n, int) and not isinstance(n, bool) and n > 1
+        self._w[j] = tuple([float(value)] * n) if multi else value
         self._res[j] = None
 
     def _set_normal_force(self, j: int, value: float) -> None:
@@ -244,6 +255,11 @@ class FrictionMount(Fmi2Slave):
         for j, axis in enumerate(AXES):
             if not self._n_set[j]:
                 self._n[j] = getattr(self, f"{axis}_n0")
+            # a micro-slip axis keeps one position per slider (float otherwise)
+            w, p = self._w[j], axes[j]
+            if len(w if isinstance(w, tuple) else (w,)) != (
+                    p.sliders if p.micro_slip else 1):
+                self._w[j] = initial_sliders(p, mean_slider(w))
         self._axes = axes
 
     # ------------------------------------------------------------------ the law
@@ -304,6 +320,7 @@ class FrictionMount(Fmi2Slave):
                  if var.setter is not None}
         state["_E_committed"] = [float(x) for x in self._e]
         state["_n_set"] = list(self._n_set)
+        state["_w"] = [list(w) if isinstance(w, tuple) else w for w in self._w]
         return state
 
     @_guarded
@@ -314,6 +331,8 @@ class FrictionMount(Fmi2Slave):
                 by_name[name].setter(value)
         self._e = [float(x) for x in state["_E_committed"]]
         self._n_set = [bool(x) for x in state["_n_set"]]
+        self._w = [tuple(float(x) for x in w) if isinstance(w, list) else float(w)
+                   for w in state["_w"]]
         self._axes = None
         self._res = [None, None, None]
 

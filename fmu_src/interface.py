@@ -99,6 +99,12 @@ PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
     ("kf", "Real", "N/m", "contact stiffness of the Jenkins element, > 0 if friction"),
     ("mu", "Real", "1", "friction coefficient, >= 0 (slip force Fs = mu * n)"),
     ("n0", "Real", "N", "normal force on the contact, >= 0; start value of n_<axis>"),
+    ("sliders", "Integer", None, "number of Jenkins elements of the micro-slip (Iwan) "
+     "element, 1 to 64 (1: macro-slip)"),
+    ("spread", "Real", "1", "half-width of the sliders' uniform slip-displacement "
+     "distribution / (Fs/kf), in [0, 1)"),
+    ("fs_ratio", "Real", "1", "slip force in the negative direction / the positive "
+     "one, >= 0 (1: symmetric friction)"),
 )
 
 
@@ -139,7 +145,8 @@ def _variables() -> tuple[Variable, ...]:
     for axis in AXES:
         out.append(Variable(
             f"w_{axis}", "Real", "local", "continuous", 0.0, "m",
-            f"{axis}: committed slider position of the Jenkins element", "exact"))
+            f"{axis}: committed slider position of the Jenkins element (micro-slip: "
+            f"the mean of the sliders; setting it puts every slider there)", "exact"))
     return tuple(out)
 
 

@@ -27,6 +27,16 @@ position ``w``; the update for a displacement increment is the exact return map
 (rate independent, exact when u is monotonic inside the increment). The energy the
 slider dissipates in an increment is ``Fs * |w_new - w|``.
 
+Non-symmetric friction (``fs_ratio``): the slider slips at ``+Fs`` in the positive and
+at ``-fs_ratio * Fs`` in the negative direction (:func:`slider_update`).
+
+Micro-slip (``sliders`` = S > 1): an Iwan element, S Jenkins elements in parallel,
+fitted to the macro-slip element (kf, Fs): slider i = 0..S-1 has stiffness kf / S and
+slip displacement eps_i = eps r_i, r_i = 1 + spread ((2 i + 1) / S - 1), so its slip
+force is Fs r_i / S. The r_i are uniform on [1 - spread, 1 + spread] with mean 1: the
+total stiffness is kf, the full-slip force is Fs, and spread = 0 is the macro-slip
+element. Its state is the tuple of the S slider positions (:func:`iwan_update`).
+
 A positive force is a tensile force along the axis: for u > 0 (engine moved in the
 positive axis direction relative to the chassis) the elastic force is positive, and the
 engine feels ``-F_j`` while the chassis feels ``+F_j``.
@@ -55,10 +65,19 @@ __all__ = [
     "ParameterError",
     "AxisForce",
     "SliderStep",
+    "MAX_SLIDERS",
     "elastic_force",
     "jenkins_update",
+    "slider_update",
+    "iwan_update",
+    "slider_bank",
+    "initial_sliders",
+    "mean_slider",
     "axis_force",
 ]
+
+#: Largest number of sliders of a micro-slip (Iwan) element.
+MAX_SLIDERS = 64
 
 #: Names of the three local axes of a mount, in the order used everywhere.
 AXES = ("axial", "radial1", "radial2")
@@ -242,6 +261,15 @@ class AxisParameters:
         Friction coefficient, >= 0.
     n0 : float
         Normal force on the friction contact, N, >= 0.
+    sliders : int
+        Number of Jenkins elements of the micro-slip (Iwan) element, 1 to
+        ``MAX_SLIDERS`` (1: the macro-slip element).
+    spread : float
+        Half-width of the uniform slip-displacement distribution of the sliders
+        relative to eps = Fs / kf, in [0, 1) (0: all sliders slip together).
+    fs_ratio : float
+        Slip force in the negative direction over the one in the positive direction,
+        >= 0 (1: symmetric friction).
     """
 
     law: str = "piecewise"
@@ -255,6 +283,9 @@ class AxisParameters:
     kf: float = 60000.0
     mu: float = 1.0
     n0: float = 0.0
+    sliders: int = 1
+    spread: float = 0.0
+    fs_ratio: float = 1.0
 
     def __post_init__(self):
         problems = self.problems()
@@ -262,6 +293,9 @@ class AxisParameters:
             raise ParameterError(problems)
         # the law's scalar force, looked up once (per-step hot path of axis_force)
         object.__setattr__(self, "elastic_force", ELASTIC_LAWS[self.law].force)
+        # friction beyond the symmetric macro-slip element (micro-slip or fs_ratio)
+        object.__setattr__(self, "general_friction",
+                           self.sliders > 1 or self.fs_ratio != 1.0)
 
     def problems(self, prefix: str = "") -> list[str]:
         """Every problem of these parameters, each naming field, value and rule."""
@@ -278,6 +312,7 @@ class AxisParameters:
             ("c", ">= 0"),
             ("mu", ">= 0"),
             ("n0", ">= 0"),
+            ("fs_ratio", ">= 0"),
         ):
             value = getattr(self, name)
             ok = _finite(value) and (value > 0 if rule == "> 0" else value >= 0)
@@ -289,7 +324,21 @@ class AxisParameters:
         if not _finite(self.kf) or (self.friction and self.kf <= 0) or self.kf < 0:
             rule = "> 0 when friction is on" if self.friction else ">= 0"
             out.append(f"`{prefix}kf` must be finite and {rule}, got {self.kf!r}")
+        n = self.sliders
+        if not (isinstance(n, int) and not isinstance(n, bool)
+                and 1 <= n <= MAX_SLIDERS):
+            out.append(f"`{prefix}sliders` must be an integer from 1 to {MAX_SLIDERS} "
+                       f"(the number of Jenkins elements of the micro-slip element), "
+                       f"got {n!r}")
+        if not (_finite(self.spread) and 0.0 <= self.spread < 1.0):
+            out.append(f"`{prefix}spread` must be finite and in [0, 1) (half-width of "
+                       f"the sliders' slip displacements / eps), got {self.spread!r}")
         return out
+
+    @property
+    def micro_slip(self) -> bool:
+        """Whether friction is a micro-slip (Iwan) element (``sliders`` > 1)."""
+        return self.friction and self.sliders > 1
 
     @property
     def elastic(self) -> ElasticLaw:
@@ -456,19 +505,119 @@ def jenkins_update(u: float, w: float, kf: float, fs: float) -> SliderStep:
     return _new(SliderStep, (trial, w, kf, False))
 
 
+def slider_update(u: float, w: float, kf: float, fs_pos: float, fs_neg: float
+                  ) -> SliderStep:
+    """Return map of a Jenkins element with non-symmetric slip forces.
+
+    As :func:`jenkins_update`, but the slider slips at ``+fs_pos`` when pulled in the
+    positive direction and at ``-fs_neg`` in the negative one (both N, >= 0).
+    """
+    trial = kf * (u - w)
+    if trial > fs_pos:
+        return _new(SliderStep, (fs_pos, u - fs_pos / kf, 0.0, True))
+    if trial < -fs_neg:
+        return _new(SliderStep, (-fs_neg, u + fs_neg / kf, 0.0, True))
+    return _new(SliderStep, (trial, w, kf, False))
+
+
+def slider_bank(p: AxisParameters, fs: float | None = None
+                ) -> tuple[tuple[float, float, float], ...]:
+    """``(k_i, fs_pos_i, fs_neg_i)`` of every slider of axis ``p``'s friction element.
+
+    ``fs`` overrides the slip force ``p.fs`` (the normal-force input). One slider
+    ``(kf, Fs, fs_ratio Fs)`` for the macro-slip element; for ``sliders`` = S > 1
+    the Iwan fit of the module docstring: ``k_i = kf / S``, ``fs_pos_i = Fs r_i / S``.
+    """
+    if fs is None:
+        fs = p.mu * p.n0
+    n = p.sliders
+    k = p.kf / n
+    out = []
+    for i in range(n):
+        r = 1.0 + p.spread * ((2 * i + 1) / n - 1.0)
+        out.append((k, fs * r / n, fs * r * p.fs_ratio / n))
+    return tuple(out)
+
+
+def initial_sliders(p: AxisParameters, w: float = 0.0):
+    """The friction state of axis ``p`` with every slider at ``w`` (m): a float for
+    the macro-slip element, a tuple of ``sliders`` floats for the micro-slip one."""
+    return tuple([float(w)] * p.sliders) if p.micro_slip else float(w)
+
+
+def mean_slider(w) -> float:
+    """Mean slider position (m) of a friction state (float or tuple); exactly the
+    common position when every slider is at the same one."""
+    if isinstance(w, tuple):
+        first = w[0]
+        if all(x == first for x in w):
+            return first
+        return math.fsum(w) / len(w)
+    return w
+
+
+def iwan_update(u: float, w: tuple[float, ...], bank) -> AxisForce:
+    """Return map of the micro-slip (Iwan) element: parallel sliders of ``bank``.
+
+    ``w`` holds the committed slider positions (m), ``bank`` the
+    ``(k_i, fs_pos_i, fs_neg_i)`` of :func:`slider_bank`. Returns an
+    :class:`AxisForce` of the friction element alone: ``force`` = ``friction_force``
+    (N), ``w_new`` a tuple, ``tangent`` the sum of the stuck sliders' stiffnesses,
+    ``slipping`` whether any slider slips, ``dissipated`` the sum of each slider's
+    slip force times its slide (J).
+    """
+    f = kt = diss = 0.0
+    slipping = False
+    w_new = []
+    for wi, (k, fp, fn) in zip(w, bank):
+        trial = k * (u - wi)
+        if trial > fp:
+            wn = u - fp / k
+            f += fp
+            diss += fp * (wn - wi)
+            slipping = True
+        elif trial < -fn:
+            wn = u + fn / k
+            f -= fn
+            diss += fn * (wi - wn)
+            slipping = True
+        else:
+            wn = wi
+            f += trial
+            kt += k
+        w_new.append(wn)
+    return _new(AxisForce, (f, f, tuple(w_new), kt, slipping, diss))
+
+
+def _friction(u: float, w, p: AxisParameters, fs: float):
+    """Friction of a non-symmetric or micro-slip axis: (force, w_new, tangent,
+    slipping, dissipated)."""
+    if p.sliders > 1:
+        r = iwan_update(u, w, slider_bank(p, fs))
+        return r[0], r[2], r[3], r[4], r[5]
+    fn = fs * p.fs_ratio
+    f, w_new, k, slipping = slider_update(u, w, p.kf, fs, fn)
+    return f, w_new, k, slipping, (fs if w_new > w else fn) * abs(w_new - w)
+
+
 def axis_force(u: float, v: float, w: float, p: AxisParameters,
                fs: float | None = None) -> AxisForce:
     """Total force of one axis for a trial motion, without committing anything.
 
     ``u`` deflection (m), ``v`` its rate (m/s), ``w`` the committed slider position
-    (m), ``p`` the axis; ``fs`` overrides the slip force ``p.fs`` (the FMU's
-    normal-force input). Without a friction element (``p.friction`` false) the slider
-    is ignored.
+    (m; a tuple of the slider positions for a micro-slip axis, see
+    :func:`initial_sliders`), ``p`` the axis; ``fs`` overrides the slip force ``p.fs``
+    (the FMU's normal-force input). Without a friction element (``p.friction`` false)
+    the slider is ignored.
     """
     f_el, k_el = p.elastic_force(u, p)
     if p.friction:
         if fs is None:
             fs = p.mu * p.n0
+        if p.general_friction:
+            f_fr, w_new, k_fr, slipping, diss = _friction(u, w, p, fs)
+            return _new(AxisForce, (f_el + p.c * v + f_fr, f_fr, w_new, k_el + k_fr,
+                                    slipping, diss))
         f_fr, w_new, k_fr, slipping = jenkins_update(u, w, p.kf, fs)
         return _new(AxisForce, (f_el + p.c * v + f_fr, f_fr, w_new, k_el + k_fr,
                                 slipping, fs * abs(w_new - w)))

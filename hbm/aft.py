@@ -7,7 +7,8 @@ period (``u = E U``), the nonlinear remainder of the mount law is evaluated ther
 truncated to H harmonics; ``P E = I`` for ``N > 2H``). The Jacobian follows by the chain
 rule through the law's tangent at each sample (``dF/dU = P diag(df/du) E``); for the
 Jenkins element a stuck sample depends on the last slip sample too (see
-:func:`hbm.elements.jenkins_periodic`), which is done with fancy indexing.
+:func:`hbm.elements.jenkins_periodic`). The Jenkins march is vectorised over samples,
+elements and batches (:mod:`hbm.friction_march`).
 
 The nonlinear remainders are rate independent (the viscous part ``c v`` is linear and
 handled in the frequency domain), so the AFT needs no velocities and its result does
@@ -19,9 +20,13 @@ References: thesis Sec. 3.1 (Fourier approximation, eq. 3.8-3.10); Cameron and G
 
 from __future__ import annotations
 
+import weakref
+from dataclasses import dataclass
+
 import numpy as np
 
 from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
+from hbm.friction_march import jenkins_aft
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 
@@ -68,45 +73,136 @@ class FourierBasis:
         self.theta = theta
 
 
+@dataclass(frozen=True)
+class _Plan:
+    """What :func:`aft_forces` needs of a :class:`NonlinearAxes`, prepared once."""
+
+    friction: np.ndarray  # indices of the Jenkins axes
+    all_friction: bool  # every axis has one (no gather needed)
+    kf: np.ndarray
+    fs: np.ndarray
+    w_start: np.ndarray
+    elastic: bool  # some axis has a nonlinear elastic remainder
+
+
+_PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _plan(ax: NonlinearAxes) -> _Plan:
+    plan = _PLANS.get(ax)
+    if plan is None:
+        fr = ax.friction
+        plan = _Plan(fr, bool(np.array_equal(fr, np.arange(ax.n))),
+                     np.ascontiguousarray(ax.kf[fr]), np.ascontiguousarray(ax.fs[fr]),
+                     np.ascontiguousarray(ax.w_start[fr], dtype=float),
+                     any(law.remainder is not None and bool(np.any(mask))
+                         for law, mask in ax.groups))
+        _PLANS[ax] = plan
+    return plan
+
+
 def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
                jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
     """Fourier coefficients of the nonlinear remainders by AFT, with the Jacobian.
 
     Parameters
     ----------
-    U : ndarray, shape (2H+1, n_ax)
-        Deflection coefficients of each axis, m.
+    U : ndarray, shape (..., 2H+1, n_ax)
+        Deflection coefficients of each axis, m (leading axes: any batch, e.g.
+        several frequency points, evaluated in one pass).
     ax : NonlinearAxes
     basis : FourierBasis
     jacobian : bool
 
     Returns
     -------
-    F : ndarray, shape (2H+1, n_ax)
+    F : ndarray, shape (..., 2H+1, n_ax)
         Force coefficients, N.
-    dF : ndarray, shape (n_ax, 2H+1, 2H+1) or None
-        ``dF[a, h, g] = dF[h, a] / dU[g, a]``.
+    dF : ndarray, shape (..., n_ax, 2H+1, 2H+1) or None
+        ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
+    E, P = basis.E, basis.P
+    if _has_slider_banks(ax):   # micro-slip or non-symmetric sliders: per slider
+        return _aft_banks(U, ax, basis, jacobian)
+    plan = _plan(ax)
+    u = E @ U  # (..., N, n_ax)
+    if plan.elastic:
+        f, kt = elastic_remainder(u, ax)
+    else:
+        f = kt = None
+    dF_fr = None
+    if plan.friction.size:
+        # the Jenkins elements, all at once (hbm.friction_march: equal to the scalar
+        # march of hbm.elements.jenkins_periodic, without a per-sample Python loop)
+        fr = plan.friction
+        ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
+                                plan.fs, plan.w_start, E, P, jacobian)
+        if f is None and plan.all_friction:
+            f = ff
+        else:
+            if f is None:
+                f = np.zeros_like(u)
+            f[..., fr] += ff
+    if f is None:  # no remainder at all (e.g. a linear axis without friction)
+        f = np.zeros_like(u)
+    F = P @ f
+    if not jacobian:
+        return F, None
+    fr = plan.friction
+    if kt is not None:
+        # dF[a] = P diag(kt[:, a]) E, plus the Jenkins part
+        dF = (P * np.swapaxes(kt, -1, -2)[..., None, :]) @ E
+        if dF_fr is not None:
+            dF[..., fr, :, :] += dF_fr
+    elif plan.all_friction and dF_fr is not None:
+        dF = dF_fr
+    else:
+        dF = np.zeros((*U.shape[:-2], ax.n, *P.shape[:1], E.shape[1]))
+        if dF_fr is not None:
+            dF[..., fr, :, :] = dF_fr
+    return F, dF
+
+
+def _has_slider_banks(ax: NonlinearAxes) -> bool:
+    """Whether an axis has more than one slider or a non-symmetric one (the
+    vectorised march of :mod:`hbm.friction_march` takes one symmetric slider)."""
+    return not all(len(b) <= 1 and (not b or b[0][1] == b[0][2]) for b in ax.banks)
+
+
+def _aft_banks(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
+               jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`aft_forces` marching every slider of each axis's bank with the scalar
+    :func:`hbm.elements.jenkins_periodic` (batches one by one)."""
+    if U.ndim > 2:
+        batch = U.reshape(-1, *U.shape[-2:])
+        parts = [_aft_banks(u, ax, basis, jacobian) for u in batch]
+        F = np.stack([p[0] for p in parts]).reshape(*U.shape[:-2], *parts[0][0].shape)
+        if not jacobian:
+            return F, None
+        dF = np.stack([p[1] for p in parts]).reshape(*U.shape[:-2], *parts[0][1].shape)
+        return F, dF
     E, P = basis.E, basis.P
     u = E @ U  # (N, n_ax)
     f, kt = elastic_remainder(u, ax)
     fr = ax.friction
     corr = []
     for a in fr:
-        ff, stuck, last = jenkins_periodic(u[:, a], ax.kf[a], ax.fs[a],
-                                            ax.w_start[a])
-        f[:, a] += ff
-        if jacobian:
-            kt[:, a] += np.where(stuck, ax.kf[a], 0.0)
-            # stuck after a slip: w = u[last] -+ eps depends on X too
-            sel = np.flatnonzero(stuck & (last >= 0))
-            corr.append((a, sel, last[sel]))
+        # each slider of the axis's bank (one for macro-slip, several for micro-slip)
+        for k, fs_pos, fs_neg in ax.banks[a]:
+            ff, stuck, last = jenkins_periodic(u[:, a], k, fs_pos, ax.w_start[a],
+                                                fs_neg)
+            f[:, a] += ff
+            if jacobian:
+                kt[:, a] += np.where(stuck, k, 0.0)
+                # stuck after a slip: w = u[last] -+ eps depends on X too
+                sel = np.flatnonzero(stuck & (last >= 0))
+                corr.append((a, k, sel, last[sel]))
     F = P @ f
     if not jacobian:
         return F, None
     # dF[a] = P diag(kt[:, a]) E  (- kf P[:, sel] E[last[sel]] for Jenkins)
     dF = np.matmul(P[None, :, :] * kt.T[:, None, :], E)
-    for a, sel, last in corr:
+    for a, k, sel, last in corr:
         if sel.size:
-            dF[a] -= ax.kf[a] * (P[:, sel] @ E[last])
+            dF[a] -= k * (P[:, sel] @ E[last])
     return F, dF

@@ -9,7 +9,8 @@ domain, and a nonlinear remainder evaluated in the time domain (AFT) or in close
                                        up by the law's name)
 
 and ``F_fr`` the Jenkins element (thesis eq. 2.10-2.13), whose periodic response is
-obtained by marching the scalar return map :func:`fmu_src.mount_law.jenkins_update`
+obtained by marching the scalar return map :func:`fmu_src.mount_law.slider_update`
+(one march per slider of a micro-slip axis, whose forces add up)
 sample by sample from ``w = 0`` over two periods and keeping the second (PHYSICS.md
 section 1: the convention for stuck bands). The elastic remainder is vectorised with
 NumPy; ``tests/test_hbm_elements.py`` proves it equal to
@@ -23,7 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, jenkins_update
+from fmu_src.mount_law import AXES, slider_bank, slider_update
 from hbm.laws import hbm_law
 from hbm.system import System
 
@@ -54,6 +55,11 @@ class NonlinearAxes:
         Slider position the AFT march starts from, m (default 0: the HBM convention
         of PHYSICS.md section 1). Only an element that does not slip at both extrema
         of the period keeps it; see :func:`jenkins_periodic`.
+    banks : tuple, length n_ax, or None
+        Per axis, the ``(k_i, fs_pos_i, fs_neg_i)`` of its sliders
+        (:func:`fmu_src.mount_law.slider_bank`: one for the macro-slip element,
+        ``sliders`` for a micro-slip one; empty without friction). None: one
+        symmetric slider ``(kf, fs, fs)`` per friction axis.
     """
 
     labels: tuple[str, ...]
@@ -69,10 +75,15 @@ class NonlinearAxes:
     kf: np.ndarray
     fs: np.ndarray
     w_start: np.ndarray | None = None
+    banks: tuple | None = None
 
     def __post_init__(self):
         if self.w_start is None:
             object.__setattr__(self, "w_start", np.zeros(len(self.labels)))
+        if self.banks is None:
+            object.__setattr__(self, "banks", tuple(
+                ((float(k), float(f), float(f)),) if k > 0.0 else ()
+                for k, f in zip(self.kf, self.fs)))
         # plain-float copies for the scalar closed forms (NumPy scalars are slow)
         for name in ("kc", "delta", "kf", "fs"):
             object.__setattr__(self, f"{name}_list", getattr(self, name).tolist())
@@ -97,8 +108,11 @@ class NonlinearAxes:
 
     @property
     def has_closed_form(self) -> bool:
-        """Whether every law has an H = 1 closed form (``hbm.laws``)."""
-        return all(law.closed_form is not None for law, _ in self.groups)
+        """Whether every law has an H = 1 closed form (``hbm.laws``) and every
+        friction element is a symmetric macro-slip one (the Jenkins closed form)."""
+        return (all(law.closed_form is not None for law, _ in self.groups)
+                and all(len(b) <= 1 and b[0][1] == b[0][2] for b in self.banks
+                        if b))
 
 
 def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
@@ -138,6 +152,7 @@ def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
         fs=np.array([p.fs for *_, p in rows], dtype=float),
         w_start=np.array([sliders[ie, j] if sliders is not None else 0.0
                           for ie, j, _, _ in rows], dtype=float),
+        banks=tuple(slider_bank(p) if p.friction else () for *_, p in rows),
     )
 
 
@@ -147,20 +162,20 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
 
     Parameters
     ----------
-    u : ndarray, shape (N, n_ax)
-        Deflection samples, m.
+    u : ndarray, shape (..., N, n_ax)
+        Deflection samples (leading axes: any batch), m.
     ax : NonlinearAxes
 
     Returns
     -------
-    f, df_du : ndarray, shape (N, n_ax)
+    f, df_du : ndarray, shape (..., N, n_ax)
         Force in N and tangent in N/m.
     """
     f = np.zeros_like(u)
     kt = np.zeros_like(u)
     for law, mask in ax.groups:
         if law.remainder is not None and np.any(mask):
-            f[:, mask], kt[:, mask] = law.remainder(u[:, mask], ax, mask)
+            f[..., mask], kt[..., mask] = law.remainder(u[..., mask], ax, mask)
     return f, kt
 
 
@@ -172,8 +187,8 @@ class JenkinsResponse(NamedTuple):
     last_slip: np.ndarray
 
 
-def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
-                     ) -> JenkinsResponse:
+def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0,
+                     fs_neg: float | None = None) -> JenkinsResponse:
     """Periodic response of one Jenkins element to sampled periodic motion.
 
     The periodic response of marching :func:`fmu_src.mount_law.jenkins_update` over
@@ -193,6 +208,11 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
     w_start : float
         Slider position the first pass starts from, m (0 by convention); it only
         matters when the element does not slip at both extrema.
+    fs_neg : float or None
+        Slip force in the negative direction, N (None: ``fs``, symmetric); the
+        march is then :func:`fmu_src.mount_law.slider_update`, it slips at both
+        extrema when ``kf (max u - min u) > fs + fs_neg`` and starts at the maximum
+        with ``w = u_max - fs / kf``.
 
     Returns
     -------
@@ -212,9 +232,10 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
     us = u.tolist()
     n = len(us)
     eps = fs / kf
+    fn = fs if fs_neg is None else fs_neg
     i_max = max(range(n), key=us.__getitem__)
     i_min = min(range(n), key=us.__getitem__)
-    if us[i_max] - us[i_min] > 2.0 * eps:
+    if us[i_max] - us[i_min] > eps + fn / kf:
         # The element slips at both global extrema, so from the global maximum on the
         # response is periodic: start there, slipping, with w = u_max - eps (what
         # the two-pass march from w = 0 reaches there) and march one period.
@@ -228,14 +249,14 @@ def jenkins_periodic(u: np.ndarray, kf: float, fs: float, w_start: float = 0.0
         w = float(w_start)
         last = -1
         for i in order:
-            _, w, _, slipping = jenkins_update(us[i], w, kf, fs)
+            _, w, _, slipping = slider_update(us[i], w, kf, fs, fn)
             if slipping:
                 last = i
     force = [0.0] * n
     stuck = [True] * n
     last_slip = [0] * n
     for i in order:
-        f, w, _, slipping = jenkins_update(us[i], w, kf, fs)
+        f, w, _, slipping = slider_update(us[i], w, kf, fs, fn)
         force[i] = f
         if slipping:
             last = i

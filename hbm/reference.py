@@ -30,7 +30,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from fmu_src.mount_law import elastic_force
+from fmu_src.mount_law import AXES, elastic_force
 from hbm.linear import linear_frf
 from hbm.system import System
 
@@ -93,6 +93,14 @@ class _Model:
         self.B = np.array([r[0] for r in rows]).reshape(len(rows), self.n)
         self.G = np.array([r[1] for r in rows]).reshape(len(rows), system.n_base)
         self.p = [r[2] for r in rows]
+        general = [f"{e.name} {AXES[j]}" for e in system.elements
+                   for j in e.active_axes if e.params.axes[j].friction
+                   and e.params.axes[j].general_friction]
+        if general:
+            raise ValueError(
+                f"the event-exact reference integrates the symmetric macro-slip "
+                f"element only; axes {', '.join(general)} have sliders > 1 or "
+                f"fs_ratio != 1 (use the co-simulation, vehicle.steady_state)")
         self.friction = [p.friction for p in self.p]
         # kinks of each law (the registry's knees: +-delta for the symmetric
         # piecewise law, +delta and -delta_neg for the asymmetric one)

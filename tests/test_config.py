@@ -43,7 +43,7 @@ RTOL_TABLE_4_2 = 0.02
 K1, K2, DELTA = 91870.0, 513800.0, 0.01225
 
 EXPECTED_PRESETS = {
-    "sdof_original", "sdof_halved", "sdof_cubic", "sdof_linear",
+    "sdof_original", "sdof_halved", "sdof_cubic", "sdof_linear", "sdof_microslip",
     "quarter_car_original", "quarter_car_halved",
     "six_dof_original", "six_dof_halved", "six_dof_lambda12", "six_dof_4mount",
 }
@@ -460,3 +460,25 @@ def test_examples_in_docs_load():
     assert len(blocks) >= 2
     for text in blocks:
         assert isinstance(load_config(text), Config)
+
+
+def test_micro_slip_keys_load_and_bad_values_name_the_path():
+    p = load_preset("sdof_microslip").system.elements[0].params.axial
+    assert (p.sliders, p.spread, p.fs_ratio, p.micro_slip) == (8, 0.6, 0.7, True)
+    text = preset_text("sdof_halved").replace(
+        "n0 = 10.0", 'n0 = 10.0\nsliders = 2.5\nspread = 1.0\nfs_ratio = "x"')
+    with pytest.raises(ConfigError) as err:
+        load_config(text)
+    problems = err.value.problems
+    assert any("`mount.friction.sliders` must be an integer" in q and "2.5" in q
+               for q in problems), problems
+    assert any("`mount.friction.fs_ratio` must be a number" in q for q in problems)
+    text = text.replace("sliders = 2.5", "sliders = 65").replace('fs_ratio = "x"',
+                                                                 "fs_ratio = 1.0")
+    with pytest.raises(ConfigError) as err:
+        load_config(text)
+    problems = err.value.problems
+    assert any("`mount.friction.sliders` must be an integer from 1 to 64" in q
+               for q in problems), problems
+    assert any("`mount.friction.spread` must be finite and in [0, 1)" in q
+               for q in problems), problems

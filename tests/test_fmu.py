@@ -38,7 +38,8 @@ except ImportError as exc:
 
 from fmu_build import (FMU_SOURCES, build_fmu, ensure_fmu, fmu_module_names,
                        source_dir)
-from fmu_src.mount_law import AXES, AxisParameters, axis_force, law_name
+from fmu_src.mount_law import (AXES, AxisParameters, axis_force, initial_sliders,
+                               law_name)
 
 # The FMU calls the same scalar law with the same floats: equality is expected to be
 # exact; 1e-12 is the issue's bound.
@@ -147,7 +148,7 @@ def motion(k, h=1e-4, freq=(13.0, 21.0, 34.0), amp=(0.008, 0.004, 0.005)):
 def march_law(params, n_steps, normal=None):
     """The in-process reference: the same protocol, axis_force per axis."""
     ps = [axis_params(params, axis) for axis in AXES]
-    w, e = [0.0] * 3, [0.0] * 3
+    w, e = [initial_sliders(p) for p in ps], [0.0] * 3
     rows = []
     for k in range(n_steps):
         u, v = motion(k)
@@ -187,7 +188,7 @@ def test_model_description_interface(fmu):
     md = fmu[0]
     by_name = {v.name: v for v in md.modelVariables}
     fields = ["law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
-              "mu", "n0"]
+              "mu", "n0", "sliders", "spread", "fs_ratio"]
     expected = {f"{a}_{f}": "parameter" for a in AXES for f in fields}
     for a in AXES:
         expected.update({f"u_{a}": "input", f"v_{a}": "input", f"n_{a}": "input",
@@ -731,3 +732,44 @@ def test_build_after_an_instance_imported_the_bundled_pythonfmu(fmu_path, tmp_pa
     assert "site-packages" not in bundled  # the precondition really happened
     assert "binaries/linux64/FrictionMount.so" in binaries
     assert "binaries/win64/FrictionMount.dll" in binaries
+
+
+# Micro-slip (Iwan, 7 sliders) with non-symmetric friction on the axial axis,
+# non-symmetric macro-slip on radial1.
+MICRO = dict(PARAMS, axial_sliders=7, axial_spread=0.6, axial_fs_ratio=0.45,
+             radial1_fs_ratio=1.7)
+
+
+def test_micro_slip_fmu_equals_in_process_law_and_restores_state(fmu):
+    n = 1500
+    mount = Mount(fmu, params=MICRO).start()
+    try:
+        got = march_fmu(mount, n)
+        state = mount.slave.getFMUstate()
+        blob = mount.slave.serializeFMUstate(state)
+        tail = march_fmu(mount, 200)
+        mount.slave.setFMUstate(mount.slave.deSerializeFMUstate(blob))
+        again = march_fmu(mount, 200)
+        mount.slave.freeFMUstate(state)
+    finally:
+        mount.free()
+    ref = march_law(MICRO, n)
+    np.testing.assert_allclose(got, ref, rtol=RTOL_FMU_VS_LAW, atol=0)
+    assert ref[-1, 3] > 0 and ref[-1, 7] > 0
+    # the restored state holds every slider of the micro-slip axis
+    assert np.array_equal(tail, again)
+
+
+@pytest.mark.parametrize("name,value,message", [
+    ("axial_sliders", 0, "`axial_sliders` must be an integer from 1 to 64"),
+    ("axial_spread", 1.0, "`axial_spread` must be finite and in [0, 1)"),
+    ("axial_fs_ratio", -0.5, "`axial_fs_ratio` must be finite and >= 0, got -0.5"),
+])
+def test_bad_micro_slip_parameter_fails_initialization(fmu, name, value, message):
+    mount = Mount(fmu, params={"axial_friction": True, name: value})
+    with pytest.raises(FMICallException):
+        mount.start()
+    assert any(status == FMI_ERROR and message in text
+               for status, text in mount.messages), mount.messages
+    mount.slave.freeInstance()
+    gc.collect()

@@ -39,10 +39,16 @@ LAWS = [
     AxisParameters(law="linear", friction=True, n0=20.0),
     AxisParameters(law="piecewise", delta=0.002, friction=True, n0=20.0),
     AxisParameters(law="piecewise", delta=0.002, friction=True, n0=200.0),  # stuck
+    # micro-slip (7 sliders, some stuck) and non-symmetric friction
+    AxisParameters(law="linear", friction=True, n0=60.0, sliders=7, spread=0.7),
+    AxisParameters(law="linear", friction=True, n0=20.0, fs_ratio=0.4),
+    AxisParameters(law="piecewise", delta=0.002, friction=True, n0=60.0, sliders=5,
+                   spread=0.5, fs_ratio=1.8),
 ]
 
 
-@pytest.mark.parametrize("p", LAWS, ids=lambda p: f"{p.law}-fr{p.friction}-{p.n0}")
+@pytest.mark.parametrize("p", LAWS, ids=lambda p: f"{p.law}-fr{p.friction}-{p.n0}"
+                         f"-s{p.sliders}-r{p.fs_ratio}")
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_aft_jacobian_vs_fd(p, seed):
     ax = nonlinear_axes(sdof(70.0, MountParameters(axial=p), "force", 1.0))

@@ -482,6 +482,26 @@ def test_invalid_parameters_give_the_pythonfmu_message(driver):
     d.fmu.exitInitializationMode()  # fixed in initialization mode: accepted
 
 
+def test_micro_slip_and_non_symmetric_friction_are_refused_clearly(driver):
+    """The C port runs only the macro-slip element: a micro-slip or non-symmetric
+    axis fails initialization naming the fields (never a silent macro-slip)."""
+    d = driver
+    d.set({"radial1_friction": True, "radial1_sliders": 5, "axial_friction": True,
+           "axial_fs_ratio": 0.5})
+    if d.fmi == 2:
+        d.fmu.setupExperiment(startTime=0.0)
+        d.fmu.enterInitializationMode()
+    else:
+        d.fmu.enterInitializationMode(startTime=0.0)
+    status, msg = _call(d, d.fmu.exitInitializationMode)
+    assert status == 3
+    assert "`axial_sliders` = 1, `axial_fs_ratio` = 0.5: the native FMU ports only " \
+           "the macro-slip element" in msg
+    assert "`radial1_sliders` = 5, `radial1_fs_ratio` = 1" in msg
+    d.set({"radial1_sliders": 1, "axial_fs_ratio": 1.0, "axial_spread": 0.3})
+    d.fmu.exitInitializationMode()  # spread without sliders changes nothing: accepted
+
+
 def test_normal_force_follows_n0_until_set(driver):
     d = driver
     d.set({"axial_friction": True, "axial_n0": 150.0, "axial_mu": 0.5})

@@ -36,7 +36,9 @@ class Params(ctypes.Structure):
                 ("k2", ctypes.c_double), ("delta", ctypes.c_double),
                 ("delta_neg", ctypes.c_double), ("c", ctypes.c_double),
                 ("friction", ctypes.c_int), ("kf", ctypes.c_double),
-                ("mu", ctypes.c_double), ("n0", ctypes.c_double)]
+                ("mu", ctypes.c_double), ("n0", ctypes.c_double),
+                ("sliders", ctypes.c_int), ("spread", ctypes.c_double),
+                ("fs_ratio", ctypes.c_double)]
 
 
 @pytest.fixture(scope="module")
@@ -120,6 +122,8 @@ BAD = [
     {"kf": math.nan, "friction": False},
     {"law": 7},
     {"law": -1, "k1": -0.1, "kf": -2.0, "friction": True},
+    {"sliders": 0, "spread": 1.0, "fs_ratio": -0.5},
+    {"sliders": 65, "spread": math.nan},
 ]
 
 
@@ -129,8 +133,8 @@ def test_parameter_messages_equal_python(law, bad):
     code = values["law"]
     p = Params(law=code if isinstance(code, int) else LAWS.index(code),
                **{k: float(v) for k, v in values.items()
-                  if k not in ("law", "friction")},
-               friction=int(values["friction"]))
+                  if k not in ("law", "friction", "sliders")},
+               friction=int(values["friction"]), sliders=values["sliders"])
     expected = []
     if isinstance(code, int) and not 0 <= code < len(LAWS):
         # the FMU's own law check (fmu_src/friction_mount.py, _prepare)
@@ -147,7 +151,8 @@ def test_parameter_messages_equal_python(law, bad):
 def test_valid_parameters_have_no_problem(law):
     for name in LAWS:
         p = Params(law=LAWS.index(name), k1=1.0, kc=0.0, k2=0.0, delta=1e-3,
-                   delta_neg=1e-3, c=0.0, friction=1, kf=1.0, mu=0.0, n0=0.0)
+                   delta_neg=1e-3, c=0.0, friction=1, kf=1.0, mu=0.0, n0=0.0,
+                   sliders=1, spread=0.0, fs_ratio=1.0)
         assert _problems_c(law, p, "axial_") == []
 
 

@@ -18,6 +18,7 @@ from .inputs import (
     BaseSine,
     BumpRoad,
     CrankInput,
+    CrankRunUp,
     HarmonicInput,
     Input,
     RandomRoad,

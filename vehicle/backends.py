@@ -39,7 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from fmu_src.interface import by_causality
-from fmu_src.mount_law import AXES, axis_force, law_code
+from fmu_src.mount_law import (AXES, axis_force, initial_sliders, law_code,
+                               mean_slider)
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
@@ -182,6 +183,47 @@ class _Backend:
         self.layout = layout
         self.steps = 0  # mount-force evaluations (steps) done
         self._rec = None
+        self._ctl = []      # controlled axes: [global index, u col, v col, controller]
+        self._n_ctl = []    # their last applied normal forces, N
+        self.control_log = None
+
+    def set_control(self, controls: dict) -> None:
+        """Drive normal forces from ``controls`` = ``{(mount name, axis name):
+        controller}`` (:mod:`vehicle.control`) at every step; ``{}`` switches off.
+
+        The first command is rate-limited from the axis's ``n0``; the applied forces
+        are kept in :attr:`control_log` (:class:`vehicle.control.ControlLog`).
+        """
+        from vehicle.control import ControlLog
+
+        L, names = self.layout, [e.name for e in self.system.elements]
+        cols = L.columns()
+        by_key = {(names[e], AXES[j]): (i, e, j) for (i, e, j) in L.axes()}
+        ctl, n0, labels = [], [], []
+        for key, c in controls.items():
+            if key not in by_key:
+                raise ValueError(f"control of {key!r}: no active mount axis of that "
+                                 f"(mount, axis); active: {sorted(by_key)}")
+            i, e, j = by_key[key]
+            p = self.system.elements[e].params.axes[j]
+            if not p.friction:
+                raise ValueError(f"control of {key!r}: the axis has no friction "
+                                 f"element, so its normal force does nothing")
+            ctl.append([i, int(cols["u"][i]), int(cols["v"][i]), c, p])
+            n0.append(float(p.n0))
+            labels.append(f"{key[0]}_{key[1]}")
+        self._ctl, self._n_ctl = ctl, n0
+        self._ctl_targets = None
+        self.control_log = ControlLog(tuple(labels)) if ctl else None
+
+    def _commands(self, t: float, uv, h: float) -> list[float]:
+        """Apply every controller at time ``t`` to the row values ``uv``; returns
+        the limited normal forces (and logs them)."""
+        n_ctl = self._n_ctl
+        for idx, (_i, iu, iv, c, _p) in enumerate(self._ctl):
+            n_ctl[idx] = c.limits.apply(c.command(t, uv[iu], uv[iv]), n_ctl[idx], h)
+        self.control_log.add(t, n_ctl)
+        return n_ctl
 
     def _bind_common(self, rec: np.ndarray, W: np.ndarray) -> None:
         L = self.layout
@@ -217,13 +259,16 @@ class NativeBackend(_Backend):
                 int(cols["Ffr"][i]) - o, e, p))
         self._e_pos = [(e, layout.out_off(e) - layout.o_out + 2 * layout.m_of(e))
                        for e in range(layout.n_mounts)]
-        self._w = [0.0] * layout.m           # slider positions of the active axes
+        # friction state of the active axes: a slider position, or the tuple of a
+        # micro-slip axis's slider positions (fmu_src.mount_law.initial_sliders)
+        self._w = [initial_sliders(a[5]) for a in self._axes]
         self._E = [0.0] * layout.n_mounts    # committed friction energy per mount, J
         self._E_axis = [0.0] * layout.m
 
     def bind(self, rec, W, h):
         self._bind_common(rec, W)
         L = self.layout
+        self._h_step = float(h)
         self._uvs = [rec[k, :2 * L.m] for k in range(rec.shape[0] - 1)]
         self._outs = [rec[k, L.o_out:L.o_out + L.n_out]
                       for k in range(rec.shape[0] - 1)]
@@ -234,12 +279,18 @@ class NativeBackend(_Backend):
         uvs, outs, axes, w = self._uvs, self._outs, self._axes, self._w
         E, E_axis, e_pos = self._E, self._E_axis, self._e_pos
         template = [0.0] * self.layout.n_out
+        fs = [None] * len(axes)  # slip forces of the controlled axes
         for k in range(k0, k1):
             uv = uvs[k].tolist()
+            if self._ctl:
+                n = self._commands(times[k - k0], uv, self._h_step)
+                for (i, _iu, _iv, _c, p), ni in zip(self._ctl, n):
+                    fs[i] = p.mu * ni if ni > 0.0 else 0.0
             out = template[:]
             i = 0
             for (iu, iv, iF, iFr, e, p) in axes:
-                f, ffr, wn, _kt, _slip, diss = axis_force(uv[iu], uv[iv], w[i], p)
+                f, ffr, wn, _kt, _slip, diss = axis_force(uv[iu], uv[iv], w[i], p,
+                                                          fs[i])
                 w[i] = wn
                 out[iF] = f
                 out[iFr] = ffr
@@ -254,16 +305,19 @@ class NativeBackend(_Backend):
         self.steps += k1 - k0
 
     def sliders(self) -> np.ndarray:
-        """Slider positions, shape (n_mounts, 3), m (0 on inactive axes)."""
+        """Slider positions, shape (n_mounts, 3), m (0 on inactive axes; the mean of
+        the sliders on a micro-slip axis, as the FMU's ``w_<axis>``)."""
         out = np.zeros((self.layout.n_mounts, 3))
         for (i, e, j) in self.layout.axes():
-            out[e, j] = self._w[i]
+            out[e, j] = mean_slider(self._w[i])
         return out
 
     def set_sliders(self, w) -> None:
+        """Put the sliders at ``w`` (n_mounts, 3), m (every slider of a micro-slip
+        axis at its axis's value, as setting the FMU's ``w_<axis>``)."""
         w = np.asarray(w, dtype=float)
         for (i, e, j) in self.layout.axes():
-            self._w[i] = float(w[e, j])
+            self._w[i] = initial_sliders(self._axes[i][5], float(w[e, j]))
 
     def energy(self) -> np.ndarray:
         """Committed friction energy per mount, shape (n_mounts,), J."""
@@ -456,9 +510,12 @@ class FMUBackend(_Backend):
         k = k0
         e = 0
         t = times[0] if len(times) else 0.0
+        uvs = self._rec[:, :2 * self.layout.m] if self._ctl else None
         try:
             for k in range(k0, k1):
                 t = times[k - k0]
+                if self._ctl:
+                    self._set_normal_forces(t, uvs[k].tolist(), h)
                 for e, S, c, vi, ni, pin, G, vo, no, pout, D in calls[k]:
                     S(c, vi, ni, pin)
                     G(c, vo, no, pout)
@@ -469,6 +526,19 @@ class FMUBackend(_Backend):
             raise self._error(e, t, exc) from exc
         self.steps += k1 - k0
         self.time = t
+
+    def _set_normal_forces(self, t: float, uv, h: float) -> None:
+        """The controllers' normal forces into the inputs ``n_<axis>``."""
+        n = self._commands(t, uv, h)
+        if getattr(self, "_ctl_targets", None) is None:
+            axes = self.layout.axes()
+            self._ctl_targets = []
+            for (i, *_rest) in self._ctl:
+                _, e, j = axes[i]
+                self._ctl_targets.append(
+                    (self._fmus[e], [self._vars[f"n_{AXES[j]}"].valueReference]))
+        for (fmu, vr), ni in zip(self._ctl_targets, n):
+            fmu.setReal(vr, [ni])
 
     def _error(self, e: int, t: float, exc: Exception) -> FMUError:
         name = self._instance_name(e)

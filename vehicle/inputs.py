@@ -53,6 +53,7 @@ __all__ = [
     "Input",
     "HarmonicInput",
     "CrankInput",
+    "CrankRunUp",
     "SineRoad",
     "SweptSineRoad",
     "BumpRoad",
@@ -288,6 +289,48 @@ class CrankInput(Input):
         out[:, self.force_dof] += self.engine.force(th, self.omega)
         if self.moment_dof is not None:
             out[:, self.moment_dof] += self.engine.roll_moment(th, self.omega)
+        return out
+
+
+class CrankRunUp(CrankInput):
+    """The crank excitation of :class:`CrankInput` over a linear engine run-up.
+
+    The crank speed rises linearly from ``rpm_start`` to ``rpm_end`` over
+    ``duration`` s and stays there; the crank angle is its integral,
+    ``theta(t) = 2 pi / 60 (rpm_start t + (rpm_end - rpm_start) t^2 / (2 duration))``,
+    and the load is eq. 1.3 at the instantaneous speed (quasi-steady: the crank's
+    angular acceleration adds a term of relative size ``dw/dt / w^2``, below 1e-3 for
+    a run-up of more than 0.3 s from 600 rpm).
+    """
+
+    def __init__(self, system, rpm_start: float = 600.0, rpm_end: float = 6000.0,
+                 duration: float = 10.0, **kw):
+        super().__init__(system, rpm_start, **kw)
+        self.rpm_start = self.speed_rpm
+        self.rpm_end = _finite(rpm_end, "rpm_end", positive=True)
+        self.duration = _finite(duration, "duration", positive=True)
+        self.period = None
+
+    def speed(self, t) -> np.ndarray:
+        """Crank speed at ``t``, rev/min."""
+        tc = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
+        return self.rpm_start + (self.rpm_end - self.rpm_start) * tc / self.duration
+
+    def second_order(self, t) -> np.ndarray:
+        """Frequency of the second engine order at ``t``, Hz."""
+        return 2.0 * self.speed(t) / 60.0
+
+    def _force(self, t):
+        T, r0, r1 = self.duration, self.rpm_start, self.rpm_end
+        tc = np.minimum(t, T)
+        revs = (r0 * tc + (r1 - r0) * tc * tc / (2.0 * T)
+                + r1 * np.maximum(t - T, 0.0)) / 60.0
+        th = 2.0 * math.pi * revs
+        w = 2.0 * math.pi * self.speed(t) / 60.0
+        out = np.zeros((t.size, self.n_dof))
+        out[:, self.force_dof] += self.engine.force(th, w)
+        if self.moment_dof is not None:
+            out[:, self.moment_dof] += self.engine.roll_moment(th, w)
         return out
 
 

@@ -140,7 +140,7 @@ class Master:
 
     def __init__(self, system, backend: str = "native", *, fmu_path=None,
                  fmu_logging: bool = True, fmu_start_values=None,
-                 omega_h_max: float = OMEGA_H_MAX):
+                 omega_h_max: float = OMEGA_H_MAX, control: dict | None = None):
         if not (isinstance(omega_h_max, (int, float)) and 0 < omega_h_max < 2):
             raise ValueError(f"`omega_h_max` must be in (0, 2), got {omega_h_max!r}")
         self.system = system
@@ -151,6 +151,9 @@ class Master:
         self.backend = make_backend(backend, system, self.layout, fmu_path=fmu_path,
                                     logging_on=fmu_logging,
                                     start_values=fmu_start_values)
+        if control:
+            # semi-active normal forces, {(mount, axis): controller} (vehicle.control)
+            self.backend.set_control(control)
         n = system.n_dof
         #: the static working point (``system.static_load``), None if unloaded; the
         #: master starts there with the sliders relaxed (hbm.static)
@@ -506,7 +509,8 @@ class Master:
 
 def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
              backend: str = "fmu", dt: float | None = None, inputs: Input | None = None,
-             fmu_path=None, fmu_start_values=None) -> TimeHistory:
+             fmu_path=None, fmu_start_values=None, control: dict | None = None
+             ) -> TimeHistory:
     """Time histories of ``system`` from rest.
 
     Parameters
@@ -523,6 +527,9 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     inputs : vehicle.inputs.Input, optional
         Engine/road input (crank excitation, road profiles, ...).
     fmu_path : path-like, optional
+    control : dict, optional
+        ``{(mount name, axis): controller}`` (:mod:`vehicle.control`): semi-active
+        normal forces applied every step.
 
     Returns
     -------
@@ -539,5 +546,5 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     (1281, 1)
     """
     with Master(system, backend, fmu_path=fmu_path,
-                fmu_start_values=fmu_start_values) as m:
+                fmu_start_values=fmu_start_values, control=control) as m:
         return m.simulate(duration, dt=dt, inputs=inputs, freq_hz=freq_hz)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from drymount.config.control import parse_control
 from drymount.config.checks import (
     _Checker,
     _type_name,
@@ -77,6 +78,7 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
     description = ck.string(data, "description", "", default="")
     build = _build(ck, data, model) if model is not None else None
     settings = _settings(ck, data)
+    control = parse_control(ck, data)
     if ck.problems or build is None or settings is None:
         raise ConfigError(ck.problems or ["invalid configuration"], source)
     try:
@@ -99,8 +101,14 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
                      notes={"config_name": cfg_name, "model": model, "source": source},
                      static_load=load)
     sweep, hbm_settings, cosim = settings
-    return Config(cfg_name, description, model, system, sweep, hbm_settings, cosim,
-                  source, data, static)
+    cfg = Config(cfg_name, description, model, system, sweep, hbm_settings, cosim,
+                 source, data, static, control)
+    if control is not None:
+        try:
+            control.targets(system)
+        except ValueError as exc:
+            raise ConfigError([str(exc)], source) from None
+    return cfg
 
 
 def _check_working_point(ck: _Checker, system, load) -> None:

@@ -96,6 +96,7 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
                 kw[name] = x
         elif default is not None:
             kw[name] = default
+    ok = _micro_slip(ck, fr, p, kw) and ok
     if not ok:
         return None
     # with Fs = mu * n0 = 0 the element carries no force: almost surely a mistake
@@ -107,6 +108,31 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
                    f"{_show(fr[name])}: with mu * n0 = 0 the element does nothing; "
                    f"remove the [{p}] table instead")
     return kw
+
+
+def _micro_slip(ck: _Checker, fr: dict, p: str, kw: dict) -> bool:
+    """The optional micro-slip (``sliders``, ``spread``) and non-symmetric friction
+    (``fs_ratio``) keys into ``kw``; ranges are checked by ``AxisParameters``."""
+    ok = True
+    if "sliders" in fr:
+        n = fr["sliders"]
+        if isinstance(n, int) and not isinstance(n, bool):
+            kw["sliders"] = n
+        else:
+            ck.add(f"`{p}.sliders` must be an integer (the number of Jenkins elements "
+                   f"of the micro-slip element, 1 = macro-slip), got {_type_name(n)} "
+                   f"{_show(n)}")
+            ok = False
+    for name in ("spread", "fs_ratio"):
+        if name in fr:
+            x = _as_float(fr[name])
+            if x is None:
+                ck.add(f"`{p}.{name}` must be a number ([-]), got "
+                       f"{_type_name(fr[name])} {_show(fr[name])}")
+                ok = False
+            else:
+                kw[name] = x
+    return ok
 
 
 def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:

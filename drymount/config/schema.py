@@ -31,13 +31,13 @@ MAX_HARMONICS = 50
 SINGULAR_RTOL = 1e-10
 
 _AXIS_LAW_KEYS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c")
-_FRICTION_KEYS = ("kf", "mu", "n0")
+_FRICTION_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
 
 #: Allowed keys of every table, by the path pattern used in messages and in
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).
 ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "": ("model", "name", "description", "sdof", "quarter_car", "rigid_engine",
-         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "static",
+         "mount", "mounts", "excitation", "sweep", "hbm", "cosim", "static", "control",
          "design"),  # [design]: checked by drymount.design (explore, optimize)
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
@@ -55,6 +55,9 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
     "cosim.input": ("road", "speed", "engine", "units"),
     "static": ("gravity", "g", "loads", "travel"),
+    # semi-active normal-force control (drymount.config.control)
+    "control": ("kind", "axes", "n_min", "n_max", "rate_max", "schedule_hz",
+                "schedule_n", "n_on", "n_off"),
 }
 
 #: The model-specific tables: which model each belongs to.
@@ -208,6 +211,8 @@ class Config:
     static : StaticSettings
         ``[static]``: gravity and static loads (``system.static_load`` holds the
         resulting load; default none).
+    control : drymount.config.control.ControlSettings or None
+        The ``[control]`` table (semi-active normal force), None without one.
     """
 
     name: str
@@ -220,3 +225,4 @@ class Config:
     source: str
     data: dict = field(repr=False, default_factory=dict)
     static: StaticSettings = field(default_factory=StaticSettings)
+    control: object = None

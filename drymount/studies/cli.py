@@ -10,11 +10,13 @@ from collections.abc import Callable
 from enum import IntEnum
 from pathlib import Path
 
+from drymount.studies.incline import run_incline
 from drymount.studies.jump import run_jump
 from drymount.studies.laws import run_laws
 from drymount.studies.normal_force import run_normal_force
 from drymount.studies.optimize_n0 import run_optimize_n0
 from drymount.studies.quarter_car import run_quarter_car
+from drymount.studies.semi_active import run_semi_active
 from drymount.studies.six_dof import run_six_dof
 from drymount.studies.six_dof_75 import run_six_dof_75
 
@@ -26,6 +28,8 @@ STUDIES: dict[str, Callable[..., dict]] = {
     "jump": run_jump,
     "laws": run_laws,
     "six-dof-75": run_six_dof_75,
+    "incline": run_incline,
+    "semi-active": run_semi_active,
 }
 
 

@@ -75,6 +75,9 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_KF: p->kf = value; break;
     case MD_P_MU: p->mu = value; break;
     case MD_P_N0: p->n0 = value; break;
+    case MD_P_SLIDERS: p->sliders = (int)value; break;
+    case MD_P_SPREAD: p->spread = value; break;
+    case MD_P_FS_RATIO: p->fs_ratio = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -93,6 +96,9 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_KF: return p->kf;
     case MD_P_MU: return p->mu;
     case MD_P_N0: return p->n0;
+    case MD_P_SLIDERS: return p->sliders;
+    case MD_P_SPREAD: return p->spread;
+    case MD_P_FS_RATIO: return p->fs_ratio;
     case MD_P_NONE: break;
     }
     return 0.0;
@@ -168,6 +174,20 @@ void md_delete(md_instance *m)
 
 /* ------------------------------------------------------------------ the law */
 
+/* The micro-slip and non-symmetric friction elements are not ported to C: a clear
+ * message (1) instead of the macro-slip result, 0 if the axis uses neither. */
+static int unported(const ml_axis_params *p, const char *prefix, char *buf,
+                    size_t size)
+{
+    if (!p->friction || (p->sliders == 1 && p->fs_ratio == 1.0))
+        return 0;
+    snprintf(buf, size, "`%ssliders` = %d, `%sfs_ratio` = %g: the native FMU ports "
+             "only the macro-slip element (sliders = 1, fs_ratio = 1); build the "
+             "PythonFMU FrictionMount.fmu for micro-slip or non-symmetric friction",
+             prefix, p->sliders, prefix, p->fs_ratio);
+    return 1;
+}
+
 /* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
 static md_status check_parameters(md_instance *m, const char *call)
 {
@@ -177,7 +197,8 @@ static md_status check_parameters(md_instance *m, const char *call)
         return MD_OK;
     for (j = 0; j < 3; ++j) {
         snprintf(prefix, sizeof prefix, "%s_", AXIS_NAMES[j]);
-        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0)
+        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0
+                && !unported(&m->d.p[j], prefix, one, sizeof one))
             continue;
         if (count++)
             strncat(all, "; ", sizeof all - strlen(all) - 1);

@@ -39,7 +39,8 @@ typedef enum {
 /* Fields of a parameter variable, in mount_law.AxisParameters' order. */
 typedef enum {
     MD_P_LAW = 0, MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA, MD_P_DELTA_NEG, MD_P_C,
-    MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_NONE
+    MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SLIDERS, MD_P_SPREAD,
+    MD_P_FS_RATIO, MD_P_NONE
 } md_field;
 
 typedef struct {

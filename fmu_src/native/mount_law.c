@@ -23,6 +23,9 @@ ml_axis_params ml_default_params(void)
     p.kf = 60000.0;
     p.mu = 1.0;
     p.n0 = 0.0;
+    p.sliders = 1;
+    p.spread = 0.0;
+    p.fs_ratio = 1.0;
     return p;
 }
 
@@ -199,7 +202,7 @@ static int finite_and(double value, int strict)
 int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                      size_t size)
 {
-    struct { const char *name; double value; int strict; } checks[8];
+    struct { const char *name; double value; int strict; } checks[9];
     char text[256], val[40];
     int count = 0, i;
     if (size)
@@ -218,7 +221,8 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
     checks[5].name = "c"; checks[5].value = p->c; checks[5].strict = 0;
     checks[6].name = "mu"; checks[6].value = p->mu; checks[6].strict = 0;
     checks[7].name = "n0"; checks[7].value = p->n0; checks[7].strict = 0;
-    for (i = 0; i < 8; ++i) {
+    checks[8].name = "fs_ratio"; checks[8].value = p->fs_ratio; checks[8].strict = 0;
+    for (i = 0; i < 9; ++i) {
         if (finite_and(checks[i].value, checks[i].strict))
             continue;
         ml_repr_double(checks[i].value, val, sizeof val);
@@ -230,6 +234,18 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
         ml_repr_double(p->kf, val, sizeof val);
         snprintf(text, sizeof text, "`%skf` must be finite and %s, got %s", prefix,
                  p->friction ? "> 0 when friction is on" : ">= 0", val);
+        append(buf, size, &count, text);
+    }
+    if (p->sliders < 1 || p->sliders > ML_MAX_SLIDERS) {
+        snprintf(text, sizeof text, "`%ssliders` must be an integer from 1 to %d (the "
+                 "number of Jenkins elements of the micro-slip element), got %d",
+                 prefix, ML_MAX_SLIDERS, p->sliders);
+        append(buf, size, &count, text);
+    }
+    if (!(isfinite(p->spread) && p->spread >= 0.0 && p->spread < 1.0)) {
+        ml_repr_double(p->spread, val, sizeof val);
+        snprintf(text, sizeof text, "`%sspread` must be finite and in [0, 1) (half-width "
+                 "of the sliders' slip displacements / eps), got %s", prefix, val);
         append(buf, size, &count, text);
     }
     return count;

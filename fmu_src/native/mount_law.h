@@ -13,6 +13,8 @@
 /* Elastic laws, codes as mount_law.LAWS. */
 enum ml_law { ML_LINEAR = 0, ML_CUBIC = 1, ML_PIECEWISE = 2, ML_PIECEWISE_ASYM = 3 };
 #define ML_N_LAWS 4
+/* mount_law.MAX_SLIDERS */
+#define ML_MAX_SLIDERS 64
 
 /* Parameters of one local axis (mount_law.AxisParameters), SI units. */
 typedef struct {
@@ -20,6 +22,8 @@ typedef struct {
     double k1, kc, k2, delta, delta_neg, c;
     int friction;     /* 0 or 1 */
     double kf, mu, n0;
+    int sliders;      /* micro-slip sliders; the C port runs only 1 (see model.c) */
+    double spread, fs_ratio;  /* checked; fs_ratio != 1 is not ported either */
 } ml_axis_params;
 
 /* Result of mount_law.axis_force. */

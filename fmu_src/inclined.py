@@ -1,0 +1,294 @@
+"""Inclined two-surface friction element of thesis Chapter 5 (Fig. 5.4, eq. 5.1-5.10).
+
+Standard library only (ships inside the FMU). The derivation, the sign conventions and
+the corrections to the printed equations are in docs/physics.md ("Inclined
+two-surface friction element").
+
+Quarter model, inertia ignored. The engine-side part ("red") moves by ``x`` along the
+mount axis (positive = into the wedge). It touches the wedge ("blue") on a surface
+inclined at ``theta`` to the plate; the wedge slides on the flat plate ("turquoise",
+chassis side) and is pushed towards the red part by springs of stiffness ``k`` with a
+preload ``P`` at ``x = 0``. With ``s, c = sin(theta), cos(theta)``:
+
+    a  = x c / s           wedge travel (eq. 5.4), rigid contact in the normal direction
+    d1 = x / s             relative slide on the inclined surface (eq. 5.5-5.6 fixed)
+    f1 = kf  (d1 - w1)     stuck, |f1| <= mu1 N        (eq. 5.7 with a slider w1)
+    f2 = kf2 (a  - w2)     stuck, |f2| <= mu2 N2       (eq. 5.8 with a slider w2)
+    f1 = +-mu1 N, f2 = +-mu2 N2 while slipping         (eq. 5.9, 5.10 with the sign)
+    N  = (c f1 + f2 + k a + P) / s                     (eq. 5.3 solved, with P)
+    N2 = (f1 + c (f2 + k a + P)) / s  = F              (eq. 5.1 = eq. 5.2)
+
+In each stick/slip combination every force is affine in ``x``. The exact return map
+(:func:`inclined_update`) walks a monotonic increment from regime to regime: it finds
+the deflection at which a stuck surface reaches its slip limit, switches regime there
+and continues (a slipping surface re-sticks when its slip rate would reverse, which
+the regime choice at each event handles). ``mu = inf`` makes a surface bonded.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+__all__ = ["InclinedParameters", "InclinedStep", "ContactLost", "inclined_update",
+           "inclined_forces"]
+
+_MAX_EVENTS = 64
+_REL_TOL = 1e-12
+
+
+class ContactLost(ValueError):
+    """The motion asks for a negative normal force (a surface would lift off)."""
+
+
+def _num(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and not math.isnan(x)
+
+
+@dataclass(frozen=True)
+class InclinedParameters:
+    """Parameters of the inclined two-surface element (SI units, ``theta_deg`` in deg).
+
+    Attributes
+    ----------
+    theta_deg : float
+        Angle of the inclined surface to the plate, degrees, in (0, 90].
+    k : float
+        Stiffness of the elastic pieces pushing the wedge, N/m, >= 0.
+    kf, kf2 : float
+        Tangential contact stiffness of the inclined and of the flat surface, N/m, > 0.
+    mu1, mu2 : float
+        Friction coefficients, >= 0 (``math.inf``: the surface is bonded).
+    preload : float
+        Force of the elastic pieces at x = 0, N, >= 0.
+    """
+
+    theta_deg: float = 60.0
+    k: float = 20000.0
+    kf: float = 60000.0
+    kf2: float = 60000.0
+    mu1: float = 0.3
+    mu2: float = 0.3
+    preload: float = 200.0
+
+    def __post_init__(self):
+        problems = self.problems()
+        if problems:
+            raise ValueError("invalid inclined element: " + "; ".join(problems))
+
+    def problems(self, prefix: str = "") -> list[str]:
+        """Every problem, each naming the field, its value and the rule."""
+        out = []
+        rules = (("theta_deg", lambda v: 0 < v <= 90, "in (0, 90] degrees"),
+                 ("k", lambda v: 0 <= v < math.inf, "finite and >= 0"),
+                 ("kf", lambda v: 0 < v < math.inf, "finite and > 0"),
+                 ("kf2", lambda v: 0 < v < math.inf, "finite and > 0"),
+                 ("mu1", lambda v: v >= 0, ">= 0 (inf = bonded)"),
+                 ("mu2", lambda v: v >= 0, ">= 0 (inf = bonded)"),
+                 ("preload", lambda v: 0 <= v < math.inf, "finite and >= 0"))
+        for name, ok, rule in rules:
+            value = getattr(self, name)
+            if not (_num(value) and ok(value)):
+                out.append(f"`{prefix}{name}` must be {rule}, got {value!r}")
+        if not out:
+            worst = self.self_locking_margin()
+            if worst <= 1e-9:
+                out.append(f"`{prefix}theta_deg` = {self.theta_deg!r} self-locks the "
+                           f"wedge with mu1 = {self.mu1!r}, mu2 = {self.mu2!r} (the "
+                           f"normal force of a slipping regime has determinant "
+                           f"{worst:.3g} <= 0): increase theta or lower mu1/mu2")
+        return out
+
+    @property
+    def sc(self) -> tuple[float, float]:
+        """``(sin theta, cos theta)``; cos is exactly 0 at 90 degrees."""
+        if self.theta_deg == 90:
+            return 1.0, 0.0
+        t = math.radians(self.theta_deg)
+        return math.sin(t), math.cos(t)
+
+    def self_locking_margin(self) -> float:
+        """Smallest determinant of the slipping regimes' systems (must be > 0)."""
+        s, c = self.sc
+        dets = []
+        m1 = 0.0 if math.isinf(self.mu1) else self.mu1   # a bonded surface never slips
+        m2 = 0.0 if math.isinf(self.mu2) else self.mu2
+        for sig1 in (1, -1):
+            for sig2 in (1, -1):
+                d1 = s - sig1 * m1 * c
+                d2 = s - sig2 * m2 * c
+                dets += [d1, d2, d1 * d2 - sig1 * sig2 * m1 * m2]
+        return min(dets)
+
+
+class InclinedStep(NamedTuple):
+    """State after a deflection increment of :func:`inclined_update`.
+
+    ``force`` the element's force along the mount axis (N, = N2), ``f1``/``f2`` the
+    friction forces (N), ``n1``/``n2`` the normal forces N and N2 (N), ``w1``/``w2``
+    the slider positions (m), ``slip1``/``slip2`` whether each surface slips at the
+    end, ``tangent`` dF/dx at the end (N/m, in the direction of the increment),
+    ``dissipated`` the friction energy of the increment (J).
+    """
+
+    force: float
+    f1: float
+    f2: float
+    n1: float
+    n2: float
+    w1: float
+    w2: float
+    slip1: bool
+    slip2: bool
+    tangent: float
+    dissipated: float
+
+
+def _solve(x, w1, w2, reg, p, s, c):
+    """Forces ``(f1, f2, N, N2)`` at ``x`` in regime ``reg`` = (sig1, sig2); sig 0 =
+    stuck. Rows: stuck ``f_i = g_i``; slipping ``f1 = sig1 mu1 N``, ``f2 = sig2 mu2
+    N2`` with ``N = (c f1 + f2 + q)/s``, ``N2 = (f1 + c f2 + c q)/s``."""
+    q = p.k * x * c / s + p.preload
+    sig1, sig2 = reg
+    if sig1 == 0:
+        a11, a12, b1 = 1.0, 0.0, p.kf * (x / s - w1)
+    else:
+        m = sig1 * p.mu1
+        a11, a12, b1 = s - m * c, -m, m * q
+    if sig2 == 0:
+        a21, a22, b2 = 0.0, 1.0, p.kf2 * (x * c / s - w2)
+    else:
+        m = sig2 * p.mu2
+        a21, a22, b2 = -m, s - m * c, m * c * q
+    det = a11 * a22 - a12 * a21
+    f1 = (b1 * a22 - a12 * b2) / det
+    f2 = (a11 * b2 - a21 * b1) / det
+    return f1, f2, (c * f1 + f2 + q) / s, (f1 + c * f2 + c * q) / s
+
+
+def inclined_forces(x: float, w1: float, w2: float, p: InclinedParameters,
+                    reg=(0, 0)) -> tuple[float, float, float, float]:
+    """Forces ``(f1, f2, N, N2)`` at ``x`` in a given regime (both stuck by default)."""
+    s, c = p.sc
+    return _solve(x, w1, w2, reg, p, s, c)
+
+
+def _affine(x, w1, w2, reg, p, s, c):
+    """Values at ``x`` and slopes d/dx of ``(f1, f2, N, N2)`` in regime ``reg``."""
+    v0 = _solve(x, w1, w2, reg, p, s, c)
+    # the sliders only shift the intercept: slopes from the pair x = 0, 1 with w = 0
+    v0z = _solve(0.0, 0.0, 0.0, reg, p, s, c)
+    v1z = _solve(1.0, 0.0, 0.0, reg, p, s, c)
+    return v0, tuple(b - a for a, b in zip(v0z, v1z))
+
+
+def _consistent(vals, slopes, reg, at_limit, d, p, s, c) -> bool:
+    """Whether regime ``reg`` can continue from a point with forces ``vals`` in
+    direction ``d`` (+1/-1)."""
+    f1, f2, n1, n2 = vals
+    df1, df2, dn1, dn2 = slopes
+    for i, (f, df, n, dn, mu, kfi, da) in enumerate((
+            (f1, df1, n1, dn1, p.mu1, p.kf, 1.0 / s),
+            (f2, df2, n2, dn2, p.mu2, p.kf2, c / s))):
+        sig = reg[i]
+        if sig == 0:
+            if at_limit[i]:
+                g = 1.0 if f >= 0 else -1.0
+                if d * (g * df - mu * dn) > 1e-9 * (abs(df) + mu * abs(dn) + 1e-30):
+                    return False
+        else:
+            dw = da - df / kfi
+            if d * sig * dw < -1e-12 * (abs(da) + abs(df) / kfi):
+                return False
+    return True
+
+
+def _choose(x, w1, w2, d, p, s, c):
+    """The regime that continues from ``x`` (committed sliders) in direction ``d``."""
+    vals = _solve(x, w1, w2, (0, 0), p, s, c)
+    f1, f2, n1, n2 = vals
+    lim = (p.mu1 * n1, p.mu2 * n2)
+    at_limit = []
+    for f, L in zip((f1, f2), lim):
+        tol = _REL_TOL * max(abs(f), abs(L), 1e-9)
+        at_limit.append(not math.isinf(L) and abs(f) >= L - tol)
+    options = [(0,), (0,)]
+    for i, f in enumerate((f1, f2)):
+        if at_limit[i]:
+            options[i] = (0, 1 if f >= 0 else -1)
+    for reg in ((a, b) for a in options[0] for b in options[1]):
+        slopes = _affine(x, w1, w2, reg, p, s, c)[1]
+        if _consistent(vals, slopes, reg, at_limit, d, p, s, c):
+            return reg
+    raise ContactLost(f"no consistent stick/slip state at x = {x!r} m "
+                      f"(N = {n1:.6g} N, N2 = {n2:.6g} N)")
+
+
+def _sliders(x, vals, reg, w1, w2, p, s, c):
+    f1, f2 = vals[0], vals[1]
+    if reg[0]:
+        w1 = x / s - f1 / p.kf
+    if reg[1]:
+        w2 = x * c / s - f2 / p.kf2
+    return w1, w2
+
+
+def _next_event(x, x1, d, vals, slopes, reg, p):
+    """First deflection between x and x1 where a stuck surface reaches its limit."""
+    best = x1
+    for i, mu in ((0, p.mu1), (1, p.mu2)):
+        if reg[i] or math.isinf(mu):
+            continue
+        f, df = vals[i], slopes[i]
+        n, dn = vals[2 + i], slopes[2 + i]
+        for g in (1.0, -1.0):
+            phi, dphi = g * f - mu * n, g * df - mu * dn   # <= 0 while stuck
+            if d * dphi > 0:
+                xe = x - phi / dphi
+                if (xe - best) * d < 0:
+                    best = xe if (xe - x) * d > 0 else x
+    return best
+
+
+def inclined_update(x: float, x_old: float, w1: float, w2: float,
+                    p: InclinedParameters) -> InclinedStep:
+    """Exact return map of the element from ``x_old`` to ``x`` (monotonic inside).
+
+    ``w1``, ``w2`` are the committed sliders at ``x_old``. Raises
+    :class:`ContactLost` when the motion needs N < 0 or N2 < 0 on a surface that
+    can slip.
+    """
+    s, c = p.sc
+    d = 1.0 if x >= x_old else -1.0
+    xc, diss = x_old, 0.0
+    reg = (0, 0)
+    for _ in range(_MAX_EVENTS):
+        reg = _choose(xc, w1, w2, d, p, s, c)
+        vals, slopes = _affine(xc, w1, w2, reg, p, s, c)
+        xe = _next_event(xc, x, d, vals, slopes, reg, p)
+        end = _solve(xe, w1, w2, reg, p, s, c)
+        _check_contact(xe, end, p)
+        nw1, nw2 = _sliders(xe, end, reg, w1, w2, p, s, c)
+        # slip energy: f affine and w linear in x on the segment -> trapezoid exact
+        diss += 0.5 * ((vals[0] + end[0]) * (nw1 - w1)
+                       + (vals[1] + end[1]) * (nw2 - w2))
+        w1, w2, xc = nw1, nw2, xe
+        if xe == x:
+            break
+    else:
+        raise ContactLost(f"more than {_MAX_EVENTS} stick/slip events between "
+                          f"{x_old!r} and {x!r} m")
+    f1, f2, n1, n2 = end
+    tangent = slopes[3]
+    return InclinedStep(n2, f1, f2, n1, n2, w1, w2, reg[0] != 0, reg[1] != 0,
+                        tangent, diss)
+
+
+def _check_contact(x, vals, p):
+    f1, f2, n1, n2 = vals
+    for name, n, mu in (("N", n1, p.mu1), ("N2", n2, p.mu2)):
+        scale = abs(f1) + abs(f2) + p.preload + 1e-9
+        if n < -_REL_TOL * scale and not math.isinf(mu):
+            raise ContactLost(f"the inclined element loses contact at x = {x!r} m: "
+                              f"{name} = {n:.6g} N < 0 (raise the preload or k)")
