@@ -282,12 +282,25 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
     """
     import hbm as _hbm
 
+    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
+
+    # the CLI's and the config's limits (an unbounded H or N runs for hours)
+    _check_count("harmonics", harmonics, 1, MAX_HARMONICS)
+    _check_count("n_samples", n_samples, 3, MAX_N_SAMPLES)
     m = _model(model)
     fmin, fmax = _band(m, fmin_hz, fmax_hz)
     return Curve(_hbm.frequency_response(m.system, fmin, fmax, harmonics=harmonics,
                                          n_samples=n_samples,
                                          options=m.config.hbm.options(),
                                          progress=progress), "hbm")
+
+
+def _check_count(name: str, value, low: int, high: int) -> None:
+    """``value`` None or an integer in ``low..high``; else ValueError naming it."""
+    if value is None:
+        return
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ValueError(f"`{name}` must be an integer in {low}..{high}, got {value!r}")
 
 
 def _fmu_kw(backend: str, fmu_path) -> dict:
