@@ -299,7 +299,8 @@ def _check_count(name: str, value, low: int, high: int) -> None:
     """``value`` None or an integer in ``low..high``; else ValueError naming it."""
     if value is None:
         return
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+    integer = isinstance(value, int) and not isinstance(value, bool)
+    if not integer or not low <= value <= high:
         raise ValueError(f"`{name}` must be an integer in {low}..{high}, got {value!r}")
 
 
