@@ -234,7 +234,6 @@ def run_steady(master: Master, freq_hz: float, *,
     ``"linear"`` (:func:`linear_start`; sliders kept) or a :class:`SteadyState`
     (its end state and sliders). See the module docstring for the outputs.
     """
-    system = master.system
     if not (isinstance(freq_hz, (int, float, np.floating)) and math.isfinite(freq_hz)
             and freq_hz > 0):
         raise ValueError(f"`freq_hz` must be finite and > 0, got {freq_hz!r}")
