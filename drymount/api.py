@@ -291,12 +291,11 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
 def _fmu_kw(backend: str, fmu_path) -> dict:
     if backend != "fmu":
         return {}
-    from fmu_build import ensure_fmu
-    from fmu_build.native import is_native_fmu
+    from fmu_build import default_fmu_path, ensure_fmu
 
-    if fmu_path is not None and is_native_fmu(fmu_path):
-        return {"fmu_path": Path(fmu_path).resolve()}
-    return {"fmu_path": ensure_fmu(fmu_path)}
+    if fmu_path is not None:  # a user's FMU (PythonFMU or native): used as it is,
+        return {"fmu_path": Path(fmu_path).resolve()}  # never rebuilt (issue 11)
+    return {"fmu_path": ensure_fmu(default_fmu_path())}
 
 
 def sweep(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,

@@ -20,9 +20,11 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
 
-Exit status: 0 success; 2 bad usage or an invalid configuration (every problem is
-listed, no traceback); 1 a numerical failure (what was computed is still written);
-130 interrupted.
+Exit status (docs/cli.md): 0 success; 1 a numerical failure (what was computed is
+written, marked ``# partial: <reason>`` when the run stopped early); 2 bad usage or an
+invalid configuration, found before any computation (every problem is listed, no
+traceback); 130 interrupted by SIGINT (Ctrl-C), 143 terminated by SIGTERM (what was
+computed is written, marked partial). :mod:`drymount.cli_guard` holds these rules.
 
 Environment: ``DRYMOUNT_THREADS`` = BLAS/OpenMP threads (default 1; ``default`` keeps
 the libraries' own; see :mod:`drymount.threads`), ``DRYMOUNT_TRACEBACK`` = show
@@ -32,14 +34,30 @@ tracebacks, ``DRYMOUNT_MARCH`` = Jenkins march backend of the HBM
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import sys
 from pathlib import Path
 
+from drymount.cli_guard import (
+    EXIT_INTERRUPTED,
+    EXIT_TERMINATED,
+    UsageError,
+    fmu_path,
+    interrupted,
+    outputs,
+    partial_on_stop,
+    signals_interrupt,
+    stopped_by,
+    write_with,
+)
+from drymount.cli_guard import check_out as _check_out
+from drymount.cli_guard import check_out_dir as _check_out_dir
 from drymount.cli_parser import build_parser
 
-__all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE"]
+__all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE",
+           "EXIT_INTERRUPTED", "EXIT_TERMINATED", "UsageError"]
 
 EXIT_OK = 0
 #: A numerical failure: an HBM continuation that stopped, a sweep point that did not
@@ -47,12 +65,6 @@ EXIT_OK = 0
 EXIT_FAILURE = 1
 #: Bad usage or an invalid configuration (argparse's own code for usage errors).
 EXIT_USAGE = 2
-EXIT_INTERRUPTED = 130
-
-
-
-class UsageError(Exception):
-    """Bad command-line values found after parsing (exit status 2)."""
 
 
 # ======================================================================================
@@ -79,13 +91,8 @@ def _load(spec, overrides=()):
     return cfg
 
 
-def _write_with(path: Path, writer) -> Path:
-    """Call ``writer(tmp_path)`` and move the file to ``path`` atomically."""
-    from drymount.io import atomic_path
-
-    with atomic_path(path) as tmp:
-        writer(tmp)
-    return path
+_write_with = write_with
+_fmu_path = fmu_path
 
 
 def _peak_text(name: str, freq_hz, transmissibility) -> str:
@@ -130,6 +137,7 @@ def cmd_presets(args) -> int:
         return EXIT_OK
     if args.path.exists() and not args.force:
         raise UsageError(f"{args.path} exists; use --force to overwrite it")
+    _check_out(args.path, "PATH")
     name = args.as_name if args.as_name is not None else args.path.stem
     atomic_write_text(args.path, _with_name(text, name))
     _info(f"wrote {args.path} (preset {args.name}, named {name!r})")
@@ -153,6 +161,10 @@ def _with_name(text: str, name: str) -> str:
 
 
 def cmd_build_fmu(args) -> int:
+    if args.out is not None:
+        _check_out(args.out, "--out")
+        if args.out.suffix != ".fmu":
+            raise UsageError(f"--out: {str(args.out)!r} must end with .fmu")
     if args.native:
         from fmu_build.native import build_native_fmu
 
@@ -178,6 +190,7 @@ def cmd_export_ssp(args) -> int:
     cfg = _load(args.config)
     if args.fmu is not None and not args.fmu.is_file():
         raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    _check_out(args.out, "--out")
     exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
     _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
           f"({', '.join(exp.mounts)}) of {exp.fmu}, "
@@ -193,12 +206,14 @@ def cmd_hbm(args) -> int:
     if n_samples is not None and n_samples < 2 * H + 1:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
-    out = args.out or Path(f"{cfg.name}_hbm.csv")
+    out = outputs(args, cfg, "hbm")
     import hbm
 
-    fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
-                                n_samples=n_samples, progress=not args.quiet)
-    _write_with(out, fr.to_csv)
+    with partial_on_stop(out, "points"):
+        fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
+                                    n_samples=n_samples, progress=not args.quiet)
+    _write_with(out, fr.to_csv,
+                partial=None if fr.success else f"numerical failure: {fr.message}")
     _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {H})")
     if args.plot is not None:
         _write_with(args.plot, lambda p: fr.plot(path=p))
@@ -236,11 +251,18 @@ def cmd_cosim(args) -> int:
         raise UsageError(f"give --freq, --road or --engine (the configuration "
                          f"{cfg.source} has no [cosim] freq_hz or [cosim.input])")
     backend = args.backend or cfg.cosim.backend
-    out = args.out or Path(f"{cfg.name}_cosim.csv")
+    out = outputs(args, cfg, "cosim")
+    for path, option in ((args.spectra, "--spectra"),
+                         (args.spectra_plot, "--spectra-plot")):
+        if path is not None:
+            _check_out(path, option)
+    fmu = fmu_path(args.fmu) if backend == "fmu" else args.fmu
     try:
-        run = cosim(Model(cfg), args.freq, duration=args.duration, backend=backend,
-                    steps_per_period=args.steps_per_period, road=args.road,
-                    speed=args.speed, engine=args.engine, fmu_path=args.fmu)
+        with partial_on_stop(out, "time steps"):
+            run = cosim(Model(cfg), args.freq, duration=args.duration,
+                        backend=backend, steps_per_period=args.steps_per_period,
+                        road=args.road, speed=args.speed, engine=args.engine,
+                        fmu_path=fmu)
     except MeasuredInputError as exc:
         raise UsageError(str(exc)) from None
     th = run.history
@@ -258,15 +280,6 @@ def cmd_cosim(args) -> int:
                 write(path)
                 _info(f"wrote {path} (PSDs, Welch, {sp.segment_s:.3g} s segments)")
     return EXIT_OK
-
-
-def _fmu_path(path):
-    from fmu_build import ensure_fmu
-    from fmu_build.native import is_native_fmu
-
-    if path is not None and is_native_fmu(path):
-        return Path(path).resolve()  # a native build: used as is, never rebuilt
-    return ensure_fmu(path)
 
 
 def _plot_time_history(th, cfg, freq, path) -> None:
@@ -344,17 +357,18 @@ def cmd_sweep(args) -> int:
     freqs = s.freqs_hz()
     backend = args.backend or cfg.cosim.backend
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
-    out = args.out or Path(f"{cfg.name}_sweep.csv")
+    out = outputs(args, cfg, "sweep")
     kw = {}
     spp = args.steps_per_period or cfg.cosim.steps_per_period
     if spp is not None:
         kw["steps_per_period"] = spp
     if backend == "fmu":
-        kw["fmu_path"] = _fmu_path(args.fmu)
+        kw["fmu_path"] = fmu_path(args.fmu)
     import vehicle
 
-    res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
-                        workers=args.workers, progress=not args.quiet, **kw)
+    with partial_on_stop(out, "frequencies"):
+        res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
+                            workers=args.workers, progress=not args.quiet, **kw)
     _write_with(out, res.to_csv)
     _info(f"wrote {out} ({len(res.freq_hz)} frequencies, {s.direction}, backend "
           f"{backend})")
@@ -385,16 +399,19 @@ def _lead_module(name: str):
 
 
 def cmd_validate(args) -> int:
+    _check_out_dir(args.out, "--out")
     return _lead_module("validation").main(args)
 
 
 def cmd_study(args) -> int:
     if args.out is None:
         args.out = Path(f"study-{args.name}")
+    _check_out_dir(args.out, "--out")
     return _lead_module("studies").main(args)
 
 
 def cmd_demo(args) -> int:
+    _check_out_dir(args.out, "--out")
     return _lead_module("demo").main(args)
 
 
@@ -447,8 +464,27 @@ def main(argv: list[str] | None = None) -> int:
     """Run ``drymount`` with ``argv`` (default ``sys.argv[1:]``); return the exit code.
 
     Usage errors and configuration errors print a clean message (no traceback) and
-    return 2; numerical failures return 1 after writing what was computed.
+    return 2; numerical failures return 1 after writing what was computed; SIGINT
+    returns 130 and SIGTERM 143 after writing what was computed.
     """
+    with signals_interrupt(program=argv is None):
+        try:
+            code = _run(argv)
+        except KeyboardInterrupt:
+            code = interrupted()
+    if argv is None and code in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+        # CPython remembers a KeyboardInterrupt that passed through exec(str) (a
+        # lazy import) even when it was handled, and would end the process with
+        # SIGINT (status -2) instead of this code: leave without finalisation (the
+        # results are written and the workers stopped).
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(code)
+    return code
+
+
+def _run(argv) -> int:
     from drymount.threads import limit_threads
 
     try:
@@ -472,10 +508,9 @@ def main(argv: list[str] | None = None) -> int:
     except UsageError as exc:
         _err(str(exc))
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        _err("interrupted")
-        return EXIT_INTERRUPTED
     except Exception as exc:  # a numerical or FMU failure deep in a run
+        if stopped_by() is not None:  # e.g. an FMU call that the signal broke
+            return interrupted()
         if args.traceback or os.environ.get("DRYMOUNT_TRACEBACK"):
             raise
         _err(f"{type(exc).__name__}: {exc} (run with --traceback for details)")

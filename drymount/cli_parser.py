@@ -30,20 +30,30 @@ def _positive_float(text: str) -> float:
     return x
 
 
-def _int_at_least(minimum: int):
+def _int_at_least(minimum: int, maximum: int | None = None):
+    rng = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
+
     def parse(text: str) -> int:
         try:
             n = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(
-                f"must be an integer >= {minimum}, got {text!r}") from None
-        if n < minimum:
-            raise argparse.ArgumentTypeError(
-                f"must be an integer >= {minimum}, got {n}")
+                f"must be an integer {rng}, got {text!r}") from None
+        if n < minimum or (maximum is not None and n > maximum):
+            raise argparse.ArgumentTypeError(f"must be an integer {rng}, got {n}")
         return n
 
-    parse.__name__ = f"integer >= {minimum}"
+    parse.__name__ = f"integer {rng}"
     return parse
+
+
+def _path(text: str) -> Path:
+    if not text.strip():
+        raise argparse.ArgumentTypeError("the file name is empty")
+    return Path(text)
+
+
+_path.__name__ = "path"
 
 
 # ======================================================================================
@@ -77,13 +87,14 @@ def _harness_args(p, kind: str) -> None:
     p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
                    help="fixed steps per excitation period (default: [cosim] "
                         "steps_per_period, else the harness default)")
-    p.add_argument("--fmu", type=Path, default=None,
-                   help="FMU to use (default: dist/FrictionMount.fmu, built if "
-                        "missing; or a native build, dist/FrictionMountNative.fmu or "
+    p.add_argument("--fmu", type=_path, default=None,
+                   help="FMU to use, never modified (default: dist/FrictionMount.fmu, "
+                        "built or rebuilt when missing or older than drymount's "
+                        "sources; or a native build, dist/FrictionMountNative.fmu or "
                         "dist/FrictionMountNative3.fmu)")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help=f"CSV file to write (default: <name>_{kind}.csv)")
-    p.add_argument("--plot", type=Path, default=None, help="plot file to write")
+    p.add_argument("--plot", type=_path, default=None, help="plot file to write")
 
 
 def _config_arg(p):
@@ -108,6 +119,8 @@ def _version() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``drymount`` argument parser (subcommands in ``args.command``)."""
+    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES, MAX_POINTS
+
     parser = argparse.ArgumentParser(
         prog="drymount",
         description=textwrap.dedent("""\
@@ -123,8 +136,10 @@ def build_parser() -> argparse.ArgumentParser:
             "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
             "--plot sweep.png",
             "drymount build-fmu --out FrictionMount.fmu",
-        ) + "\n\nexit status: 0 success, 1 numerical failure (results so far are "
-            "written), 2 bad usage or configuration",
+        ) + "\n\nexit status: 0 success, 1 numerical failure, 2 bad usage or "
+            "configuration (before computing), 130 Ctrl-C, 143 SIGTERM; after 1, 130 "
+            "or 143 what was computed is written, first line '# partial: <reason>' "
+            "(docs/cli.md)",
         formatter_class=_Formatter)
     parser.add_argument("--version", action="version",
                         version=f"drymount {_version()}")
@@ -159,7 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
                             "drymount hbm mine.toml"),
                         formatter_class=_Formatter)
     q.add_argument("name", metavar="NAME", help="preset name")
-    q.add_argument("path", metavar="PATH", type=Path, help="file to write")
+    q.add_argument("path", metavar="PATH", type=_path, help="file to write")
     q.add_argument("--name", dest="as_name", default=None,
                    help="the configuration's `name` (output files start with it); "
                         "default: the stem of PATH")
@@ -173,7 +188,7 @@ def build_parser() -> argparse.ArgumentParser:
              the host; docs/fmu.md describes its variables.""",
              ["drymount build-fmu", "drymount build-fmu --out /tmp/FrictionMount.fmu",
               "drymount build-fmu --native --fmi 3  # dist/FrictionMountNative3.fmu"])
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="FMU file to write (default: dist/FrictionMount.fmu under the "
                         "current folder; with --native dist/FrictionMountNative.fmu or "
                         "dist/FrictionMountNative3.fmu)")
@@ -194,11 +209,11 @@ def build_parser() -> argparse.ArgumentParser:
              vehicle body is not an FMU).""",
              ["drymount export-ssp six_dof_halved --out six_dof.ssp --native"])
     _config_arg(p)
-    p.add_argument("--out", type=Path, required=True, help="SSP file to write")
+    p.add_argument("--out", type=_path, required=True, help="SSP file to write")
     p.add_argument("--native", action="store_true",
                    help="pack the native FMU (FrictionMountNative.fmu, FMI 2.0) "
                         "instead of the PythonFMU build")
-    p.add_argument("--fmu", type=Path, default=None, help="pack this FMU instead")
+    p.add_argument("--fmu", type=_path, default=None, help="pack this FMU instead")
 
     # hbm ----------------------------------------------------------------------
     p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
@@ -213,17 +228,20 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount hbm sdof_cubic --harmonics 1 --fmin 2 --fmax 14 --out h1.csv",
               "drymount hbm my_engine.toml --harmonics 9"])
     _config_arg(p)
-    p.add_argument("--harmonics", "-H", type=_int_at_least(1), default=None,
-                   help="number of harmonics H (default: [hbm] harmonics of CONFIG, 7)")
-    p.add_argument("--n-samples", type=_int_at_least(3), default=None,
-                   help="AFT samples per period (default: [hbm] n_samples, else auto)")
+    p.add_argument("--harmonics", "-H", type=_int_at_least(1, MAX_HARMONICS),
+                   default=None,
+                   help=f"number of harmonics H, 1..{MAX_HARMONICS} (default: [hbm] "
+                        f"harmonics of CONFIG, 7)")
+    p.add_argument("--n-samples", type=_int_at_least(3, MAX_N_SAMPLES), default=None,
+                   help=f"AFT samples per period, 2H+1..{MAX_N_SAMPLES} (default: "
+                        f"[hbm] n_samples, else auto)")
     p.add_argument("--fmin", type=_positive_float, default=None,
                    help="lowest frequency in Hz (default: [sweep] fmin_hz)")
     p.add_argument("--fmax", type=_positive_float, default=None,
                    help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="CSV file to write (default: <name>_hbm.csv)")
-    p.add_argument("--plot", type=Path, default=None,
+    p.add_argument("--plot", type=_path, default=None,
                    help="plot file to write (.png, .pdf, .svg)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
@@ -249,18 +267,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--backend", choices=("fmu", "native"), default=None,
                    help="fmu: FMU instances through fmpy; native: in-process law "
                         "(default: [cosim] backend)")
-    p.add_argument("--road", type=Path, default=None, metavar="CSV",
+    p.add_argument("--road", type=_path, default=None, metavar="CSV",
                    help="measured road profile or base displacement: distance [m] or "
                         "time [s], elevation [mm|m] (default: [cosim.input] road)")
     p.add_argument("--speed", type=_positive_float, default=None,
                    help="vehicle speed in m/s for a road over distance (default: "
                         "[cosim.input] speed)")
-    p.add_argument("--engine", type=Path, default=None, metavar="CSV",
+    p.add_argument("--engine", type=_path, default=None, metavar="CSV",
                    help="measured engine forces/moments or accelerations: time [s] "
                         "and one column per DOF (default: [cosim.input] engine)")
-    p.add_argument("--spectra", type=Path, default=None, metavar="CSV",
+    p.add_argument("--spectra", type=_path, default=None, metavar="CSV",
                    help="write the PSDs of the mount forces and DOF accelerations")
-    p.add_argument("--spectra-plot", type=Path, default=None, metavar="PNG",
+    p.add_argument("--spectra-plot", type=_path, default=None, metavar="PNG",
                    help="plot the PSDs")
     p.add_argument("--skip", type=float, default=0.0, metavar="SECONDS",
                    help="start-up transient left out of the spectra (default 0 s)")
@@ -284,8 +302,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="lowest frequency in Hz (default: [sweep] fmin_hz)")
     p.add_argument("--fmax", type=_positive_float, default=None,
                    help="highest frequency in Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--points", type=_int_at_least(2), default=None,
-                   help="number of frequencies (default: [sweep] points)")
+    p.add_argument("--points", type=_int_at_least(2, MAX_POINTS), default=None,
+                   help=f"number of frequencies, 2..{MAX_POINTS} (default: [sweep] "
+                        f"points)")
     p.add_argument("--spacing", choices=("linear", "log"), default=None,
                    help="frequency spacing (default: [sweep] spacing)")
     p.add_argument("--direction", choices=("up", "down"), default=None,
@@ -295,7 +314,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
     _harness_args(p, "sweep")
-    p.add_argument("--hbm", type=Path, default=None, metavar="CURVE_CSV",
+    p.add_argument("--hbm", type=_path, default=None, metavar="CURVE_CSV",
                    help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
@@ -311,10 +330,10 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount validate --systems sdof_friction --inject n0=1.5  # fails"])
     p.add_argument("--quick", action="store_true",
                    help="fewer frequencies (still real runs), for CI")
-    p.add_argument("--fmu", type=Path, default=None,
+    p.add_argument("--fmu", type=_path, default=None,
                    help="FMU to validate (default: dist/FrictionMount.fmu, built if "
                         "missing; any build, e.g. dist/FrictionMountNative.fmu)")
-    p.add_argument("--out", type=Path, default=Path("validation"),
+    p.add_argument("--out", type=_path, default=Path("validation"),
                    help="report folder")
     p.add_argument("--systems", nargs="+", default=None, metavar="NAME",
                    help="only these systems (sdof_friction, quarter_car_friction, "
@@ -346,7 +365,7 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount study jump --out jump --quick"])
     p.add_argument("name", metavar="NAME", choices=STUDY_NAMES,
                    help="one of " + ", ".join(STUDY_NAMES))
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="output folder (default: study-NAME)")
     p.add_argument("--quick", action="store_true",
                    help="fewer designs and coarser curves (seconds instead of minutes)")
@@ -368,7 +387,7 @@ def build_parser() -> argparse.ArgumentParser:
               "drymount fit loops examples/data/rig_loops.csv --mount sdof_halved"])
     p.add_argument("kind", metavar="KIND", choices=("elastic", "loops", "table"),
                    help="elastic, loops or table")
-    p.add_argument("data", metavar="DATA", type=Path, help="the rig data (CSV)")
+    p.add_argument("data", metavar="DATA", type=_path, help="the rig data (CSV)")
     p.add_argument("--law", default="auto",
                    choices=("auto", "linear", "cubic", "piecewise", "piecewise_asym"),
                    help="elastic: the law to write (default: lowest AIC)")
@@ -380,7 +399,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "file (e.g. the mount.toml of `fit elastic`) or a preset")
     p.add_argument("--fix-c", action="store_true",
                    help="loops/table: keep c of --mount instead of fitting it")
-    p.add_argument("--out", type=Path, default=Path("fit"), help="output folder")
+    p.add_argument("--out", type=_path, default=Path("fit"), help="output folder")
     p.add_argument("--no-plot", dest="plot", action="store_false",
                    help="do not draw fit.png")
 
@@ -411,10 +430,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--check", choices=("auto", "fmu", "law"), default="auto",
                    help="time-domain cross-check: through the FMU (auto: if fmpy is "
                         "installed) or by marching the law")
-    p.add_argument("--fmu", type=Path, default=None,
+    p.add_argument("--fmu", type=_path, default=None,
                    help="FMU for the cross-check (default: dist/FrictionMount.fmu, "
                         "built if missing)")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="output folder (default: <name>_characterise)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
@@ -438,7 +457,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="static generalised load on a DOF, N or N m (repeatable)")
     p.add_argument("--travel-mm", type=_positive_float, default=None,
                    help="warn when a mount axis deflects more than this, mm")
-    p.add_argument("--out", type=Path, default=None,
+    p.add_argument("--out", type=_path, default=None,
                    help="CSV file (default: <name>_static.csv)")
 
     # demo ---------------------------------------------------------------------
@@ -449,7 +468,7 @@ def build_parser() -> argparse.ArgumentParser:
              and writes demo.md with plots and CSV files. A couple of minutes on 2
              cores.""",
              ["drymount demo", "drymount demo --out /tmp/demo"])
-    p.add_argument("--out", type=Path, default=Path("demo"), help="report folder")
+    p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
 
     # explore, optimize (drymount.design) ------------------------------------------

@@ -1,7 +1,9 @@
 """The app's file writing: the atomic writers and CSV of :mod:`hbm.io`, re-used.
 
 They live in ``hbm`` (the lowest layer that writes files), so that ``hbm`` and
-``vehicle`` results write atomically without importing the app.
+``vehicle`` results write atomically without importing the app. Output paths are
+checked (:func:`check_output_path`) and partial results marked (``# partial:``) as
+:mod:`hbm.io` describes.
 """
 
 from hbm import io as _io

@@ -50,7 +50,7 @@ __all__ = [
 ]
 
 #: Files of ``fmu_src`` copied into the FMU, byte for byte.
-FMU_SOURCES = ("mount_law.py", "interface.py", "friction_mount.py")
+FMU_SOURCES = ("mount_law.py", "interface.py", "fmi_state.py", "friction_mount.py")
 #: C source of the linux64 loader in front of pythonfmu's binary (see
 #: :func:`compile_loader`).
 LOADER_SOURCE = "fmu_loader.c"
@@ -264,6 +264,58 @@ def _install_loader(fmu: Path, loader: Path) -> None:
     os.replace(rewritten, fmu)
 
 
+#: Timestamp of every entry of the FMU zip (the earliest a zip can hold): builds of
+#: the same sources are byte-identical.
+ZIP_DATE_TIME = (1980, 1, 1, 0, 0, 0)
+
+
+def fmu_guid(model_description: str, resources: dict[str, bytes], version: str) -> str:
+    """The FMU's GUID, derived from its content: the model description (without its
+    ``guid`` and ``generationDateAndTime``), the files under ``resources/`` (the
+    model's Python code) and the version. Same sources and version -> same GUID on
+    every machine; any change of the interface or the code -> another GUID."""
+    import uuid
+
+    digest = hashlib.sha256(b"FrictionMount GUID\0" + version.encode() + b"\0")
+    digest.update(_without_guid(model_description).encode())
+    for name in sorted(resources):
+        digest.update(b"\0" + name.encode() + b"\0" + resources[name])
+    return str(uuid.UUID(bytes=digest.digest()[:16], version=5))
+
+
+def _without_guid(model_description: str) -> str:
+    text = re.sub(r'\sgenerationDateAndTime="[^"]*"', "", model_description, count=1)
+    return re.sub(r'\sguid="[^"]*"', ' guid=""', text, count=1)
+
+
+def _make_reproducible(fmu: Path, version: str) -> str:
+    """Rewrite the zip ``fmu`` deterministically: entries sorted by name, fixed
+    timestamps (``ZIP_DATE_TIME``) and modes (0755 for binaries, 0644 otherwise), the
+    model description without ``generationDateAndTime`` and with the content GUID
+    (:func:`fmu_guid`). Returns the GUID."""
+    import zipfile
+
+    with zipfile.ZipFile(fmu) as z:
+        files = {i.filename: z.read(i.filename) for i in z.infolist()
+                 if not i.is_dir()}
+    md = files["modelDescription.xml"].decode("utf-8")
+    guid = fmu_guid(md, {n: b for n, b in files.items() if n.startswith("resources/")},
+                    version)
+    files["modelDescription.xml"] = _without_guid(md).replace(
+        ' guid=""', f' guid="{guid}"', 1).encode("utf-8")
+    rewritten = fmu.with_suffix(".sorted.zip")
+    with zipfile.ZipFile(rewritten, "w") as out:
+        for name in sorted(files):
+            entry = zipfile.ZipInfo(name, date_time=ZIP_DATE_TIME)
+            entry.compress_type = zipfile.ZIP_DEFLATED
+            entry.create_system = 3  # unix: the modes below are meaningful
+            binary = name.startswith("binaries/")
+            entry.external_attr = (0o100755 if binary else 0o100644) << 16
+            out.writestr(entry, files[name])
+    os.replace(rewritten, fmu)
+    return guid
+
+
 def _fmu_builder():
     """pythonfmu's ``FmuBuilder`` from the installed package.
 
@@ -386,16 +438,21 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
         _check_binaries(partial, model)
         if not why_not:
             _install_loader(partial, loader)
+        _make_reproducible(partial, version)
         # unique per process: concurrent builders (parallel sweep workers) never share
         part = dest.parent / f".{dest.name}.{os.getpid()}.part"
         os.replace(shutil.copy2(partial, part), dest)
     return dest
 
 
-def ensure_fmu(path: str | os.PathLike | None = None, model: str = MODEL_NAME) -> Path:
+def ensure_fmu(path: str | os.PathLike | None = None, notify=None,
+               model: str = MODEL_NAME) -> Path:
     """Return ``path`` (default :func:`default_fmu_path`, ``dist/<model>.fmu`` for
     another model of :data:`MODELS`), building it if it is missing or older than any
-    of its sources (``fmu_src``, ``fmu_doc``, this file)."""
+    of its sources (``fmu_src``, ``fmu_doc``, this file).
+
+    Meant for drymount's own (default) FMU: a user's FMU is never passed here, it
+    would be overwritten. ``notify(reason)`` is called before a build."""
     spec = _spec(model)
     if path is None:
         path = default_fmu_path().with_name(f"{model}.fmu")
@@ -404,6 +461,11 @@ def ensure_fmu(path: str | os.PathLike | None = None, model: str = MODEL_NAME) -
     sources.append(Path(__file__))
     sources += [f for f in DOC_DIR.rglob("*") if f.is_file()]
     newest = max(f.stat().st_mtime for f in sources)
-    if not path.exists() or path.stat().st_mtime < newest:
+    why = ("it does not exist" if not path.exists() else
+           "drymount's FMU sources are newer" if path.stat().st_mtime < newest
+           else None)
+    if why is not None:
+        if notify is not None:
+            notify(why)
         build_fmu(path, model=model)
     return path.resolve()

@@ -10,16 +10,32 @@
  * loading it fails with an undefined symbol. At the first fmi2Instantiate this loader
  *
  *   1. checks whether the process already has Python (Py_IsInitialized visible);
- *   2. if not, loads libpython with RTLD_GLOBAL, trying in order $DRYMOUNT_LIBPYTHON,
- *      the path of the Python that built the FMU (DRYMOUNT_LIBPYTHON_PATH below) and
- *      its soname on the loader's search path, and sets PYTHONHOME to that Python's
- *      prefix unless PYTHONHOME is already set (the interpreter must find its
- *      standard library; $DRYMOUNT_PYTHONHOME overrides);
+ *   2. if not, picks a libpython of the version the FMU was built with, trying in
+ *      order $DRYMOUNT_LIBPYTHON, the path of the Python that built the FMU
+ *      (DRYMOUNT_LIBPYTHON_PATH below), the Python found on the host (python3.X on
+ *      $PATH, its prefix's lib/) and the soname on the loader's search path. A
+ *      candidate is used only if its prefix holds the standard library
+ *      (<prefix>/lib/python3.X/os.py and encodings/): the prefix is $PYTHONHOME if
+ *      set, else $DRYMOUNT_PYTHONHOME, else the recorded prefix (for the recorded
+ *      library), else found above the library file. Starting an interpreter without
+ *      its standard library kills the importer ("Fatal Python error:
+ *      init_fs_encoding"), so this is checked before anything is started. The chosen
+ *      library is loaded with RTLD_GLOBAL and PYTHONHOME set to its prefix unless
+ *      PYTHONHOME is set;
  *   3. loads FrictionMount.pythonfmu.so from its own directory and forwards every
  *      FMI call to it.
  *
- * Failures are reported through the importer's logger (category "drymount") and
- * make fmi2Instantiate return NULL. The build (fmu_build/builder.py) compiles this
+ * Failures are reported through the importer's logger (category "drymount", every
+ * candidate with the reason it was refused, and the variables DRYMOUNT_LIBPYTHON and
+ * DRYMOUNT_PYTHONHOME that fix it) and make fmi2Instantiate return NULL.
+ *
+ * Rejected calls: pythonfmu 0.7.0 turns every Python exception into fmi2Fatal and
+ * drops the instance. The model (fmu_src/friction_mount.py) therefore rejects a call
+ * that breaks the FMI call-order rules (docs/fmu.md) without raising: it logs the
+ * reason and calls drymount_reject_call() below, and the forwarder returns
+ * fmi2Error for that call; the instance stays usable.
+ *
+ * The build (fmu_build/builder.py) compiles this
  * file with the paths of the building Python:
  *   cc -shared -fPIC -O2 -fvisibility=hidden -DDRYMOUNT_LIBPYTHON_PATH=... \
  *      -DDRYMOUNT_LIBPYTHON_SONAME=... -DDRYMOUNT_PYTHONHOME=... -ldl -lpthread
@@ -33,6 +49,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #ifndef DRYMOUNT_LIBPYTHON_PATH
 #define DRYMOUNT_LIBPYTHON_PATH ""
@@ -144,35 +161,151 @@ static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
 static int loaded;            /* 1: every real_* pointer is set */
 static char load_error[8192]; /* why loading failed (kept for later instances) */
 
+/* "3.11" from the soname "libpython3.11.so.1.0" (abiflags such as "d" dropped). */
+static void python_version(char *out, size_t size) {
+    const char *p = strstr(DRYMOUNT_LIBPYTHON_SONAME, "libpython");
+    size_t n = 0;
+    if (p != NULL) {
+        p += strlen("libpython");
+        while (p[n] != '\0' && (p[n] == '.' || (p[n] >= '0' && p[n] <= '9')) &&
+               strncmp(p + n, ".so", 3) != 0)
+            ++n;
+    }
+    snprintf(out, size, "%.*s", (int)n, p ? p : "");
+}
+
+static int is_file(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* 1 if <home>/lib/python<ver> holds the standard library's os.py and encodings. */
+static int has_stdlib(const char *home, const char *ver) {
+    char path[4200];
+    if (home == NULL || home[0] == '\0')
+        return 0;
+    snprintf(path, sizeof path, "%s/lib/python%s/os.py", home, ver);
+    if (!is_file(path))
+        return 0;
+    snprintf(path, sizeof path, "%s/lib/python%s/encodings/__init__.py", home, ver);
+    return is_file(path);
+}
+
+/* The nearest folder above the library file that holds the standard library. */
+static int prefix_above(const char *lib, const char *ver, char *out, size_t size) {
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", lib);
+    char *slash;
+    while ((slash = strrchr(dir, '/')) != NULL) {
+        *slash = '\0';
+        if (has_stdlib(dir[0] ? dir : "/", ver)) {
+            snprintf(out, size, "%s", dir[0] ? dir : "/");
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* python<ver> on $PATH: its library <prefix>/lib/<soname> and prefix. */
+static int host_python(const char *ver, char *lib, size_t lib_size, char *home,
+                       size_t home_size) {
+    const char *path = getenv("PATH");
+    char buf[8192], exe[4200], real[4096];
+    if (path == NULL || DRYMOUNT_LIBPYTHON_SONAME[0] == '\0')
+        return 0;
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *save = NULL, *dir = strtok_r(buf, ":", &save); dir != NULL;
+         dir = strtok_r(NULL, ":", &save)) {
+        snprintf(exe, sizeof exe, "%s/python%s", dir[0] ? dir : ".", ver);
+        if (access(exe, X_OK) != 0 || realpath(exe, real) == NULL)
+            continue;
+        char *slash = strrchr(real, '/'); /* <prefix>/bin/python3.X */
+        if (slash == NULL)
+            continue;
+        *slash = '\0';
+        slash = strrchr(real, '/');
+        if (slash == NULL)
+            continue;
+        *slash = '\0';
+        snprintf(lib, lib_size, "%s/lib/%s", real[0] ? real : "", DRYMOUNT_LIBPYTHON_SONAME);
+        snprintf(home, home_size, "%s", real[0] ? real : "/");
+        if (is_file(lib))
+            return 1;
+    }
+    return 0;
+}
+
+static void note(char *tried, size_t size, const char *lib, const char *why) {
+    size_t used = strlen(tried);
+    snprintf(tried + used, size - used, "%s%s (%s)", used ? "; " : "", lib, why);
+}
+
+/* Try one candidate library with the prefix hint ``home``; 0 when loaded. */
+static int try_libpython(const char *lib, const char *home, const char *ver,
+                         char *tried, size_t size) {
+    char found[4096] = "", why[4400];
+    const char *user_home = getenv("PYTHONHOME");
+    int by_path = strchr(lib, '/') != NULL;
+    if (by_path && !is_file(lib)) {
+        note(tried, size, lib, "no such file");
+        return -1;
+    }
+    void *h = dlopen(lib, RTLD_NOW | RTLD_GLOBAL);
+    if (h == NULL) {
+        note(tried, size, lib, dlerror());
+        return -1;
+    }
+    Dl_info info;
+    void *sym = dlsym(h, "Py_IsInitialized");
+    const char *file = (sym && dladdr(sym, &info) && info.dli_fname) ? info.dli_fname : lib;
+    if (user_home != NULL && user_home[0] != '\0') {
+        if (has_stdlib(user_home, ver))
+            return 0; /* the user's PYTHONHOME is used as it is */
+        snprintf(why, sizeof why, "PYTHONHOME=%s holds no lib/python%s/os.py", user_home, ver);
+    } else if (has_stdlib(home, ver) || prefix_above(file, ver, found, sizeof found)) {
+        setenv("PYTHONHOME", has_stdlib(home, ver) ? home : found, 1);
+        return 0;
+    } else {
+        snprintf(why, sizeof why, "no standard library lib/python%s/os.py under %s%s%s",
+                 ver, home && home[0] ? home : "", home && home[0] ? " nor above " : "",
+                 file);
+    }
+    dlclose(h); /* nothing was started: Python initialises at the first instance */
+    note(tried, size, lib, why);
+    return -1;
+}
+
 static int load_libpython(void) {
     if (dlsym(RTLD_DEFAULT, "Py_IsInitialized") != NULL)
         return 0; /* a Python process (or LD_PRELOAD): nothing to do */
-    const char *candidates[3] = {getenv("DRYMOUNT_LIBPYTHON"), DRYMOUNT_LIBPYTHON_PATH,
-                                 DRYMOUNT_LIBPYTHON_SONAME};
-    char tried[600] = "";
-    for (int i = 0; i < 3; ++i) {
-        const char *lib = candidates[i];
-        if (lib == NULL || lib[0] == '\0')
-            continue;
-        if (dlopen(lib, RTLD_NOW | RTLD_GLOBAL) != NULL) {
-            const char *home = getenv("DRYMOUNT_PYTHONHOME");
-            struct stat st;
-            if ((home == NULL || home[0] == '\0') && lib != candidates[0])
-                home = DRYMOUNT_PYTHONHOME;
-            if (getenv("PYTHONHOME") == NULL && home != NULL && home[0] != '\0' &&
-                stat(home, &st) == 0)
-                setenv("PYTHONHOME", home, 0);
-            return 0;
-        }
-        size_t used = strlen(tried);
-        snprintf(tried + used, sizeof tried - used, "%s%s", used ? ", " : "", lib);
-    }
-    const char *why = tried[0] ? dlerror() : NULL;
+    char ver[32], tried[6000] = "", host_lib[4400], host_home[4096];
+    python_version(ver, sizeof ver);
+    const char *env_lib = getenv("DRYMOUNT_LIBPYTHON");
+    const char *env_home = getenv("DRYMOUNT_PYTHONHOME");
+    int have_env_home = env_home != NULL && env_home[0] != '\0';
+    if (env_lib != NULL && env_lib[0] != '\0' &&
+        try_libpython(env_lib, have_env_home ? env_home : "", ver, tried, sizeof tried) == 0)
+        return 0;
+    if (DRYMOUNT_LIBPYTHON_PATH[0] != '\0' &&
+        try_libpython(DRYMOUNT_LIBPYTHON_PATH, have_env_home ? env_home : DRYMOUNT_PYTHONHOME,
+                      ver, tried, sizeof tried) == 0)
+        return 0;
+    if (host_python(ver, host_lib, sizeof host_lib, host_home, sizeof host_home) &&
+        strcmp(host_lib, DRYMOUNT_LIBPYTHON_PATH) != 0 &&
+        try_libpython(host_lib, have_env_home ? env_home : host_home, ver, tried,
+                      sizeof tried) == 0)
+        return 0;
+    if (DRYMOUNT_LIBPYTHON_SONAME[0] != '\0' &&
+        try_libpython(DRYMOUNT_LIBPYTHON_SONAME, have_env_home ? env_home : "", ver, tried,
+                      sizeof tried) == 0)
+        return 0;
     snprintf(load_error, sizeof load_error,
-             "cannot load libpython (tried: %s; last error: %s). Set DRYMOUNT_LIBPYTHON "
-             "to the libpython3.X.so of a CPython >= 3.10 built with --enable-shared, "
-             "or LD_PRELOAD it (documentation/externalDependencies.txt)",
-             tried[0] ? tried : "nothing", why ? why : "none");
+             "cannot start Python %s for the FMU (tried: %s). Set DRYMOUNT_LIBPYTHON to "
+             "the libpython%s.so of a CPython %s built with --enable-shared and "
+             "DRYMOUNT_PYTHONHOME to its prefix (the folder holding lib/python%s/os.py), "
+             "or LD_PRELOAD that library with PYTHONHOME set "
+             "(documentation/externalDependencies.txt)",
+             ver, tried[0] ? tried : "nothing", ver, ver, ver);
     return -1;
 }
 
@@ -220,7 +353,7 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
     pthread_mutex_unlock(&load_lock);
     if (!loaded) {
         if (cb != NULL && cb->logger != NULL)
-            cb->logger(cb->componentEnvironment, name, fmi2Fatal, "drymount", "%s",
+            cb->logger(cb->componentEnvironment, name, fmi2Error, "drymount", "%s",
                        load_error);
         else
             fprintf(stderr, "FrictionMount: %s\n", load_error);
@@ -234,8 +367,47 @@ EXPORT void fmi2FreeInstance(fmi2Component c) {
         real_FreeInstance(c);
 }
 
+/* Set by the model during a call it rejects (see the top of this file); per thread,
+ * as the model runs in the importer's calling thread. A pthread key rather than
+ * __thread: no dynamic TLS block in a library the importer may dlclose. */
+static pthread_key_t rejected_key;
+static pthread_once_t rejected_once = PTHREAD_ONCE_INIT;
+static int rejected_ready;
+
+static void make_rejected_key(void) {
+    rejected_ready = pthread_key_create(&rejected_key, NULL) == 0;
+}
+
+EXPORT void drymount_reject_call(void) {
+    pthread_once(&rejected_once, make_rejected_key);
+    if (rejected_ready)
+        pthread_setspecific(rejected_key, (void *)1);
+}
+
+/* 1 if the model rejected the call this thread is making; clears the mark. */
+static int take_rejected(void) {
+    pthread_once(&rejected_once, make_rejected_key);
+    if (!rejected_ready || pthread_getspecific(rejected_key) == NULL)
+        return 0;
+    pthread_setspecific(rejected_key, NULL);
+    return 1;
+}
+
+__attribute__((destructor)) static void drop_rejected_key(void) {
+    if (rejected_ready)
+        pthread_key_delete(rejected_key);
+}
+
 /* Every other function: forward (only reachable with an instance, i.e. after a
- * successful load). */
+ * successful load); a call the model rejected returns fmi2Error. */
 #define DEFINE_FORWARD(name, ret, params, args) \
-    EXPORT ret name params { return loaded ? real_##name args : fmi2Error; }
+    EXPORT ret name params { \
+        if (!loaded) \
+            return fmi2Error; \
+        take_rejected(); \
+        ret status_ = real_##name args; \
+        if (take_rejected() && status_ < fmi2Error) \
+            status_ = fmi2Error; \
+        return status_; \
+    }
 FMI2_FORWARDED(DEFINE_FORWARD)

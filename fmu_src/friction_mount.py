@@ -12,6 +12,16 @@ units, the model structure, parameter checks and the co-simulation protocol:
 * ``doStep(t_n, h)`` commits the slider positions ``w := w_new(u(t_n))`` and adds the
   energy the sliders dissipated, ``Fs |w_new - w|``. The FMU integrates nothing in time.
 
+The FMI 2.0 call-order rules (``fmi_state``, docs/fmu.md) are enforced: a call out of
+order, a fixed parameter set after initialization, a value that is not finite, a step
+size that is not finite and > 0 or a time that does not continue from the last step is
+*rejected*: logged (naming the call, the state and the value), nothing changed, and
+the call returns fmi2Error; the instance stays usable. pythonfmu 0.7.0 turns any Python
+exception into fmi2Fatal and drops the instance, so a rejection does not raise inside
+an FMU: it marks the call through the linux64 loader (``drymount_reject_call``), which
+returns fmi2Error. Without the loader (win64) a rejection can only raise (fmi2Fatal);
+called from Python (no native wrapper) it raises :class:`FMICallError`.
+
 Outputs are a pure function of (parameters, inputs, committed state): evaluations are
 cached per axis and invalidated by the setters, so reading all outputs of an axis costs
 one law evaluation. The normal-force input is clipped at zero (a negative value means
@@ -23,6 +33,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 from types import SimpleNamespace
 from xml.etree.ElementTree import Element, SubElement
 
@@ -38,10 +49,12 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
+from .fmi_state import Mode, call_error, set_error, setup_error, step_error
 from .interface import (
     BASE_UNITS,
     CAPABILITIES,
     DEFAULT_EXPERIMENT,
+    MODEL_NAME,
     PARAMETER_FIELDS,
     VARIABLES,
 )
@@ -53,7 +66,7 @@ try:  # written by fmu_build into the FMU's package; absent in the repository
 except ImportError:
     FMU_VERSION = "source"
 
-__all__ = ["FrictionMount"]
+__all__ = ["FrictionMount", "FMICallError"]
 
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean}
 _CAUSALITY = {c.name: c for c in Fmi2Causality}
@@ -95,20 +108,71 @@ def _hold_native_references(slave) -> None:
 _LEAKED: list = []
 
 
-def _guarded(method):
-    """Wrap an FMI entry point: an escaping exception first calls
-    :func:`_hold_native_references` when pythonfmu's native wrapper is the caller."""
+class FMICallError(ValueError):
+    """A rejected FMI call (the message names the call, the state and the value)."""
 
-    @functools.wraps(method)
-    def entry(self, *args):
+
+class _Rejected(Exception):
+    """Raised inside an entry point to reject the call (see :func:`_fmi_call`)."""
+
+
+_REJECT_HOOKS: dict = {}
+
+
+def _reject_hook(resources):
+    """``drymount_reject_call`` of this FMU's linux64 loader, or None (no loader:
+    win64, an FMU built without a C compiler, or the class used from Python)."""
+    if not resources:
+        return None
+    path = os.path.join(os.path.dirname(os.path.normpath(resources)), "binaries",
+                        "linux64", f"{MODEL_NAME}.so")
+    if path not in _REJECT_HOOKS:
+        hook = None
         try:
-            return method(self, *args)
-        except BaseException:
-            if self._native:
-                _hold_native_references(self)
-            raise
+            import ctypes
 
-    return entry
+            hook = ctypes.CDLL(path).drymount_reject_call
+            hook.restype, hook.argtypes = None, []
+        except (ImportError, OSError, AttributeError):
+            hook = None
+        _REJECT_HOOKS[path] = hook
+    return _REJECT_HOOKS[path]
+
+
+def _fmi_call(call: str, rejected=lambda args: None, check_state: bool = True):
+    """Wrap the entry point of the FMI function ``call``.
+
+    Rejects the call (see :meth:`FrictionMount._reject`) when the instance's state
+    does not allow it (``check_state``) or when the method raises :class:`_Rejected`;
+    ``rejected(args)`` is then the value returned to pythonfmu (finite placeholders of
+    the right length for the getters). Any other escaping exception first calls
+    :func:`_hold_native_references` when pythonfmu's native wrapper is the caller.
+    """
+
+    def wrap(method):
+        @functools.wraps(method)
+        def entry(self, *args):
+            try:
+                if check_state:
+                    why = call_error(call, self._mode)
+                    if why is not None:
+                        raise _Rejected(why)
+                return method(self, *args)
+            except _Rejected as exc:
+                return self._reject(str(exc), rejected(args))
+            except BaseException:
+                if self._native:
+                    _hold_native_references(self)
+                raise
+
+        return entry
+
+    return wrap
+
+
+def _guarded(method):
+    """An entry point without state rules (fmi2Get/SetFMUstate)."""
+    return _fmi_call(method.__name__, check_state=False)(method)
 
 
 class FrictionMount(Fmi2Slave):
@@ -149,7 +213,12 @@ class FrictionMount(Fmi2Slave):
         self._e = [0.0, 0.0, 0.0]  # committed dissipated energy per axis, J
         self._res = [None, None, None]
         self._axes = None  # per-axis checked AxisParameters, see _prepare()
+        self._mode = Mode.INSTANTIATED  # FMI state (fmi_state.Mode)
+        self._t_next = None  # where the next doStep must start (None: anywhere)
+        self._bad_params = None  # why outputs read during initialization are 0
         self._register_all()
+        self._var = {vr: next(v for v in VARIABLES if v.name == var.name)
+                     for vr, var in self.vars.items()}
         by_name = {var.name: vr for vr, var in self.vars.items()}
         self._fast_inputs = {by_name[f"{q}_{axis}"]: (store, j)
                              for j, axis in enumerate(AXES)
@@ -227,9 +296,20 @@ class FrictionMount(Fmi2Slave):
                 + self._e[2] + self._axis(2)[_DISS])
 
     # ------------------------------------------------------------------ checks
-    def _fail(self, message: str, status: Fmi2Status = Fmi2Status.error):
-        self.log(message, status)
-        return ValueError(message)
+    def _reject(self, message: str, value):
+        """Reject the current FMI call: log ``message`` (status error), leave
+        everything as it was and return ``value`` with the call marked fmi2Error
+        through the loader; raise :class:`FMICallError` where that is impossible."""
+        text = f"{MODEL_NAME}: {message}"  # the logger names the instance
+        self.log(text, Fmi2Status.error)
+        hook = _reject_hook(self.resources) if self._native else None
+        if hook is None:
+            raise FMICallError(text)
+        hook()
+        return value
+
+    def _fail(self, message: str):
+        return _Rejected(message)
 
     def _prepare(self) -> None:
         """Check every parameter once; keep the checked AxisParameters per axis."""
@@ -249,8 +329,7 @@ class FrictionMount(Fmi2Slave):
             if not problems:
                 axes.append(AxisParameters(**values))
         if problems:
-            raise self._fail(
-                "FrictionMount: invalid parameters: " + "; ".join(problems))
+            raise self._fail("invalid parameters: " + "; ".join(problems))
         # an input n never set follows its parameter <axis>_n0
         for j, axis in enumerate(AXES):
             if not self._n_set[j]:
@@ -278,7 +357,7 @@ class FrictionMount(Fmi2Slave):
         if not (math.isfinite(u) and math.isfinite(v) and math.isfinite(n)):
             axis = AXES[j]
             raise self._fail(
-                f"FrictionMount: inputs of axis {axis} must be finite, got "
+                f"inputs of axis {axis} must be finite, got "
                 f"u_{axis}={u!r}, v_{axis}={v!r}, n_{axis}={n!r}")
         p = self._axes[j]
         # A negative normal force means lost contact: Fs = mu * max(n, 0).
@@ -286,34 +365,53 @@ class FrictionMount(Fmi2Slave):
         res = axis_force(u, v, self._w[j], p, fs)
         if not (math.isfinite(res[_F]) and math.isfinite(res[_KT])):
             axis = AXES[j]
-            raise self._fail(f"FrictionMount: force of axis {axis} overflowed at "
+            raise self._fail(f"the force of axis {axis} overflowed at "
                              f"u_{axis}={u!r}, v_{axis}={v!r}: F={res[_F]!r}")
         self._res[j] = res
         return res
 
     # ------------------------------------------------------------------ FMI calls
-    @_guarded
-    def exit_initialization_mode(self):
-        self._prepare()
+    @_fmi_call("fmi2SetupExperiment")
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        why = setup_error(start_time)
+        if why is not None:
+            raise _Rejected(why)
+        self._t_next = float(start_time)
 
-    @_guarded
+    @_fmi_call("fmi2EnterInitializationMode")
+    def enter_initialization_mode(self):
+        self._mode = Mode.INITIALIZATION
+
+    @_fmi_call("fmi2ExitInitializationMode")
+    def exit_initialization_mode(self):
+        self._prepare()  # invalid parameters: rejected, still initializationMode
+        for j in range(3):  # the start outputs must be finite too
+            self._axis(j)
+        self._mode = Mode.STEP_COMPLETE
+
+    @_fmi_call("fmi2DoStep", rejected=lambda args: True)
     def do_step(self, current_time: float, step_size: float) -> bool:
+        why = step_error(current_time, step_size, self._t_next)
+        if why is not None:
+            raise _Rejected(why)
         res = self._res
-        try:
-            results = [res[j] if res[j] is not None else self._evaluate(j)
-                       for j in range(3)]
-        except ValueError:
-            # already logged by _fail; fmi2Discard lets the master stop or retry
-            return False
+        results = [res[j] if res[j] is not None else self._evaluate(j)
+                   for j in range(3)]
         for j in range(3):
             r = results[j]
             self._w[j] = r[_W]
             self._e[j] += r[_DISS]
         # Outputs now follow the committed state: re-evaluated on the next get.
         self._res = [None, None, None]
+        self._t_next = current_time + step_size
         return True
 
-    # getFMUstate/setFMUstate: everything settable plus the committed energy.
+    @_fmi_call("fmi2Terminate")
+    def terminate(self):
+        self._mode = Mode.TERMINATED
+
+    # getFMUstate/setFMUstate: everything settable, the committed energy, the FMI
+    # state and the time.
     @_guarded
     def _get_fmu_state(self) -> dict:
         state = {var.name: var.getter() for var in self.vars.values()
@@ -321,54 +419,122 @@ class FrictionMount(Fmi2Slave):
         state["_E_committed"] = [float(x) for x in self._e]
         state["_n_set"] = list(self._n_set)
         state["_w"] = [list(w) if isinstance(w, tuple) else w for w in self._w]
+        state["_mode"] = self._mode.value
+        state["_t_next"] = self._t_next
         return state
 
     @_guarded
     def _set_fmu_state(self, state: dict) -> None:
         by_name = {var.name: var for var in self.vars.values()}
-        for name, value in state.items():
-            if name in by_name:
-                by_name[name].setter(value)
-        self._e = [float(x) for x in state["_E_committed"]]
-        self._n_set = [bool(x) for x in state["_n_set"]]
-        self._w = [tuple(float(x) for x in w) if isinstance(w, list) else float(w)
-                   for w in state["_w"]]
+        try:
+            mode = Mode(state.get("_mode", Mode.STEP_COMPLETE.value))
+            values = {name: value for name, value in state.items() if name in by_name}
+            energy = [float(x) for x in state["_E_committed"]]
+            n_set = [bool(x) for x in state["_n_set"]]
+            sliders = [tuple(float(x) for x in w) if isinstance(w, list) else float(w)
+                       for w in state["_w"]]
+        except (KeyError, TypeError, ValueError) as exc:
+            raise _Rejected(f"fmi2SetFMUstate: not a state of this FMU ({exc})") \
+                from None
+        for name, value in values.items():
+            by_name[name].setter(value)
+        self._e, self._n_set, self._w = energy, n_set, sliders
+        self._mode, self._t_next = mode, state.get("_t_next")
         self._axes = None
         self._res = [None, None, None]
 
-    @_guarded
+    def _read(self, vr, kind: str):
+        """Value of ``vr`` for fmi2Get<kind>; outputs read in initialization mode
+        with invalid parameters are 0 (the error comes at
+        fmi2ExitInitializationMode)."""
+        var = self._var.get(vr)
+        if var is None:
+            raise _Rejected(f"fmi2Get{kind}: unknown value reference {vr!r}")
+        if var.type != kind:
+            raise _Rejected(f"fmi2Get{kind}: `{var.name}` (value reference {vr}) is "
+                            f"a {var.type}; use fmi2Get{var.type}")
+        if var.causality == "output" and self._mode in (Mode.INSTANTIATED,
+                                                         Mode.INITIALIZATION):
+            try:
+                self._prepare() if self._axes is None else None
+            except _Rejected as exc:
+                if self._bad_params != str(exc):
+                    self._bad_params = str(exc)
+                    self.log(f"{MODEL_NAME}: outputs are 0 until the parameters "
+                             f"are valid ({exc})", Fmi2Status.warning)
+                return {"Real": 0.0, "Integer": 0, "Boolean": False}[kind]
+        return self.vars[vr].getter()
+
+    @_fmi_call("fmi2GetReal", rejected=lambda args: [0.0] * len(args[0]))
     def get_real(self, vrs):
         # Per-step fast path for the Real outputs (one dict lookup and a cached
-        # evaluation per value); everything else goes through pythonfmu's getter.
+        # evaluation per value); everything else goes through _read.
         fast, res, out = self._fast_outputs, self._res, []
+        ready = self._axes is not None or self._mode in (Mode.STEP_COMPLETE,
+                                                          Mode.TERMINATED)
         for vr in vrs:
-            key = fast.get(vr)
+            key = fast.get(vr) if ready else None
             if key is None:
-                out.extend(Fmi2Slave.get_real(self, [vr]))
+                out.append(float(self._read(vr, "Real")))
             else:
                 j, idx = key
                 r = res[j]
                 out.append((r if r is not None else self._evaluate(j))[idx])
         return out
 
-    get_integer = _guarded(Fmi2Slave.get_integer)
-    get_boolean = _guarded(Fmi2Slave.get_boolean)
+    @_fmi_call("fmi2GetInteger", rejected=lambda args: [0] * len(args[0]))
+    def get_integer(self, vrs):
+        return [int(self._read(vr, "Integer")) for vr in vrs]
 
-    @_guarded
-    def set_real(self, vrs, values):
-        # Per-step fast path for u and v; parameters and n take pythonfmu's setters.
-        fast, res = self._fast_inputs, self._res
+    @_fmi_call("fmi2GetBoolean", rejected=lambda args: [False] * len(args[0]))
+    def get_boolean(self, vrs):
+        return [bool(self._read(vr, "Boolean")) for vr in vrs]
+
+    def _write(self, kind: str, vrs, values) -> None:
+        """fmi2Set<kind>: every value is checked before any is set (a rejected call
+        changes nothing)."""
+        call = f"fmi2Set{kind}"
+        if len(vrs) != len(values):
+            raise _Rejected(f"{call}: {len(vrs)} value references, {len(values)} "
+                            f"values")
+        setters = []
         for vr, value in zip(vrs, values):
-            key = fast.get(vr)
-            if key is None:
-                Fmi2Slave.set_real(self, [vr], [value])
-            else:
-                store, j = key
+            var = self._var.get(vr)
+            if var is None:
+                raise _Rejected(f"{call}: unknown value reference {vr!r}")
+            if var.type != kind:
+                raise _Rejected(f"{call}: `{var.name}` (value reference {vr}) is a "
+                                f"{var.type}; use fmi2Set{var.type}")
+            why = set_error(call, var.name, var.causality, var.variability,
+                            self._mode, value)
+            if why is not None:
+                raise _Rejected(why)
+            setters.append((self.vars[vr].setter, value))
+        for setter, value in setters:
+            setter(value)
+
+    @_fmi_call("fmi2SetReal")
+    def set_real(self, vrs, values):
+        # Per-step fast path for finite u and v in stepComplete; everything else is
+        # checked by _write.
+        fast, res = self._fast_inputs, self._res
+        if self._mode is Mode.STEP_COMPLETE and all(
+                vr in fast and math.isfinite(x) for vr, x in zip(vrs, values)) \
+                and len(vrs) == len(values):
+            for vr, value in zip(vrs, values):
+                store, j = fast[vr]
                 store[j] = value
                 res[j] = None
+            return
+        self._write("Real", vrs, [float(x) for x in values])
 
-    set_integer = _guarded(Fmi2Slave.set_integer)
-    set_boolean = _guarded(Fmi2Slave.set_boolean)
+    @_fmi_call("fmi2SetInteger")
+    def set_integer(self, vrs, values):
+        self._write("Integer", vrs, [int(x) for x in values])
+
+    @_fmi_call("fmi2SetBoolean")
+    def set_boolean(self, vrs, values):
+        self._write("Boolean", vrs, [bool(x) for x in values])
 
     # ------------------------------------------------------------------ description
     def to_xml(self, model_options=None) -> Element:

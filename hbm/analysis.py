@@ -456,6 +456,15 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
             br.n_iter[0] = its0
         turning = br.turning_points
         return postprocess(prob, br.y, opts, br, turning)
+    except KeyboardInterrupt as exc:
+        # the points traced before the interrupt, for the caller to write
+        br = getattr(exc, "branch", None)
+        if br is not None and br.y:
+            br.message = (f"interrupted after {len(br.y)} points at "
+                          f"{br.y[-1][-1] * prob.ws / (2 * np.pi):.6g} Hz")
+            exc.partial_result = postprocess(prob, br.y, opts, br,
+                                             br.turning_points)
+        raise
     finally:
         if bar is not None:
             bar.close()

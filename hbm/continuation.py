@@ -48,6 +48,9 @@ class Status(Enum):
     NO_START = "no_start"                   # no solution at the first frequency
     RETRACED = "retraced"                   # the branch turned back onto itself
     NO_CONVERGENCE = "no_convergence"       # Newton failed at a given frequency
+    INTERRUPTED = "interrupted"             # KeyboardInterrupt (the branch so far is
+    #                                         carried by the exception, see
+    #                                         continue_branch)
 
 
 @dataclass(frozen=True)
@@ -263,6 +266,21 @@ def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
 def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                     settings: ContinuationSettings, lam_start: float | None = None,
                     callback: Callable | None = None) -> Branch:
+    """:func:`_continue` on a new :class:`Branch`. An interrupt (KeyboardInterrupt)
+    propagates with the points accepted so far as its ``branch`` attribute (status
+    ``Status.INTERRUPTED``)."""
+    br = Branch()
+    try:
+        return _continue(br, fun, y0, lam_end, settings, lam_start, callback)
+    except KeyboardInterrupt as exc:
+        br.status, br.message = Status.INTERRUPTED, "interrupted"
+        exc.branch = br
+        raise
+
+
+def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
+              settings: ContinuationSettings, lam_start: float | None = None,
+              callback: Callable | None = None) -> Branch:
     """Trace the solution branch of ``fun`` from a solution ``y0`` until ``lam_end``.
 
     Parameters
@@ -283,7 +301,6 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
     -------
     Branch
     """
-    br = Branch()
     y = np.array(y0, dtype=float)
     t = _start(fun, y, br)
     if t is None:

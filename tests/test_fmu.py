@@ -165,7 +165,7 @@ def march_law(params, n_steps, normal=None):
     return np.array(rows)
 
 
-def march_fmu(mount, n_steps, normal=None, h=1e-4):
+def march_fmu(mount, n_steps, normal=None, h=1e-4, t0=0.0):
     vr_in = [mount.vr[f"{q}_{a}"] for a in AXES for q in ("u", "v")]
     vr_out = [mount.vr[n] for n in OUTPUTS]
     rows = []
@@ -175,7 +175,7 @@ def march_fmu(mount, n_steps, normal=None, h=1e-4):
         if normal is not None:
             mount.set("n_axial", normal(k))
         rows.append(mount.slave.getReal(vr_out))
-        mount.slave.doStep(k * h, h)
+        mount.slave.doStep(t0 + k * h, h)
     return np.array(rows)
 
 
@@ -298,6 +298,8 @@ def test_model_code_imports_only_the_standard_library(fmu, tmp_path):
         vr = {{v.name: k for k, v in s.vars.items()}}
         s.set_boolean([vr["axial_friction"]], [True])
         s.set_real([vr["axial_n0"]], [50.0])
+        s.setup_experiment(0.0)
+        s.enter_initialization_mode()
         s.exit_initialization_mode()
         for k in range(10):
             s.set_real([vr["u_axial"]], [0.001 * k])
@@ -416,7 +418,7 @@ def test_state_save_restore_bit_identical(fmu):
     ("axial_k1", -1.0, "`axial_k1` must be finite and >= 0, got -1.0"),
     ("radial1_kf", 0.0, "`radial1_kf` must be finite and > 0 when friction is on, "
                         "got 0.0"),
-    ("radial2_delta", float("nan"), "`radial2_delta` must be finite and > 0, got nan"),
+    ("radial2_delta", 0.0, "`radial2_delta` must be finite and > 0, got 0.0"),
     ("axial_law", 7, "`axial_law` must be one of 0 = linear, 1 = cubic, "
                      "2 = piecewise, 3 = piecewise_asym, got 7"),
 ])
@@ -433,20 +435,21 @@ def test_bad_parameter_fails_initialization_with_message(fmu, name, value, messa
     gc.collect()
 
 
-def test_non_finite_input_discards_step_with_message(fmu):
+def test_non_finite_input_is_rejected_with_message(fmu):
+    """fmi2SetReal with inf: fmi2Error naming the variable and the value, the input
+    keeps its value, the instance goes on (issue 11: was a discarded step)."""
     mount = Mount(fmu, params=PARAMS).start()
     try:
         march_fmu(mount, 10)
-        mount.set("v_radial1", float("inf"))
+        before = mount.real(["v_radial1", "F_radial1"])
         with pytest.raises(FMICallException) as info:
-            mount.slave.doStep(1e-3, 1e-4)
-        assert info.value.status == FMI_DISCARD
-        assert any("inputs of axis radial1 must be finite" in text and "v_radial1=inf"
-                   in text for _, text in mount.messages)
-        # no output is computed from it: reading one is an error, never a NaN/inf
-        with pytest.raises(FMICallException) as info:
-            mount.real(["F_radial1"])
-        assert info.value.status >= FMI_ERROR
+            mount.set("v_radial1", float("inf"))
+        assert info.value.status == FMI_ERROR
+        assert any("`v_radial1` must be finite, got inf" in text
+                   for _, text in mount.messages), mount.messages
+        assert mount.real(["v_radial1", "F_radial1"]) == before
+        mount.slave.doStep(1e-3, 1e-4)
+        assert np.all(np.isfinite(mount.real(["F_radial1", "E_fr"])))
     finally:
         mount.free()
     gc.collect()
@@ -607,7 +610,7 @@ def test_c_importer_sees_initialization_error(c_host, fmu):
                                     f"R{vr['axial_kf']}=0"])
     # a clean failure: status reported, instance freed, no crash
     assert out.returncode == 3, out.stdout + out.stderr
-    assert "FAILED fmi2ExitInitializationMode status=4" in out.stdout
+    assert "FAILED fmi2ExitInitializationMode status=3" in out.stdout  # fmi2Error
     assert ("`axial_kf` must be finite and > 0 when friction is on, got 0.0"
             in out.stdout)
 
@@ -633,9 +636,80 @@ def test_loader_reports_missing_libpython(c_host, fmu, tmp_path, monkeypatch):
                       preload=False, unzipdir=unzipdir)
     assert out.returncode == 3, out.stdout + out.stderr
     assert "FAILED fmi2Instantiate" in out.stdout
-    assert "cannot load libpython (tried: /nonexistent/libpython3.99.so.1.0, " \
-        "libpython3.99.so.1.0" in out.stdout
-    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "LD_PRELOAD" in out.stdout
+    assert "cannot start Python 3.99 for the FMU (tried: " \
+        "/nonexistent/libpython3.99.so.1.0 (no such file); libpython3.99.so.1.0 (" \
+        in out.stdout
+    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "DRYMOUNT_PYTHONHOME" in out.stdout
+    assert "LD_PRELOAD" in out.stdout
+
+
+def _loader_fmu(fmu, tmp_path, monkeypatch, location):
+    """A copy of the unzipped FMU whose loader records ``location`` = (libpython
+    path, soname, prefix) as the Python that built it."""
+    import shutil
+
+    from fmu_build import builder as fmu_build
+
+    if not (Path(fmu[1]) / "binaries" / "linux64" / fmu_build.REAL_BINARY).exists():
+        pytest.skip("this FMU was built without the linux64 loader (see build.txt)")
+    unzipdir = tmp_path / "fmu"
+    shutil.copytree(fmu[1], unzipdir)
+    monkeypatch.setattr(fmu_build, "libpython_location", lambda: location)
+    assert fmu_build.compile_loader(unzipdir / "binaries" / "linux64" /
+                                    "FrictionMount.so") == ""
+    return unzipdir
+
+
+def _host_args(fmu):
+    vr = fmu[2]
+    return [5, 1e-4, 0.001, 10.0, vr["u_axial"], vr["v_axial"], vr["F_axial"],
+            vr["Ffr_axial"], vr["E_fr"]]
+
+
+def test_loader_moved_prefix_uses_the_prefix_of_the_library(c_host, fmu, tmp_path,
+                                                            monkeypatch):
+    """issue 11: the recorded libpython exists but its recorded prefix does not (the
+    FMU moved to a machine with the same library elsewhere): the loader must not set
+    PYTHONHOME to the missing prefix (the importer died with "Fatal Python error:
+    init_fs_encoding") but find the standard library above the library file."""
+    lib = _libpython()
+    unzipdir = _loader_fmu(fmu, tmp_path, monkeypatch,
+                           (str(lib), lib.name, "/nonexistent/prefix"))
+    out = _run_c_host(c_host, fmu, _host_args(fmu), preload=False, unzipdir=unzipdir)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
+    assert out.stdout.splitlines()[-1] == "DONE"
+    assert "init_fs_encoding" not in out.stderr
+
+
+def test_loader_tries_the_hosts_python(c_host, fmu, tmp_path, monkeypatch):
+    """Neither the recorded library nor its prefix exists: the host's Python is used
+    (python3.X on PATH and its prefix's lib/libpython3.X.so, else the soname on the
+    library path with the standard library found above it)."""
+    lib = _libpython()
+    unzipdir = _loader_fmu(fmu, tmp_path, monkeypatch,
+                           ("/nonexistent/lib/" + lib.name, lib.name, "/nonexistent"))
+    env_path = f"{Path(sys.base_prefix) / 'bin'}:/usr/bin:/bin"
+    out = subprocess.run([str(c_host), str(unzipdir)] + [str(a) for a in
+                                                         _host_args(fmu)],
+                         env={"PATH": env_path}, capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-2000:]
+    assert out.stdout.splitlines()[-1] == "DONE"
+
+
+def test_loader_refuses_a_pythonhome_without_standard_library(c_host, fmu, tmp_path):
+    """PYTHONHOME set by the user to a folder without the standard library: no
+    interpreter is started (it would kill the importer), fmi2Instantiate returns NULL
+    and the message names the folder and the variables that fix it."""
+    env = {"PATH": "/usr/bin:/bin", "PYTHONHOME": str(tmp_path)}
+    out = subprocess.run([str(c_host), str(fmu[1])] + [str(a) for a in
+                                                       _host_args(fmu)],
+                         env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 3, out.stdout[-2000:] + out.stderr[-2000:]
+    assert "FAILED fmi2Instantiate" in out.stdout
+    assert f"PYTHONHOME={tmp_path} holds no lib/python" in out.stdout
+    assert "DRYMOUNT_LIBPYTHON" in out.stdout and "DRYMOUNT_PYTHONHOME" in out.stdout
+    assert "Fatal Python error" not in out.stderr
 
 
 def test_docs_fmpy_example_runs(fmu_path, tmp_path, monkeypatch):
@@ -747,9 +821,10 @@ def test_micro_slip_fmu_equals_in_process_law_and_restores_state(fmu):
         got = march_fmu(mount, n)
         state = mount.slave.getFMUstate()
         blob = mount.slave.serializeFMUstate(state)
-        tail = march_fmu(mount, 200)
+        # time continues from the saved state (the FMU refuses a jump back)
+        tail = march_fmu(mount, 200, t0=n * 1e-4)
         mount.slave.setFMUstate(mount.slave.deSerializeFMUstate(blob))
-        again = march_fmu(mount, 200)
+        again = march_fmu(mount, 200, t0=n * 1e-4)
         mount.slave.freeFMUstate(state)
     finally:
         mount.free()

@@ -466,6 +466,8 @@ def test_invalid_parameters_give_the_pythonfmu_message(driver):
     slave = FrictionMount(instance_name="reference")
     for name, value in bad.items():
         setattr(slave, name, value)
+    slave.setup_experiment(0.0)  # the call-order rules (docs/fmu.md, 4a)
+    slave.enter_initialization_mode()
     with pytest.raises(ValueError) as ref:
         slave.exit_initialization_mode()
     d = driver

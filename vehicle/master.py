@@ -430,29 +430,40 @@ class Master:
         self._set_row0(rec, inputs, 0.0)
         t0 = self.time
         done = 0
-        while done < total:
-            b = min(rows, total - done)
-            k = done + np.arange(b)
-            self._fill_inputs(rec, inputs, k * dt, (k + 1) * dt)
-            self._run_rows(b, t0, done)
-            self._check_finite(rec[b], t0 + (done + b) * dt)
-            x = rec[:b, L.o_x:L.o_x + 3 * n]
-            out_q[done:done + b] = x[:, :n]
-            out_qd[done:done + b] = x[:, n:2 * n] + 0.5 * dt * x[:, 2 * n:]
-            out_F[done:done + b] = rec[:b, cols["F"]]
-            out_Ffr[done:done + b] = rec[:b, cols["Ffr"]]
-            out_u[done:done + b] = rec[:b, cols["u"]]
-            out_E[done:done + b] = rec[:b, cols["E"]]
-            done += b
-            rec[0, :L.n_next] = rec[b, :L.n_next]
+
+        def history(rows_done: int) -> TimeHistory:
+            sl = slice(0, rows_done)
+            return TimeHistory(
+                t=np.arange(rows_done) * dt, q=out_q[sl], qd=out_qd[sl],
+                forces=out_F[sl], friction_forces=out_Ffr[sl],
+                deflections=out_u[sl], friction_energy=out_E[sl].sum(1),
+                dof_names=tuple(self.system.dof_names),
+                force_names=tuple(self.system.axis_labels()), dt=dt,
+                backend=self.backend_name, system_name=self.system.name)
+
+        try:
+            while done < total:
+                b = min(rows, total - done)
+                k = done + np.arange(b)
+                self._fill_inputs(rec, inputs, k * dt, (k + 1) * dt)
+                self._run_rows(b, t0, done)
+                self._check_finite(rec[b], t0 + (done + b) * dt)
+                x = rec[:b, L.o_x:L.o_x + 3 * n]
+                out_q[done:done + b] = x[:, :n]
+                out_qd[done:done + b] = x[:, n:2 * n] + 0.5 * dt * x[:, 2 * n:]
+                out_F[done:done + b] = rec[:b, cols["F"]]
+                out_Ffr[done:done + b] = rec[:b, cols["Ffr"]]
+                out_u[done:done + b] = rec[:b, cols["u"]]
+                out_E[done:done + b] = rec[:b, cols["E"]]
+                done += b
+                rec[0, :L.n_next] = rec[b, :L.n_next]
+        except BaseException as exc:
+            # stopped (interrupt, FMU error, divergence): the rows completed so far
+            exc.partial_result = history(done)
+            raise
         self.q, self.qd, self.qdd = self._state_of_row(rec[0])
         self.time = t0 + total * dt
-        return TimeHistory(
-            t=np.arange(total) * dt, q=out_q, qd=out_qd, forces=out_F,
-            friction_forces=out_Ffr, deflections=out_u, friction_energy=out_E.sum(1),
-            dof_names=tuple(self.system.dof_names),
-            force_names=tuple(self.system.axis_labels()), dt=dt,
-            backend=self.backend_name, system_name=self.system.name)
+        return history(total)
 
     # ------------------------------------------------------------------ periods
     def begin_periodic(self, inputs: Input, steps: int, h: float) -> None:

@@ -207,10 +207,11 @@ class SweepPoint:
                    fourier_coefficients(ss.q, FOURIER_HARMONICS))
 
 
-def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=None,
-               bar=None):
-    """Run one contiguous chunk (in this process). Returns its SweepPoints."""
-    rows = []
+def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, points,
+               report=None):
+    """Run one contiguous chunk in this process, appending a :class:`SweepPoint` to
+    ``points`` for each frequency (so the caller keeps them when the run is stopped)
+    and calling ``report(index, point)`` after each."""
     warm = dict(options, rtol=max(options["rtol"], WARMUP_RTOL))
     with Master(system, backend, fmu_path=fmu_path) as m:
         first = True
@@ -220,12 +221,58 @@ def _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, queue=No
         for f in freqs:
             ss = run_steady(m, f, start="linear" if first else "continue", **options)
             first = False
-            rows.append(SweepPoint.of(ss))
-            if queue is not None:
-                queue.put(1)
-            if bar is not None:
-                bar.update(1)
-    return rows
+            points.append(SweepPoint.of(ss))
+            if report is not None:
+                report(len(points) - 1, points[-1])
+    return points
+
+
+#: The queue a worker process sends its points through (set by ``_init_worker``).
+_WORKER_QUEUE = None
+#: Seconds between a worker's checks that its parent is alive.
+PARENT_POLL_S = 0.5
+
+
+def _init_worker(queue) -> None:
+    """Worker process set-up: points go to ``queue``; Ctrl-C is the parent's to
+    handle (it stops the workers); the worker exits when its parent dies."""
+    import os
+    import signal
+    import threading
+
+    global _WORKER_QUEUE
+    _WORKER_QUEUE = queue
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    parent = os.getppid()
+
+    def watch():
+        while os.getppid() == parent:
+            _time.sleep(PARENT_POLL_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True, name="parent-watch").start()
+
+
+def _worker_chunk(chunk, system, freqs, warmup_freqs, backend, fmu_path, options):
+    """A chunk in a worker process: each point is sent as ``(chunk, index, point)``."""
+    _run_chunk(system, freqs, warmup_freqs, backend, fmu_path, options, [],
+               report=lambda i, point: _WORKER_QUEUE.put((chunk, i, point)))
+    return len(freqs)
+
+
+def _stop_pool(pool) -> None:
+    """Stop a process pool now: cancel what has not started, terminate the workers
+    (a running chunk can take minutes) and reap them."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        if p.is_alive():
+            p.terminate()
+    for p in procs:
+        p.join(timeout=2.0)
+        if p.is_alive():
+            p.kill()
+            p.join(timeout=1.0)
 
 
 def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
@@ -284,13 +331,24 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     workers = int(min(workers, f.size))
     bar = tqdm(total=f.size, desc=f"sweep {direction} ({backend})", unit="freq",
                file=sys.stderr, disable=not progress, leave=False)
+    points, received = [], {}
     try:
         if workers == 1:
-            points = _run_chunk(system, f.tolist(), [], backend, fmu_path, options,
-                                bar=bar)
+            _run_chunk(system, f.tolist(), [], backend, fmu_path, options, points,
+                       report=lambda i, point: bar.update(1))
         else:
-            points = _run_parallel(system, f, workers, warmup, backend, fmu_path,
-                                   options, bar)
+            _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,
+                          received)
+            points = [received[k] for k in sorted(received)]
+    except BaseException as exc:
+        # Stopped (Ctrl-C, SIGTERM, an FMU error): hand the caller what was
+        # computed, in sweep order, on the exception.
+        points = points or [received[k] for k in sorted(received)]
+        exc.partial_result = _result(
+            system, points, direction, backend, _time.perf_counter() - t0, workers,
+            notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
+                   "steps_per_period": steps_per_period, "stopped": repr(exc)})
+        raise
     finally:
         bar.close()
     return _result(system, points, direction, backend, _time.perf_counter() - t0,
@@ -298,36 +356,46 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
                                    "steps_per_period": steps_per_period})
 
 
-def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar):
+def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,
+                  received):
     """Contiguous chunks of ``f`` in ``workers`` spawned processes, each after a
-    warm-up on the ``warmup`` frequencies before it; the points in sweep order."""
+    warm-up on the ``warmup`` frequencies before it; the points arrive in
+    ``received`` (``(chunk, index) -> SweepPoint``) as they are computed."""
+    import queue as _queue
+
     bounds = np.linspace(0, f.size, workers + 1).round().astype(int)
     ctx = multiprocessing.get_context("spawn")
-    with ctx.Manager() as manager, ProcessPoolExecutor(
-            max_workers=workers, mp_context=ctx) as pool:
-        queue = manager.Queue()
+    points_q = ctx.Queue()
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx,
+                               initializer=_init_worker, initargs=(points_q,))
+    try:
         futures = []
         for c in range(workers):
             a, b = bounds[c], bounds[c + 1]
             wu = f[max(0, a - warmup):a].tolist()
-            futures.append(pool.submit(_run_chunk, system, f[a:b].tolist(), wu,
-                                       backend, fmu_path, options, queue))
-        done = 0
-        while done < f.size:
-            if all(fu.done() for fu in futures):
-                # drain what is left, then stop (errors surface below)
-                while not queue.empty():
-                    queue.get()
-                    bar.update(1)
-                    done += 1
-                break
+            futures.append(pool.submit(_worker_chunk, c, system, f[a:b].tolist(), wu,
+                                       backend, fmu_path, options))
+        idle_since = None
+        while len(received) < f.size:
             try:
-                queue.get(timeout=0.2)
-            except Exception:  # queue.Empty from the manager proxy
+                c, i, point = points_q.get(timeout=0.2)
+            except _queue.Empty:
+                for fu in futures:
+                    if fu.done() and fu.exception() is not None:
+                        raise fu.exception()
+                if all(fu.done() for fu in futures):
+                    idle_since = idle_since or _time.monotonic()
+                    if _time.monotonic() - idle_since > 30.0:
+                        raise RuntimeError("the sweep workers finished but "
+                                           f"{f.size - len(received)} points never "
+                                           "arrived") from None
                 continue
+            received[(c, i)] = point
             bar.update(1)
-            done += 1
-        return [p for fu in futures for p in fu.result()]
+    finally:
+        _stop_pool(pool)
+        points_q.close()
+        points_q.cancel_join_thread()
 
 
 def _result(system, points, direction, backend, elapsed, workers, notes

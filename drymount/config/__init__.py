@@ -52,8 +52,12 @@ from drymount.config.loading import (
     resolve_config,
 )
 from drymount.config.mounts import mount_from_table, readable_unit
+from drymount.config.checks import INERTIA_RANGE_KGM2, MASS_RANGE_KG
 from drymount.config.schema import (
     ALLOWED_KEYS,
+    MAX_HARMONICS,
+    MAX_N_SAMPLES,
+    MAX_POINTS,
     MODELS,
     Config,
     ConfigError,
@@ -63,6 +67,11 @@ from drymount.config.schema import (
 )
 
 __all__ = [
+    "MAX_HARMONICS",
+    "MAX_N_SAMPLES",
+    "MAX_POINTS",
+    "MASS_RANGE_KG",
+    "INERTIA_RANGE_KGM2",
     "MODELS",
     "Config",
     "ConfigError",

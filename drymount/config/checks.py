@@ -6,6 +6,13 @@ from __future__ import annotations
 import difflib
 import math
 
+#: Masses accepted, kg: from a 1 g test body to a 1000 t machine. Outside, the
+#: mass matrix spans more than the double precision the stability and support
+#: checks rely on (1e-300 kg or 1e30 kg read as "the mounts do not hold the system").
+MASS_RANGE_KG = (1e-3, 1e6)
+#: Principal moments of inertia accepted, kg m^2 (same reasoning).
+INERTIA_RANGE_KGM2 = (1e-6, 1e6)
+
 
 # ======================================================================================
 # Checking
@@ -61,6 +68,10 @@ _RULES = {
     ">0": (lambda x: x > 0, "> 0"),
     ">=0": (lambda x: x >= 0, ">= 0"),
     "any": (lambda x: True, ""),
+    "mass": (lambda x: MASS_RANGE_KG[0] <= x <= MASS_RANGE_KG[1],
+             f"in {MASS_RANGE_KG[0]:g}..{MASS_RANGE_KG[1]:g}"),
+    "inertia": (lambda x: INERTIA_RANGE_KGM2[0] <= x <= INERTIA_RANGE_KGM2[1],
+                f"in {INERTIA_RANGE_KGM2[0]:g}..{INERTIA_RANGE_KGM2[1]:g}"),
 }
 
 

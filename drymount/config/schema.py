@@ -26,6 +26,12 @@ SPACINGS = ("linear", "log")
 #: Largest number of harmonics accepted (a sanity bound: H = 7 already converges the
 #: friction systems to 1e-3; 50 harmonics cost ~50x more per Newton step).
 MAX_HARMONICS = 50
+#: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
+#: sharpest kink of the friction law at H = 50 many times over).
+MAX_N_SAMPLES = 8192
+#: Largest number of sweep frequencies (a 10 000-point co-simulated sweep takes
+#: hours; more is a typo).
+MAX_POINTS = 10_000
 #: Relative size below which the smallest eigenvalue of the linearised (stuck)
 #: stiffness counts as zero: the mounts leave a rigid-body motion free.
 SINGULAR_RTOL = 1e-10

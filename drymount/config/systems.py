@@ -25,6 +25,8 @@ from drymount.config.schema import (
     EXCITATION_KINDS,
     HBMSettings,
     MAX_HARMONICS,
+    MAX_N_SAMPLES,
+    MAX_POINTS,
     SINGULAR_RTOL,
     SPACINGS,
     SweepSettings,
@@ -75,7 +77,8 @@ def _settings(ck: _Checker, data: dict):
         what = "empty" if fmax == fmin else "reversed"
         ck.add(f"`sweep.fmax_hz` must be > `sweep.fmin_hz` = {fmin:g} Hz, got "
                f"{fmax:g} Hz: the frequency range is {what}")
-    points = ck.integer(sw, "points", "sweep", minimum=2, default=d.points)
+    points = ck.integer(sw, "points", "sweep", minimum=2, maximum=MAX_POINTS,
+                        default=d.points)
     direction = ck.choice(sw, "direction", "sweep", DIRECTIONS, required=False,
                           default=d.direction)
     spacing = ck.choice(sw, "spacing", "sweep", SPACINGS, required=False,
@@ -86,7 +89,8 @@ def _settings(ck: _Checker, data: dict):
                            default=HBMSettings.harmonics)
     n_samples = None
     if harmonics is not None:
-        n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1)
+        n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1,
+                               maximum=MAX_N_SAMPLES)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
     backend = ck.choice(cs, "backend", "cosim", BACKENDS, required=False,
@@ -148,7 +152,7 @@ def _build(ck: _Checker, data: dict, model: str):
         if t is not None:
             ck.keys(t, "sdof", ALLOWED_KEYS["sdof"], hints={
                 "m": "the key is `mass`", "m_e": "the key is `mass`"})
-            mass = ck.number(t, "mass", "sdof", rule=">0", unit="kg")
+            mass = ck.number(t, "mass", "sdof", rule="mass", unit="kg")
         mount = _single_mount(ck, data)
         exc = _excitation(ck, data, model, {})
         if ck.problems:
@@ -161,8 +165,8 @@ def _build(ck: _Checker, data: dict, model: str):
         if t is not None:
             ck.keys(t, "quarter_car", ALLOWED_KEYS["quarter_car"], hints={
                 "mass": "the masses are `m_e`, `m_s`, `m_us`"})
-            for name, rule, unit in (("m_e", ">0", "kg"), ("m_s", ">0", "kg"),
-                                     ("m_us", ">0", "kg"), ("k_s", ">=0", "N/m"),
+            for name, rule, unit in (("m_e", "mass", "kg"), ("m_s", "mass", "kg"),
+                                     ("m_us", "mass", "kg"), ("k_s", ">=0", "N/m"),
                                      ("c_s", ">=0", "N s/m"), ("k_t", ">0", "N/m"),
                                      ("c_t", ">=0", "N s/m")):
                 vals[name] = ck.number(t, name, "quarter_car", rule=rule, unit=unit)
@@ -177,8 +181,9 @@ def _build(ck: _Checker, data: dict, model: str):
     if t is not None:
         ck.keys(t, "rigid_engine", ALLOWED_KEYS["rigid_engine"], hints={
             "Ixx": "give `inertia = [Ixx, Iyy, Izz]`", "m": "the key is `mass`"})
-        mass = ck.number(t, "mass", "rigid_engine", rule=">0", unit="kg")
-        inertia = ck.vector(t, "inertia", "rigid_engine", 3, unit="kg m^2", rule=">0")
+        mass = ck.number(t, "mass", "rigid_engine", rule="mass", unit="kg")
+        inertia = ck.vector(t, "inertia", "rigid_engine", 3, unit="kg m^2",
+                            rule="inertia")
     mounts = []
     if "mounts" not in data:
         ck.add("`mounts` is missing: model \"rigid_engine\" needs at least 3 "

@@ -11,12 +11,31 @@ This package belongs to the app: it reads configurations; nothing in ``hbm``,
 ``vehicle`` or ``fmu_src`` imports it.
 """
 
-from drymount.design.backends import BackendSpec, parse_backend
-from drymount.design.check import design_space
-from drymount.design.evaluate import DesignResult, DesignStatus, evaluate_design
-from drymount.design.explore import ExploreResult, explore
-from drymount.design.space import DesignSpace
+import importlib
+
+#: Public name -> the submodule defining it. Imported on first use (PEP 562):
+#: every ``drymount`` command registers ``explore``/``optimize`` through
+#: :mod:`drymount.design.commands`, and :mod:`.explore` imports scipy.stats (seconds
+#: on a loaded machine), which a usage error must not wait for (issue 11: exit 2
+#: within a second).
+_WHERE = {
+    "BackendSpec": "backends", "parse_backend": "backends",
+    "design_space": "check",
+    "DesignResult": "evaluate", "DesignStatus": "evaluate",
+    "evaluate_design": "evaluate",
+    "ExploreResult": "explore", "explore": "explore",
+    "DesignSpace": "space",
+}
 
 __all__ = ["design_space", "explore", "evaluate_design", "parse_backend",
            "BackendSpec", "DesignSpace", "DesignResult", "DesignStatus",
            "ExploreResult"]
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(f"drymount.design.{_WHERE[name]}"),
+                        name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'drymount.design' has no attribute {name!r}")

@@ -107,7 +107,9 @@ class Runner:
             if self.spec.address is None:
                 self._cluster = distributed.LocalCluster(
                     n_workers=self.spec.workers, threads_per_worker=1, processes=True,
-                    dashboard_address=None)
+                    # ':0' = a free port: a fixed 8787 fails the start (a warning,
+                    # an error under -W error) while another cluster holds it
+                    dashboard_address=":0")
                 self._client = distributed.Client(self._cluster)
             else:
                 try:

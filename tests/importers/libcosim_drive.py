@@ -1,6 +1,10 @@
 """Drive the mount FMU through libcosim (libcosimpy), a C++ FMI 2.0 importer.
 
-Run as a script: ``python libcosim_drive.py FMU``; prints one JSON object. Used by
+Run as a script: ``python libcosim_drive.py FMU``; prints one JSON object.
+``python libcosim_drive.py FMU --bad NAME=VALUE ...`` instead starts one instance with
+those parameters (friction on) and prints ``{"step_ok": ..., "survived": true, ...}``:
+the FMU must refuse bad parameters with fmi2Error at fmi2ExitInitializationMode and
+libcosim must report the failed step without aborting the process. Used by
 ``tests/test_fmu_libcosim.py`` in a subprocess, so that the importer's process holds
 nothing but libcosim, the FMU and (for the reference) the mount law.
 
@@ -72,5 +76,26 @@ def main(fmu: str) -> dict:
                 time=ex.status().current_time * 1e-9)
 
 
+def bad_parameters(fmu: str, settings: list[str]) -> dict:
+    """One instance with friction on and ``NAME=VALUE`` parameter start values: the
+    first step (initialization) must fail cleanly."""
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_step_size(step_size=int(round(H * 1e9)))
+    i = ex.add_local_slave(CosimLocalSlave(fmu_path=fmu, instance_name="bad"))
+    ref = {v.name.decode(): v.reference for v in ex.slave_variables(i)}
+    ex.boolean_initial_value(i, ref["axial_friction"], True)
+    for item in settings:
+        name, _, value = item.partition("=")
+        ex.real_initial_value(i, ref[name], float(value))
+    ok = bool(ex.step(1))
+    second = bool(ex.step(1))
+    return dict(step_ok=ok, second_step_ok=second, survived=True,
+                time=ex.status().current_time * 1e-9)
+
+
 if __name__ == "__main__":
-    print(json.dumps(main(sys.argv[1])))
+    if "--bad" in sys.argv:
+        print(json.dumps(bad_parameters(sys.argv[1],
+                                        sys.argv[sys.argv.index("--bad") + 1:])))
+    else:
+        print(json.dumps(main(sys.argv[1])))

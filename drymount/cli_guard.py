@@ -1,0 +1,229 @@
+"""What keeps a ``drymount`` run from losing or overwriting results (issue 11).
+
+* Output paths are checked before any computation (:func:`outputs`): a directory,
+  device, FIFO, an unwritable folder, a plot extension that names no format -> a
+  :class:`UsageError` (exit status 2) at once.
+* SIGINT and SIGTERM raise KeyboardInterrupt in the main thread
+  (:func:`signals_interrupt`), so every run stops the same way; a run that stops
+  hands its computed points over on the exception (``partial_result``) and
+  :func:`partial_on_stop` writes them with a first line ``# partial: <reason>``.
+  Exit status 128 + the signal (:func:`interrupted`).
+* A user's ``--fmu`` is used as it is, never rebuilt (:func:`fmu_path`).
+
+docs/cli.md states the rules for users.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import re
+import signal
+import sys
+from pathlib import Path
+
+__all__ = ["UsageError", "EXIT_INTERRUPTED", "EXIT_TERMINATED", "signals_interrupt",
+           "interrupted", "partial_on_stop", "write_with", "outputs", "check_out",
+           "check_out_dir",
+           "fmu_path", "stopped_by"]
+
+#: Interrupted by SIGINT (128 + 2); SIGTERM gives 128 + 15 = 143.
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+
+
+class UsageError(Exception):
+    """Bad command-line values found after parsing (exit status 2)."""
+
+
+def _err(msg: str) -> None:
+    print(f"drymount: error: {msg}", file=sys.stderr)
+
+
+def _info(msg: str) -> None:
+    print(msg, file=sys.stderr)
+
+
+def write_with(path: Path, writer, partial: str | None = None) -> Path:
+    """Call ``writer(tmp_path)`` and move the file to ``path`` atomically; with
+    ``partial`` (the reason the run stopped early) the first line is
+    ``# partial: <partial>``."""
+    from drymount.io import PARTIAL_PREFIX, atomic_path
+
+    with atomic_path(path) as tmp:
+        writer(tmp)
+        if partial is not None:
+            text = tmp.read_text(encoding="utf-8")
+            reason = " ".join(partial.split())
+            tmp.write_text(f"{PARTIAL_PREFIX}{reason}\n{text}", encoding="utf-8")
+    return path
+
+
+# --------------------------------------------------------------------- signals
+
+#: The signal that stopped the run (SIGINT or SIGTERM), set by the handler.
+_stopped_by: int | None = None
+
+
+def stopped_by() -> int | None:
+    """The signal that stopped the current run, or None."""
+    return _stopped_by
+
+
+@contextlib.contextmanager
+def signals_interrupt(program: bool = False):
+    """SIGINT and SIGTERM raise KeyboardInterrupt in the main thread (so every run
+    stops the same way and writes what it computed); the signal is remembered for the
+    exit status. Restores the previous handlers afterwards; as a ``program`` (the
+    process ends after main, its results are written) they are ignored instead:
+    Python's finalisation would otherwise die of a late SIGINT (status -2)."""
+    global _stopped_by
+    _stopped_by = None
+
+    def handler(signum, frame):
+        global _stopped_by
+        if _stopped_by is None:
+            _stopped_by = signum
+        raise KeyboardInterrupt(signal.Signals(signum).name)
+
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, h in saved.items():
+            signal.signal(s, signal.SIG_IGN if program else h)
+
+
+def _stop_reason(exc: BaseException) -> str:
+    if _stopped_by is not None:
+        return f"interrupted by {signal.Signals(_stopped_by).name}"
+    if isinstance(exc, KeyboardInterrupt):
+        return "interrupted"
+    return f"{type(exc).__name__}: {exc}"
+
+
+@contextlib.contextmanager
+def partial_on_stop(out: Path, what: str):
+    """On any exception carrying a ``partial_result`` (the points computed before a
+    run stopped), write it to ``out`` marked partial, then re-raise."""
+    try:
+        yield
+    except BaseException as exc:
+        res = getattr(exc, "partial_result", None)
+        n = len(getattr(res, "freq_hz", getattr(res, "t", ())))
+        if res is not None and n:
+            reason = f"{_stop_reason(exc)}; {n} {what} computed before the run stopped"
+            write_with(out, res.to_csv, partial=reason)
+            _info(f"wrote {out} (partial: {n} {what})")
+        raise
+
+
+def interrupted() -> int:
+    """Exit status after SIGINT (130) or SIGTERM (143)."""
+    if _stopped_by == signal.SIGTERM:
+        _err("terminated (SIGTERM)")
+        return EXIT_TERMINATED
+    _err("interrupted")
+    return EXIT_INTERRUPTED
+
+
+
+# ------------------------------------------------------------- output paths
+
+_PLOT_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif",
+                 "tiff", "webp", "pgf", "raw", "rgba")
+
+
+def check_out(path, option: str) -> Path:
+    """``path`` checked as an output file (hbm.io.check_output_path);
+    UsageError naming ``option`` otherwise."""
+    from drymount.io import OutputPathError, check_output_path
+
+    try:
+        check_output_path(path, option)
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
+    return Path(path)
+
+
+def check_out_dir(path, option: str) -> Path:
+    """``path`` checked as an output folder (it may exist as a folder, or be
+    creatable in a writable folder); UsageError naming ``option`` otherwise."""
+    import os
+
+    text = os.fspath(path) if path is not None else ""
+    if not str(text).strip():
+        raise UsageError(f"{option}: the folder name is empty")
+    target = Path(os.path.realpath(text))
+    if target.exists() and not target.is_dir():
+        raise UsageError(f"{option}: {str(text)!r} exists and is not a folder")
+    parent = target
+    while not parent.exists():
+        parent = parent.parent
+    if not parent.is_dir():
+        raise UsageError(f"{option}: cannot create {str(text)!r}: {str(parent)!r} is "
+                         f"not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UsageError(f"{option}: cannot write into {str(parent)!r}")
+    return Path(path)
+
+
+def _check_plot(path) -> Path | None:
+    if path is None:
+        return None
+    fmt = Path(path).suffix.lstrip(".").lower()
+    if fmt not in _PLOT_FORMATS:
+        raise UsageError(f"--plot: {str(path)!r} has the extension {fmt!r}, which "
+                         f"names no plot format; use one of "
+                         f"{', '.join(_PLOT_FORMATS)}")
+    return check_out(path, "--plot")
+
+
+def _default_out(cfg, kind: str) -> Path:
+    """``<name>_<kind>.csv`` in the working directory, whatever the configuration's
+    name holds (path separators, ``..``, odd characters become ``_``)."""
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", cfg.name).strip("._") or "config"
+    return Path(f"{name}_{kind}.csv")
+
+
+def outputs(args, cfg, kind: str) -> Path:
+    """Check ``--out`` (or the default name) and ``--plot`` before any work."""
+    out = check_out(args.out if args.out is not None else _default_out(cfg, kind),
+                    "--out")
+    _check_plot(args.plot)
+    return out
+
+
+def fmu_path(path) -> Path:
+    """The FMU a run uses. A user's ``--fmu`` is used as it is (never rebuilt):
+    UsageError if it is missing or not an FMU. The default FMU is built, or rebuilt
+    when older than drymount's sources, saying so."""
+    import zipfile
+
+    from fmu_build import default_fmu_path, ensure_fmu
+
+    if path is None:
+        return ensure_fmu(default_fmu_path(),
+                          notify=lambda why: _info(f"building the default FMU "
+                                                   f"{default_fmu_path()} ({why})"))
+    path = Path(path)
+    if not path.exists():
+        raise UsageError(f"--fmu: {str(path)!r} does not exist (leave --fmu out to "
+                         f"use the default FMU, built when needed)")
+    if not path.is_file() or not zipfile.is_zipfile(path):
+        raise UsageError(f"--fmu: {str(path)!r} is not an FMU (not a zip file)")
+    try:
+        with zipfile.ZipFile(path) as z:
+            has_md = "modelDescription.xml" in z.namelist()
+    except (OSError, zipfile.BadZipFile) as exc:
+        raise UsageError(f"--fmu: {str(path)!r} cannot be read: {exc}") from None
+    if not has_md:
+        raise UsageError(f"--fmu: {str(path)!r} is not an FMU (no "
+                         f"modelDescription.xml in the zip)")
+    return path.resolve()
+
+
