@@ -273,8 +273,8 @@ def run_inclined_case(case: Case, *, quick: bool = False, progress: bool = True,
     fundamental amplitudes compared. The co-simulation is also checked against the
     same integration with the law in-process (:func:`hbm.inclined.
     inclined_time_reference`); the largest difference is in the note.
-    ``fmu_path``: the InclinedMount FMU (default dist/InclinedMount.fmu, built if
-    missing or stale)."""
+    ``fmu_path``: the InclinedMount FMU, used as is (default dist/InclinedMount.fmu,
+    built if missing or stale)."""
     from fmu_build import ensure_fmu
     from fmu_src.inclined import InclinedParameters
     from hbm.aft import FourierBasis
@@ -282,7 +282,8 @@ def run_inclined_case(case: Case, *, quick: bool = False, progress: bool = True,
     from vehicle.inclined import inclined_cosim_steady
 
     t0 = time.perf_counter()
-    fmu_path = ensure_fmu(fmu_path, model="InclinedMount")
+    if fmu_path is None:   # a user's FMU is used as is
+        fmu_path = ensure_fmu(model="InclinedMount")
     sysm = InclinedSDOF(70.0, 45935.0, 150.0, InclinedParameters(theta_deg=60.0),
                         150.0, 70.0 * 9.81)
     freqs = np.linspace(case.fmin_hz, case.fmax_hz,

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -47,7 +48,8 @@ class InclinedOutputs:
 class InclinedFMU:
     """One InclinedMount FMU instance through fmpy's ``FMU2Slave`` (a context manager).
 
-    ``InclinedFMU(p, dt)`` builds the FMU if missing or stale (:func:`ensure_fmu`),
+    ``InclinedFMU(p, dt)`` builds the default FMU if missing or stale
+    (:func:`ensure_fmu`; a given ``fmu_path`` is used as is),
     instantiates it, sets the parameters of ``p`` and initializes it (ValueError
     with the FMU's message if it rejects them). Calling it, ``fmu(x, v, t) -> F``,
     sets the inputs at ``t``, reads the force and commits with ``doStep(t, dt)``
@@ -62,7 +64,10 @@ class InclinedFMU:
         self.dt = float(dt)
         self.messages: list[str] = []
         self._live = False
-        self.path = ensure_fmu(fmu_path, model=INCLINED_MODEL_NAME)
+        self._failed = False   # after fmi2Fatal only fmi2FreeInstance is called
+        # a user's FMU is used as is; only drymount's default one is (re)built
+        self.path = (ensure_fmu(model=INCLINED_MODEL_NAME) if fmu_path is None
+                     else Path(fmu_path))
         md = read_model_description(str(self.path))
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
         self._unzipdir = extract(str(self.path))
@@ -78,7 +83,8 @@ class InclinedFMU:
                               [float(getattr(p, n)) for n in _PARAM_NAMES])
             self._fmu.exitInitializationMode()
         except Exception as exc:
-            self.close(terminate=False)
+            self._failed = True
+            self.close()
             raise ValueError(f"InclinedMount FMU rejected its parameters: "
                              f"{' | '.join(self.messages) or exc}") from exc
         self._uv = [self.vr["u"], self.vr["v"]]
@@ -131,6 +137,7 @@ class InclinedFMU:
         try:
             self._fmu.doStep(currentCommunicationPoint=t, communicationStepSize=self.dt)
         except Exception as exc:   # fmpy raises on fmi2Discard/fmi2Error
+            self._failed = True
             raise RuntimeError(f"InclinedMount FMU refused the step at t = {t!r} s: "
                                f"{' | '.join(self.messages[-3:]) or exc}") from exc
 
@@ -139,19 +146,21 @@ class InclinedFMU:
         try:
             force = self._fmu.getReal(self._out[:1])[0]
         except Exception as exc:   # fmpy raises on fmi2Error (e.g. lost contact)
+            self._failed = True
             raise RuntimeError(f"InclinedMount FMU failed at t = {t!r} s, u = {x!r} m: "
                                f"{' | '.join(self.messages[-3:]) or exc}") from exc
         self.commit(t)
         return force
 
-    def close(self, terminate: bool = True) -> None:
-        """Terminate and free the instance, remove the extracted FMU (idempotent)."""
+    def close(self) -> None:
+        """Terminate (unless a call failed) and free the instance, remove the
+        extracted FMU (idempotent)."""
         import shutil
 
         if self._live:
             self._live = False
             try:
-                if terminate:
+                if not self._failed:
                     self._fmu.terminate()
             finally:
                 self._fmu.freeInstance()
