@@ -24,7 +24,13 @@ OpenBLAS threads are limited to 1 unless ``--threads`` is given (set before NumP
 imported): the matrices are small (at most 132 x 132) and threads only add overhead,
 a lot of it on a busy machine.
 
-Run: ``python bench/bench_hbm.py [--repeat 5] [--convergence] [--threads]``
+With ``--adaptive`` it also runs each case once with the adaptive defaults of issue 17
+(``tol`` = 1e-3: error estimates, H and N raised until the estimate is below tol/2,
+chord-error steps, zigzags merged) and prints the cost as a ratio to today's options
+(fixed H and N) measured in the same run.
+
+Run: ``python bench/bench_hbm.py [--repeat 5] [--convergence] [--adaptive]
+[--six-dof-adaptive] [--threads]``
 """
 
 from __future__ import annotations
@@ -41,6 +47,10 @@ def _parse():
     ap.add_argument("--threads", action="store_true",
                     help="keep the default BLAS threading")
     ap.add_argument("--no-stability", action="store_true")
+    ap.add_argument("--adaptive", action="store_true",
+                    help="also compare the adaptive defaults (tol 1e-3) with today's")
+    ap.add_argument("--six-dof-adaptive", action="store_true",
+                    help="include the six-DOF case in --adaptive (minutes)")
     return ap.parse_args()
 
 
@@ -69,7 +79,10 @@ def main():
     six = rigid_engine(140.8, [8.63, 10.02, 10.22],
                        [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)], mps,
                        amplitude=(0.0, 0.0, 0.0035))
-    opts = hbm.HBMOptions(stability=not args.no_stability)
+    # today's (before issue 17): fixed H and N, steps by the tangent angle only, no
+    # error estimate, every turning point kept; the table's targets are for these
+    opts = hbm.HBMOptions(stability=not args.no_stability, tol=None,
+                          error_estimate=False, zigzag_refine=1)
     cases = [
         ("sdof-H1 (closed forms)", s1, 2.0, 15.0, dict(harmonics=1), 0.05),
         ("sdof-H7 (AFT N=64)", s1, 2.0, 15.0, dict(harmonics=7, n_samples=64), 0.3),
@@ -96,8 +109,43 @@ def main():
         print(f"{name:26s} {r.n_points:6d} {r.n_newton:6d} {r.n_steps:5d} "
               f"{1e3 * best / r.n_points:8.2f} {best:7.3f} {med:8.3f} {tg:>8s} {ok}"
               f"{'' if r.success else '  FAILED: ' + r.message}")
+    if args.adaptive:
+        _adaptive(hbm, np, cases, opts, args.six_dof_adaptive)
     if args.convergence:
         _convergence(hbm, np, s1, opts)
+
+
+def _adaptive(hbm, np, cases, today, six):
+    """One curve per case with today's options and with the defaults (tol = 1e-3:
+    error estimates, H and N raised until the estimate is below tol/2, chord-error
+    steps, zigzags merged), H and N given as where the adaptation starts; the cost
+    as a ratio of the two times measured here."""
+    import dataclasses
+    import time
+
+    new = dataclasses.replace(today, tol=1e-3, error_estimate=True, zigzag_refine=4)
+    print("\nadaptive defaults (tol 1e-3) against today's, one run each:")
+    hdr = (f"{'case':26s} {'today pts':>9s} {'s':>6s} {'tps':>4s} | {'tol pts':>7s} "
+           f"{'H':>3s} {'N':>5s} {'s':>7s} {'tps':>4s} {'err est':>8s} {'cost':>6s}")
+    print(hdr)
+    print("-" * len(hdr))
+    for name, system, fmin, fmax, kw, _ in cases:
+        if name.startswith("six") and not six:
+            print(f"{name:26s} (skipped: --six-dof-adaptive runs it, minutes)")
+            continue
+        start = dataclasses.replace(today, harmonics=kw["harmonics"],
+                                    n_samples=kw.get("n_samples"))
+        t0 = time.perf_counter()
+        r0 = hbm.frequency_response(system, fmin, fmax, options=start)
+        t1 = time.perf_counter()
+        r1 = hbm.frequency_response(system, fmin, fmax, options=dataclasses.replace(
+            new, harmonics=start.harmonics, n_samples=start.n_samples))
+        t2 = time.perf_counter()
+        tp0 = len(r0.turning_points)
+        print(f"{name:26s} {r0.n_points:9d} {t1 - t0:6.2f} {tp0:4d} | "
+              f"{r1.n_points:7d} {r1.harmonics:3d} {r1.n_samples:5d} {t2 - t1:7.2f} "
+              f"{len(r1.turning_points):4d} {r1.error_max():8.1e} "
+              f"{(t2 - t1) / (t1 - t0):5.1f}x")
 
 
 def _convergence(hbm, np, s1, opts):

@@ -272,20 +272,36 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
     fmin_hz, fmax_hz : float, optional
         Band, Hz (default: the configuration's ``[sweep]``).
     harmonics : int, optional
-        Harmonics H (default: ``[hbm] harmonics``).
+        Harmonics H, fixed (default: ``[hbm] harmonics``, where the ``[hbm] tol``
+        adaptation starts, as ``drymount hbm``).
     n_samples : int, optional
-        AFT samples per period, >= 2H + 1 (default: ``[hbm] n_samples``).
+        AFT samples per period, >= 2H + 1, fixed (default: ``[hbm] n_samples``,
+        adapted likewise).
     progress : bool
         Progress bar on stderr.
     """
     import hbm as _hbm
 
+    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
+
+    # the CLI's and the config's limits (an unbounded H or N runs for hours)
+    _check_count("harmonics", harmonics, 1, MAX_HARMONICS)
+    _check_count("n_samples", n_samples, 3, MAX_N_SAMPLES)
     m = _model(model)
     fmin, fmax = _band(m, fmin_hz, fmax_hz)
-    H = m.config.hbm.harmonics if harmonics is None else harmonics
-    ns = m.config.hbm.n_samples if n_samples is None else n_samples
-    return Curve(_hbm.frequency_response(m.system, fmin, fmax, harmonics=H,
-                                         n_samples=ns, progress=progress), "hbm")
+    return Curve(_hbm.frequency_response(m.system, fmin, fmax, harmonics=harmonics,
+                                         n_samples=n_samples,
+                                         options=m.config.hbm.options(),
+                                         progress=progress), "hbm")
+
+
+def _check_count(name: str, value, low: int, high: int) -> None:
+    """``value`` None or an integer in ``low..high``; else ValueError naming it."""
+    if value is None:
+        return
+    integer = isinstance(value, int) and not isinstance(value, bool)
+    if not integer or not low <= value <= high:
+        raise ValueError(f"`{name}` must be an integer in {low}..{high}, got {value!r}")
 
 
 def _fmu_kw(backend: str, fmu_path) -> dict:

@@ -209,15 +209,26 @@ def cmd_hbm(args) -> int:
     out = outputs(args, cfg, "hbm")
     import hbm
 
+    try:
+        opts = cfg.hbm.options(**{k: getattr(args, k) for k in (
+            "tol", "max_harmonics", "ds_initial", "ds_min", "ds_max", "max_angle")})
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    # --harmonics / --n-samples fix H / N; [hbm] values are where --tol starts
     with partial_on_stop(out, "points"):
-        fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=H,
-                                    n_samples=n_samples, progress=not args.quiet)
+        fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=args.harmonics,
+                                    n_samples=args.n_samples, options=opts,
+                                    progress=not args.quiet)
     _write_with(out, fr.to_csv,
                 partial=None if fr.success else f"numerical failure: {fr.message}")
-    _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {H})")
+    events = Path(fr.events_path(out))
+    _write_with(events, fr.events_to_csv)
+    _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {fr.harmonics}, "
+          f"N = {fr.n_samples or 'closed forms'}) and {events} (folds and peaks)")
     if args.plot is not None:
-        _write_with(args.plot, lambda p: fr.plot(path=p))
+        _write_with(args.plot, lambda p: fr.plot(path=p, logx=args.log_freq))
         _info(f"wrote {args.plot}")
+    _print_hbm_accuracy(fr)
     if len(fr.freq_hz):
         import numpy as np
 
@@ -236,6 +247,27 @@ def cmd_hbm(args) -> int:
              f"{len(fr.freq_hz)} points computed so far are in {out}")
         return EXIT_FAILURE
     return EXIT_OK
+
+
+def _print_hbm_accuracy(fr) -> None:
+    """Error estimate, merged turning points, folds and peaks of an HBM curve."""
+    e = fr.error_max()
+    if e == e:
+        verdict = {True: "meets", False: "misses", None: "vs"}[fr.tol_met]
+        print(f"  error estimate {e:.2g} of peak ({fr.error_reference}); {verdict} "
+              f"the tolerance")
+    if fr.tol_met is False:
+        _info(f"drymount: warning: the tolerance is not met: {fr.message}")
+    if fr.turning_points_merged:
+        print(f"  {fr.turning_points_merged} turning point(s) merged as zigzags of the "
+              f"sampled residual (gone with more AFT samples)")
+    for ev in fr.folds:
+        print(f"  fold at {ev.freq_hz:.6f} Hz" + ("" if ev.converged else
+                                                  " (not converged)"))
+    for ev in fr.peaks:
+        if ev.interior:
+            print(f"  peak of {ev.dof}: {ev.amplitude[fr.dof_names.index(ev.dof)]:.6g}"
+                  f" at {ev.freq_hz:.6f} Hz")
 
 
 def cmd_cosim(args) -> int:
@@ -355,7 +387,7 @@ def cmd_sweep(args) -> int:
                       args.direction or cfg.sweep.direction,
                       args.spacing or cfg.sweep.spacing)
     freqs = s.freqs_hz()
-    backend = args.backend or cfg.cosim.backend
+    backend = args.backend or ("native" if args.batch else cfg.cosim.backend)
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
     out = outputs(args, cfg, "sweep")
     kw = {}
@@ -368,7 +400,8 @@ def cmd_sweep(args) -> int:
 
     with partial_on_stop(out, "frequencies"):
         res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,
-                            workers=args.workers, progress=not args.quiet, **kw)
+                            workers=args.workers, progress=not args.quiet,
+                            batch=args.batch, refine=args.refine, hbm=overlay, **kw)
     _write_with(out, res.to_csv)
     _info(f"wrote {out} ({len(res.freq_hz)} frequencies, {s.direction}, backend "
           f"{backend})")

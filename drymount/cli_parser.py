@@ -97,6 +97,27 @@ def _harness_args(p, kind: str) -> None:
     p.add_argument("--plot", type=_path, default=None, help="plot file to write")
 
 
+def _hbm_accuracy_args(p) -> None:
+    """Accuracy and step controls of `drymount hbm` (default: [hbm] of CONFIG)."""
+    g = p.add_argument_group(
+        "accuracy and steps (default: [hbm] of CONFIG, else hbm's)")
+    g.add_argument("--tol", type=_positive_float, default=None,
+                   help="wanted accuracy relative to the peak (default 1e-3): H and N "
+                        "are raised until the error estimate is below tol/2 (unless "
+                        "--harmonics/--n-samples fix them), and the step until reading "
+                        "between CSV rows stays within tol/2")
+    g.add_argument("--max-harmonics", type=_int_at_least(1), default=None,
+                   help="cap on H when --tol raises it (default 25)")
+    for flag, what in (("--ds-initial", "first"), ("--ds-min", "smallest"),
+                       ("--ds-max", "largest")):
+        g.add_argument(flag, type=_positive_float, default=None,
+                       help=f"{what} arc-length step (scaled: a sweep spans about 1)")
+    g.add_argument("--max-angle", type=_positive_float, default=None,
+                   help="largest angle between successive tangents, rad (default 0.15)")
+    g.add_argument("--log-freq", action="store_true",
+                   help="log frequency axis in --plot")
+
+
 def _config_arg(p):
     p.add_argument("config", metavar="CONFIG",
                    help="TOML configuration file (docs/config.md) or preset name "
@@ -244,6 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", type=_path, default=None,
                    help="plot file to write (.png, .pdf, .svg)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
+    _hbm_accuracy_args(p)
 
     # cosim --------------------------------------------------------------------
     p = _add(sub, "cosim", "time history co-simulated through the mount FMU",
@@ -313,9 +335,19 @@ def build_parser() -> argparse.ArgumentParser:
                    help="default: [cosim] backend")
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
+    p.add_argument("--batch", action="store_true",
+                   help="native backend: step all frequencies at once as one array "
+                        "computation (each from the linearised response, not from "
+                        "the previous frequency; docs/performance.md)")
+    p.add_argument("--refine", type=_int_at_least(0, MAX_POINTS), default=0,
+                   metavar="N",
+                   help="add N frequencies where they matter: at the peak and where "
+                        "the response changes fastest, first at the peak and folds "
+                        "of the --hbm curve if given (default 0)")
     _harness_args(p, "sweep")
     p.add_argument("--hbm", type=_path, default=None, metavar="CURVE_CSV",
-                   help="HBM curve (CSV of `drymount hbm`) to overlay on the plot")
+                   help="HBM curve (CSV of `drymount hbm`) to overlay on the plot "
+                        "(and to guide --refine)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
     # validate -----------------------------------------------------------------

@@ -18,17 +18,24 @@ from typing import NamedTuple
 
 import numpy as np
 
+from hbm.aft import default_n_samples
 from hbm.continuation import Branch, Status, continue_branch, newton
+from hbm.error_estimate import estimate_errors
+from hbm.folds import CurveEvent, locate_folds, locate_peaks, merge_spurious_pairs
 from hbm.linear import linear_frf
 from hbm.options import HBMOptions
 from hbm.residual import HarmonicBalance
-from hbm.result import FrequencyResponse
+from hbm.result import FrequencyResponse, MarkedPoint
 from hbm.segments import Restart, clip, join
 from hbm.stability import is_stable
 from hbm.system import System
 
 __all__ = ["frequency_response", "solve_frequencies", "build_problem",
            "resolve_options", "postprocess"]
+
+#: The error estimate re-solves every ESTIMATE_STRIDE-th point (and the points around
+#: turning points); the points between get the larger of their neighbours' estimates.
+ESTIMATE_STRIDE = 4
 
 
 def _check_range(fmin_hz, fmax_hz):
@@ -173,27 +180,6 @@ def _start(prob: _Problem, freq_hz: float, settings) -> StartSolution:
     return StartSolution(y, total, "")
 
 
-def _fold_frequency(prob: _Problem, br: Branch, i: int) -> float:
-    """Frequency of the fold between points i-1 and i (Hz): extremum of the cubic
-    Hermite interpolant of omega(s) built from the two points and their tangents."""
-    y0, y1 = br.y[i - 1], br.y[i]
-    t0, t1 = br.tangent[i - 1], br.tangent[i]
-    h = float(np.linalg.norm(y1 - y0))
-    l0, l1, d0, d1 = y0[-1], y1[-1], h * t0[-1], h * t1[-1]
-    # lam(x) = a x^3 + b x^2 + d0 x + l0 on [0, 1]
-    a = 2 * l0 - 2 * l1 + d0 + d1
-    b = -3 * l0 + 3 * l1 - 2 * d0 - d1
-    roots = np.roots([3 * a, 2 * b, d0]) if abs(a) + abs(b) > 0 else np.array([])
-    roots = [r.real for r in np.atleast_1d(roots)
-             if abs(r.imag) < 1e-12 and -1e-9 <= r.real <= 1 + 1e-9]
-    if roots:
-        x = roots[0]
-        lam = ((a * x + b) * x + d0) * x + l0
-    else:
-        lam = max(l0, l1) if d0 > 0 else min(l0, l1)
-    return float(lam * prob.ws / (2 * np.pi))
-
-
 def _stability(prob: _Problem, ys, br: Branch, stride: int):
     """Hill stability along the branch.
 
@@ -271,9 +257,105 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int):
     return stable, fmr
 
 
+def _point_quantities(prob: _Problem, y):
+    """``(freq_hz, X (m, n), amplitude (n,), transmissibility)`` of a point."""
+    hb = prob.hb
+    sysm = hb.system
+    tr, exc = sysm.transmissibility, sysm.excitation
+    X, w = prob.x_of(y)
+    f = w / (2 * np.pi)
+    for fe in prob.f_ends:  # undo the round-off of the scaling at the ends
+        if abs(f - fe) <= 1e-12 * fe:
+            f = fe
+    Xr = X.reshape(hb.m, hb.n)
+    amp = np.hypot(Xr[1], Xr[2])
+    if tr.kind == "force":
+        fc, fs = hb.axis_force_fundamental(X, w, tr.forces)
+        den = exc.scalar_amplitude(w)
+        trans = math.hypot(fc, fs) / den if den > 0 else np.nan
+    else:
+        den = amp[tr.reference] if tr.reference is not None else \
+            exc.scalar_amplitude(w)
+        trans = amp[tr.dof] / den if den > 0 else np.nan
+    return f, Xr, amp, trans
+
+
+def _amplitude_fn(prob: _Problem):
+    """``y -> (a (n,), da/dy (n, len(y)))``: fundamental amplitudes of the DOFs."""
+    n = prob.hb.n
+
+    def amplitude(y):
+        X = prob.xs * y[:-1]
+        c, s = X[n:2 * n], X[2 * n:3 * n]
+        a = np.hypot(c, s)
+        d = np.zeros((n, y.size))
+        safe = np.where(a > 0, a, 1.0)
+        idx = np.arange(n)
+        d[idx, n + idx] = c / safe * prob.xs[n + idx]
+        d[idx, 2 * n + idx] = s / safe * prob.xs[2 * n + idx]
+        return a, d
+    return amplitude
+
+
+def _chord_error_fn(prob: _Problem, tol: float, floor: np.ndarray | None):
+    """``chord_error(y0, t0, y1, t1)``: largest error of the straight chord between two
+    points in a DOF's amplitude, relative to ``tol`` times that DOF's running peak
+    (at least ``floor``). The curve's midpoint is the cubic Hermite interpolant's;
+    the error is measured at fixed frequency, or normal to the chord (x10) where the
+    chord is steep (near folds)."""
+    amplitude = _amplitude_fn(prob)
+    top = np.zeros(prob.hb.n) if floor is None else np.array(floor, float)
+
+    def chord_error(y0, t0, y1, t1):
+        h = float(np.linalg.norm(y1 - y0))
+        ym = 0.5 * (y0 + y1) + h * (t0 - t1) / 8.0
+        a0, a1, am = amplitude(y0)[0], amplitude(y1)[0], amplitude(ym)[0]
+        np.maximum(top, np.maximum(a0, a1), out=top)
+        ref = np.where(top > 0, top, 1.0)
+        da, dl = (a1 - a0) / ref, y1[-1] - y0[-1]
+        ea, el = (am - 0.5 * (a0 + a1)) / ref, ym[-1] - 0.5 * (y0[-1] + y1[-1])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vertical = np.abs(ea - np.where(dl != 0, da / dl, 0.0) * el)
+            normal = np.abs(ea * dl - el * da) / np.hypot(dl, da)
+        err = np.where(np.isfinite(vertical), np.minimum(vertical, 10 * normal), normal)
+        return float(np.nanmax(err)) / tol if err.size else 0.0
+    return chord_error
+
+
+def _to_hz(prob: _Problem):
+    return lambda lam: float(lam * prob.ws / (2 * np.pi))
+
+
+def _marked(prob: _Problem, ev: CurveEvent, n_peak: int) -> MarkedPoint:
+    f, Xr, amp, trans = _point_quantities(prob, ev.y)
+    peak = prob.hb.peak_abs(Xr.ravel(), n_peak)
+    dof = None if ev.dof is None else prob.hb.system.dof_names[ev.dof]
+    return MarkedPoint(ev.kind.value, float(ev.freq_hz), dof, ev.index, amp, peak,
+                       float(trans), ev.converged, ev.interior)
+
+
+def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
+    """Located folds and per-DOF peaks (empty without tangents); ``located``: folds
+    already located on a finer re-trace, by turning-point index."""
+    if not br.tangent or len(br.tangent) != len(br.y):
+        return [], []
+    settings = opts.continuation_settings()
+    folds = []
+    if len(turning):
+        todo = Branch(y=br.y, tangent=br.tangent,
+                      turning_points=[i for i in turning if i not in located])
+        found = {e.index: e for e in locate_folds(prob, todo, settings, _to_hz(prob))}
+        folds = [located.get(i) or found[i] for i in turning]
+    peaks = locate_peaks(prob, br, settings, _to_hz(prob), _amplitude_fn(prob),
+                         prob.hb.n)
+    return ([_marked(prob, e, opts.n_peak) for e in folds],
+            [_marked(prob, e, opts.n_peak) for e in peaks])
+
+
 def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
-                turning) -> FrequencyResponse:
-    """The :class:`FrequencyResponse` of the scaled points ``ys`` of ``prob``."""
+                turning, located=None) -> FrequencyResponse:
+    """The :class:`FrequencyResponse` of the scaled points ``ys`` of ``prob``, with
+    its folds (``located``: those already located on a finer re-trace) and peaks."""
     hb = prob.hb
     sysm = hb.system
     n, m, H = hb.n, hb.m, hb.H
@@ -285,33 +367,17 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
     trans = np.empty(npts)
     stable = np.ones(npts, dtype=bool)
     fmr = np.full(npts, np.nan)
-    tr = sysm.transmissibility
-    exc = sysm.excitation
     for i, y in enumerate(ys):
-        X, w = prob.x_of(y)
-        freq[i] = w / (2 * np.pi)
-        for fe in prob.f_ends:  # undo the round-off of the scaling at the ends
-            if abs(freq[i] - fe) <= 1e-12 * fe:
-                freq[i] = fe
-        Xr = X.reshape(m, n)
+        freq[i], Xr, amp[i], trans[i] = _point_quantities(prob, y)
         coef[i] = Xr.T
-        amp[i] = np.hypot(Xr[1], Xr[2])
-        if tr.kind == "force":
-            fc, fs = hb.axis_force_fundamental(X, w, tr.forces)
-            den = exc.scalar_amplitude(w)
-            trans[i] = math.hypot(fc, fs) / den if den > 0 else np.nan
-        else:
-            den = amp[i, tr.reference] if tr.reference is not None else \
-                exc.scalar_amplitude(w)
-            trans[i] = amp[i, tr.dof] / den if den > 0 else np.nan
     if npts:
         peak[:] = hb.peak_abs(coef.transpose(0, 2, 1).reshape(npts, m * n),
                               opts.n_peak)
     if opts.stability and npts:
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
-    fold = np.array([_fold_frequency(prob, br, i) for i in turning], dtype=float)
+    folds, peaks = _events(prob, br, opts, turning, located or {})
     return FrequencyResponse(
-        turning_freq_hz=fold,
+        turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
         transmissibility=trans, stable=stable,
         turning_points=np.asarray(turning, dtype=int), success=br.success,
@@ -319,7 +385,21 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         n_steps=br.n_steps, dof_names=tuple(sysm.dof_names), harmonics=H,
         n_samples=0 if hb.closed_form else hb.n_samples, closed_form=hb.closed_form,
         floquet_max_real=fmr, newton_per_point=np.asarray(br.n_iter, dtype=int),
-        system_name=sysm.name)
+        system_name=sysm.name, folds=folds, peaks=peaks,
+        transmissibility_label=_transmissibility_label(sysm))
+
+
+def _transmissibility_label(sysm: System) -> str:
+    """The transmissibility's definition (thesis eq. 4.1, 4.3) for a y label."""
+    tr = sysm.transmissibility
+    if tr.kind == "force":
+        return ("force transmissibility [-]\n|F_mounts| / |F_exc| (fundamentals, "
+                "eq. 4.1)")
+    num = sysm.dof_names[tr.dof]
+    den = (sysm.dof_names[tr.reference] if tr.reference is not None
+           else "base input")
+    return (f"displacement transmissibility [-]\n|{num}| / |{den}| (fundamentals, "
+            f"eq. 4.3)")
 
 
 def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
@@ -336,11 +416,14 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     fmin_hz, fmax_hz : float
         Frequency range, Hz, ``0 < fmin_hz < fmax_hz``.
     harmonics : int, optional
-        Number of harmonics H (default ``options.harmonics`` = 7).
+        Number of harmonics H, fixed. Default: ``options.harmonics`` (7), where the
+        ``options.tol`` adaptation starts (it raises H and N until the estimated
+        error is below ``tol / 2``, :mod:`hbm.error_estimate`).
     n_samples : int, optional
-        AFT samples per period (default ``max(64, 8H)`` rounded to a power of 2);
-        doubled up to ``options.refine_samples`` times when the continuation
-        stalls or dead-ends at a kink of the sampled residual.
+        AFT samples per period, fixed (default ``max(64, 8H)`` rounded to a power of
+        2, raised by ``tol``); doubled up to ``options.refine_samples`` times when the
+        continuation stalls, dead-ends at a kink of the sampled residual or finds no
+        start.
     closed_form : bool, optional
         H = 1 closed forms (default: when H == 1 and every law has one).
     options : HBMOptions, optional
@@ -351,7 +434,9 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     -------
     FrequencyResponse
         ``success`` False (with the branch so far and ``message``) if the
-        continuation stalled, also after refining the samples.
+        continuation stalled, also after refining the samples. With its error
+        estimates, located folds and peaks; ``tol_met`` and ``message`` say whether
+        the tolerance was met and, if not, why.
 
     Raises
     ------
@@ -375,12 +460,53 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     """
     _check_range(fmin_hz, fmax_hz)
     H, N, opts = resolve_options(options, harmonics, n_samples)
+    pin_h = harmonics is not None or closed_form is True
+    pin_n = n_samples is not None
+    floor, raised = None, []
+    while True:
+        result = _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
+                        floor)
+        if opts.tol is None or not result.success:
+            break
+        trunc, samp = _nanmax(result.error_truncation), _nanmax(result.error_sampling)
+        goal = 0.5 * opts.tol
+        if trunc + samp <= goal:
+            result.tol_met = True
+            break
+        H_new, N_new, why = _next_resolution(result, trunc, samp, goal, opts, pin_h,
+                                             pin_n)
+        if H_new is None:
+            result.tol_met = False
+            result.message += (f"; the error estimate {trunc + samp:.2g} of peak "
+                               f"exceeds tol/2 = {goal:.2g} and {why}")
+            break
+        raised.append(f"H = {result.harmonics}, N = {result.n_samples}: estimate "
+                      f"{trunc + samp:.2g}")
+        floor = np.nanmax(result.amplitude, axis=0)
+        H, N = H_new, N_new
+    if raised:
+        result.message += (f"; H and N raised to {result.harmonics}, "
+                           f"{result.n_samples} for tol = {opts.tol:g} (from "
+                           + "; ".join(raised) + ")")
+    return result
+
+
+def _nanmax(a) -> float:
+    a = np.asarray(a, float)
+    a = a[np.isfinite(a)]
+    return float(a.max()) if a.size else float("nan")
+
+
+def _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress, floor
+           ) -> FrequencyResponse:
+    """One curve at (H, N), restarted past stalls (``opts.max_restarts``)."""
     if opts.max_restarts == 0:
-        return _refined(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress)
+        return _refined(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
+                        floor)
     # Restarts: a new segment past the highest frequency reached, clipped to the band
     f0, parts, restarts = float(fmin_hz), [], []
     while True:
-        fr = _refined(system, f0, fmax_hz, H, N, closed_form, opts, progress)
+        fr = _refined(system, f0, fmax_hz, H, N, closed_form, opts, progress, floor)
         parts.append(clip(fr, float(fmin_hz), float(fmax_hz)))
         top = float(np.max(fr.freq_hz)) if len(fr.freq_hz) else f0
         if fr.success or top >= fmax_hz * (1 - 1e-9) or \
@@ -394,34 +520,103 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     return join(parts, restarts, float(fmax_hz))
 
 
+def _next_resolution(result: FrequencyResponse, trunc: float, samp: float,
+                     goal: float, opts: HBMOptions, pin_h: bool, pin_n: bool):
+    """``(H, N, "")`` to trace next so the error estimate falls below ``goal``
+    (truncation ~ H^-1.5, sampling ~ N^-2), or ``(None, None, why not)``."""
+    if not (math.isfinite(trunc) and math.isfinite(samp)):
+        return None, None, "the estimate failed at some points"
+    H = result.harmonics
+    N = result.n_samples if not result.closed_form else default_n_samples(H)
+    H_new, N_new = H, N
+    if trunc > 0.5 * goal and not pin_h:
+        want = math.ceil(H * (trunc / (0.5 * goal)) ** (1 / 1.5))
+        H_new = min(opts.max_harmonics, max(H + 2, min(want, 2 * H + 1)))
+        if pin_n:
+            H_new = max(H, min(H_new, (N - 1) // 2))  # N > 2H stays true
+    if samp > 0.5 * goal and not pin_n:
+        N_new = N << max(1, math.ceil(0.5 * math.log2(samp / (0.5 * goal))))
+    if H_new != H and not pin_n:
+        # the sampling error depends on N (where the kinks fall), hardly on N / H
+        N_new = max(N_new, default_n_samples(H_new))
+    N_new = min(N_new, opts.max_samples)
+    if N_new <= 2 * H_new:
+        N_new = N
+    if H_new == H and N_new <= N:
+        if pin_h and pin_n:
+            why = f"H = {H} and N = {N} were fixed by the caller"
+        elif pin_h and trunc > samp:
+            why = f"H = {H} was fixed by the caller (truncation {trunc:.2g})"
+        else:
+            why = (f"H = {H}, N = {N} are at the caps max_harmonics = "
+                   f"{opts.max_harmonics}, max_samples = {opts.max_samples} "
+                   f"(truncation {trunc:.2g}, sampling {samp:.2g})")
+        return None, None, why
+    return H_new, N_new, ""
+
+
 def _refined(system: System, fmin_hz: float, fmax_hz: float, H: int, N, closed_form,
-             opts: HBMOptions, progress: bool) -> FrequencyResponse:
-    """One curve from ``fmin_hz`` to ``fmax_hz``; traced again with twice the AFT
-    samples (at most ``opts.refine_samples`` times) when it dead-ends or stalls at a
-    kink of the sampled residual (the kinks shrink with more samples)."""
+             opts: HBMOptions, progress: bool, floor=None) -> FrequencyResponse:
+    """One curve from ``fmin_hz`` to ``fmax_hz`` with its error estimates; traced
+    again with twice the AFT samples (at most ``opts.refine_samples`` times) when it
+    dead-ends or stalls at a kink of the sampled residual (the kinks shrink with more
+    samples) or finds no start (then also with a 4x smaller first step)."""
     prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
-    result = _trace(prob, fmin_hz, fmax_hz, opts, progress)
+    result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
     history = []
     refine = 0
     while (not result.success and result.status in (Status.STEP_TOO_SMALL,
-                                                    Status.RETRACED)
+                                                    Status.RETRACED, Status.NO_START)
            and not prob.hb.closed_form and refine < opts.refine_samples):
         refine += 1
         history.append(f"with {prob.hb.n_samples} AFT samples {result.message}")
+        if result.status is Status.NO_START:
+            opts = dataclasses.replace(opts, ds_initial=max(opts.ds_initial / 4,
+                                                            opts.ds_min))
         prob = build_problem(system, fmin_hz, fmax_hz, H, 2 * prob.hb.n_samples,
                              closed_form)
-        result = _trace(prob, fmin_hz, fmax_hz, opts, progress)
+        result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
     if history:
-        result.message += (f" (AFT samples raised to {prob.hb.n_samples}: "
-                           + "; ".join(history) + ")")
+        first = any("no solution at fmin" in h for h in history)
+        result.message += (f" (AFT samples raised to {prob.hb.n_samples}"
+                           + (f", first step {opts.ds_initial:g}" if first else "")
+                           + ": " + "; ".join(history) + ")")
+    _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result)
     return result
 
 
+def _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result) -> None:
+    """Error estimates of the traced points into ``result`` (if wanted).
+
+    Re-solved at every ``ESTIMATE_STRIDE``-th point, at the ends and around the
+    turning points; a point in between gets the larger estimate of the two re-solved
+    points around it (a per-segment estimate)."""
+    if not (opts.error_estimate or opts.tol is not None) or not br.y:
+        return
+
+    def make(H, N, cf):
+        return build_problem(system, fmin_hz, fmax_hz, H, N, cf)
+
+    npts = len(br.y)
+    pts = sorted(set(range(0, npts, ESTIMATE_STRIDE)) | {npts - 1}
+                 | {j for i in br.turning_points for j in (i - 1, i)})
+    est = estimate_errors(prob, br.y, br.tangent, make, opts.continuation_settings(),
+                          opts.n_peak, pts)
+    for arr in (est.truncation, est.sampling):
+        for a, b in zip(pts[:-1], pts[1:], strict=True):
+            if b - a > 1:
+                arr[a + 1:b] = np.maximum(arr[a], arr[b])  # NaN if either failed
+    result.set_errors(est)
+
+
 def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
-           progress: bool) -> FrequencyResponse:
-    """One continuation of ``prob`` from ``fmin_hz`` to ``fmax_hz``."""
+           progress: bool, floor=None):
+    """One continuation of ``prob`` from ``fmin_hz`` to ``fmax_hz`` (steps within the
+    chord tolerance with ``opts.tol``), spurious turning points merged. Returns
+    ``(FrequencyResponse, Branch)``."""
     H = prob.hb.H
     settings = opts.continuation_settings()
+    chord = None if opts.tol is None else _chord_error_fn(prob, 0.5 * opts.tol, floor)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -437,7 +632,7 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
             br = Branch(status=Status.NO_START,
                         message=f"no solution at fmin = {fmin_hz} Hz ({msg})",
                         n_newton=its0)
-            return postprocess(prob, [], opts, br, [])
+            return postprocess(prob, [], opts, br, []), br
         done = [fmin_hz]
 
         def callback(lam):
@@ -449,13 +644,12 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
 
         lam_end = 2 * np.pi * fmax_hz / prob.ws
         br = continue_branch(prob, y0, lam_end, settings,
-                             lam_start=2 * np.pi * fmin_hz / prob.ws, callback=callback)
+                             lam_start=2 * np.pi * fmin_hz / prob.ws, callback=callback,
+                             chord_error=chord)
         br.n_newton += its0
         br.message = _lam_to_hz(br.message, prob)
         if br.n_iter:
             br.n_iter[0] = its0
-        turning = br.turning_points
-        return postprocess(prob, br.y, opts, br, turning)
     except KeyboardInterrupt as exc:
         # the points traced before the interrupt, for the caller to write
         br = getattr(exc, "branch", None)
@@ -468,6 +662,31 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
     finally:
         if bar is not None:
             bar.close()
+    zz = _merge_zigzags(prob, br, opts)
+    result = postprocess(prob, br.y, opts, br, br.turning_points, zz.folds)
+    result.turning_points_merged = zz.merged
+    if zz.refined:
+        result.message += "; " + "; ".join(
+            f"{f0:.4g}-{f1:.4g} Hz re-traced with more AFT samples ({k} points: "
+            f"zigzags of the sampled residual)" for f0, f1, k in zz.refined)
+    return result, br
+
+
+def _merge_zigzags(prob: _Problem, br: Branch, opts: HBMOptions):
+    """Merge turning-point clusters that vanish with ``opts.zigzag_refine`` (then its
+    square) times the samples."""
+    fines = []
+    if not prob.hb.closed_form and opts.zigzag_refine > 1 and \
+            len(br.turning_points) >= 2:
+        for level in (1, 2):
+            N = prob.hb.n_samples * opts.zigzag_refine ** level
+            if N > max(opts.max_samples, 4 * prob.hb.n_samples):
+                break
+            fine = build_problem(prob.hb.system, *prob.f_ends, prob.hb.H, N, False)
+            fine.xs, fine.ws, fine.rs = prob.xs, prob.ws, prob.rs  # same unknowns
+            fines.append(fine)
+    return merge_spurious_pairs(br, fines, opts.continuation_settings(),
+                                opts.zigzag_span, _to_hz(prob))
 
 
 def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
@@ -542,4 +761,7 @@ def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,
     else:
         br.success, br.status = True, Status.DONE
         br.message = "solved at every frequency"
-    return postprocess(prob, ys, opts, br, [])
+    result = postprocess(prob, ys, opts, br, [])
+    if opts.error_estimate:
+        _estimate(system, fmin, fmax, prob, br, opts, result)
+    return result

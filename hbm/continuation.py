@@ -265,13 +265,17 @@ def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
 
 def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
                     settings: ContinuationSettings, lam_start: float | None = None,
-                    callback: Callable | None = None) -> Branch:
+                    callback: Callable | None = None,
+                    tangent0: np.ndarray | None = None,
+                    chord_error: Callable | None = None,
+                    until: Callable | None = None) -> Branch:
     """:func:`_continue` on a new :class:`Branch`. An interrupt (KeyboardInterrupt)
     propagates with the points accepted so far as its ``branch`` attribute (status
     ``Status.INTERRUPTED``)."""
     br = Branch()
     try:
-        return _continue(br, fun, y0, lam_end, settings, lam_start, callback)
+        return _continue(br, fun, y0, lam_end, settings, lam_start, callback,
+                         tangent0, chord_error, until)
     except KeyboardInterrupt as exc:
         br.status, br.message = Status.INTERRUPTED, "interrupted"
         exc.branch = br
@@ -280,7 +284,10 @@ def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
 
 def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
               settings: ContinuationSettings, lam_start: float | None = None,
-              callback: Callable | None = None) -> Branch:
+              callback: Callable | None = None,
+              tangent0: np.ndarray | None = None,
+              chord_error: Callable | None = None,
+              until: Callable | None = None) -> Branch:
     """Trace the solution branch of ``fun`` from a solution ``y0`` until ``lam_end``.
 
     Parameters
@@ -296,13 +303,24 @@ def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
         Stop (``Status.TURNED_BACK``) if the branch returns below it.
     callback : callable, optional
         ``callback(lam)`` after every accepted point (progress bar).
+    tangent0 : ndarray, optional
+        Direction to start in (default: towards larger lam).
+    chord_error : callable, optional
+        ``chord_error(y0, t0, y1, t1) -> ratio``: the error of the straight chord
+        between two consecutive points relative to the wanted tolerance. A step with
+        a ratio above 1 is rejected and retried smaller (down to ``4 ds_min``), and
+        the next step is sized for a ratio of about 0.6 (the chord error grows like
+        the step squared).
+    until : callable, optional
+        ``until(y) -> bool``: stop successfully (``Status.DONE``) after the first
+        accepted point for which it is true (local re-traces).
 
     Returns
     -------
     Branch
     """
     y = np.array(y0, dtype=float)
-    t = _start(fun, y, br)
+    t = _start(fun, y, br, tangent0)
     if t is None:
         return br
     ds = settings.ds_initial
@@ -326,6 +344,10 @@ def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
                 return br
             continue
         y_new, t_new, J, its = step.y, step.t, step.J, step.n_iter
+        ratio = 0.0 if chord_error is None else chord_error(y, t, y_new, t_new)
+        if ratio > 1.0 and ds > 4 * settings.ds_min:
+            ds = max(ds * max(0.2, 0.8 / math.sqrt(ratio)), 2 * settings.ds_min)
+            continue
         if y_new[-1] >= lam_end:
             y_new, t_new, J, its = _land(fun, y, y_new, t, t_new, J, lam_end,
                                          settings, br)
@@ -337,7 +359,7 @@ def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
         br.n_iter.append(its)
         if callback is not None:
             callback(y_new[-1])
-        if y_new[-1] >= lam_end:
+        if y_new[-1] >= lam_end or (until is not None and until(y_new)):
             br.success = True
             br.status, br.message = Status.DONE, "reached the end of the range"
             return br
@@ -347,13 +369,14 @@ def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
             br.status = Status.TURNED_BACK
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
             return br
-        ds = _next_ds(ds, its, t, t_new, settings)
+        ds = _next_ds(ds, its, t, t_new, settings, ratio)
         y, t = y_new, t_new
 
 
-def _start(fun: Callable, y: np.ndarray, br: Branch) -> np.ndarray | None:
-    """Record the start point of the branch; its tangent towards larger lam, or None
-    (``br`` says why)."""
+def _start(fun: Callable, y: np.ndarray, br: Branch,
+           direction: np.ndarray | None = None) -> np.ndarray | None:
+    """Record the start point of the branch; its tangent towards larger lam (or along
+    ``direction``), or None (``br`` says why)."""
     n = y.size - 1
     try:
         R, J = fun(y)
@@ -363,7 +386,7 @@ def _start(fun: Callable, y: np.ndarray, br: Branch) -> np.ndarray | None:
         return None
     e = np.zeros(n + 1)
     e[-1] = 1.0
-    t = tangent_at(J, e)
+    t = tangent_at(J, e if direction is None else direction)
     if t is None:
         br.status = Status.EVALUATION_FAILED
         br.message = "singular Jacobian at the start point"
@@ -470,12 +493,16 @@ def _retraced(br: Branch) -> bool:
 
 
 def _next_ds(ds: float, its: int, t: np.ndarray, t_new: np.ndarray,
-             settings: ContinuationSettings) -> float:
+             settings: ContinuationSettings, chord_ratio: float = 0.0) -> float:
     """Eq. 3.66 with bounded growth, plus a curvature limit: the angle between
-    successive tangents should not exceed ``max_angle`` (resolves peaks and folds)."""
+    successive tangents should not exceed ``max_angle`` (resolves peaks and folds);
+    with a chord error ``chord_ratio`` (relative to its tolerance) the step is sized
+    for a ratio of about 0.6."""
     fac = np.sqrt(settings.n_norm / max(its, 1))
     angle = float(np.arccos(np.clip(np.dot(t, t_new), -1.0, 1.0)))
     if angle > 0.0:
         fac = min(fac, max(settings.max_angle / angle, 0.5))
+    if chord_ratio > 0.0:
+        fac = min(fac, max(0.2, math.sqrt(0.6 / chord_ratio)))
     ds = min(settings.ds_max, ds * min(fac, settings.max_growth))
     return max(ds, settings.ds_min)

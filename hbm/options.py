@@ -75,6 +75,28 @@ class HBMOptions:
     restart_factor : float
         Where a restarted segment starts, relative to the highest frequency reached
         (> 1).
+    tol : float or None
+        Wanted accuracy of the curve relative to its peak (default 1e-3): half of it
+        for the harmonic-balance error (:mod:`hbm.error_estimate`; H and N are raised
+        until the estimate is below ``tol / 2``, up to ``max_harmonics`` and
+        ``max_samples``, unless the caller fixed them) and half for reading the curve
+        between consecutive points (the step is shrunk until the straight chord stays
+        within ``tol / 2`` of the curve in every DOF's amplitude). None: neither
+        (fixed H and N, steps by ``max_angle`` only).
+    error_estimate : bool
+        Estimate the truncation and sampling errors of the points (always on when
+        ``tol`` is set).
+    max_harmonics : int
+        Largest H the ``tol`` adaptation may use.
+    max_samples : int
+        Largest N the ``tol`` adaptation may use.
+    zigzag_refine : int
+        Factor on N for re-tracing a cluster of closely spaced turning points (then
+        its square); the cluster keeps only the turning points that persist
+        (1: keep every turning point).
+    zigzag_span : float
+        Largest frequency extent between two turning points of a cluster, relative
+        to ``fmax - fmin``.
     """
 
     harmonics: int = 7
@@ -95,23 +117,30 @@ class HBMOptions:
     refine_samples: int = 2
     max_restarts: int = 0
     restart_factor: float = 1.02
+    tol: float | None = 1e-3
+    error_estimate: bool = True
+    max_harmonics: int = 25
+    max_samples: int = 2048
+    zigzag_refine: int = 4
+    zigzag_span: float = 0.05
 
     def __post_init__(self):
         problems = []
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name in ("stability",):
+            if f.name in ("stability", "error_estimate"):
                 if not isinstance(v, bool):
                     problems.append(f"`{f.name}` must be true or false, got {v!r}")
                 continue
-            if f.name == "n_samples" and v is None:
+            if f.name in ("n_samples", "tol") and v is None:
                 continue
             if f.name in ("refine_samples", "max_restarts"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                     problems.append(f"`{f.name}` must be an integer >= 0, got {v!r}")
                 continue
             if f.name in ("harmonics", "n_samples", "n_norm", "max_newton", "max_steps",
-                          "n_peak", "stability_stride"):
+                          "n_peak", "stability_stride", "max_harmonics", "max_samples",
+                          "zigzag_refine"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                     problems.append(f"`{f.name}` must be an integer >= 1, got {v!r}")
             elif not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
@@ -121,6 +150,8 @@ class HBMOptions:
                             f"got {self.ds_min}")
         if not problems and self.max_growth < 1:
             problems.append(f"`max_growth` must be >= 1, got {self.max_growth}")
+        if not problems and self.tol is not None and not self.tol < 0.5:
+            problems.append(f"`tol` must be < 0.5 (relative to peak), got {self.tol}")
         if not problems and self.restart_factor <= 1:
             problems.append(f"`restart_factor` must be > 1, got {self.restart_factor}")
         if problems:

@@ -9,7 +9,43 @@ import numpy as np
 
 from hbm.continuation import Status
 
-__all__ = ["FrequencyResponse", "Status"]
+__all__ = ["FrequencyResponse", "MarkedPoint", "Status"]
+
+
+@dataclass(frozen=True)
+class MarkedPoint:
+    """A located fold or resonance peak of a curve (:mod:`hbm.folds`).
+
+    Attributes
+    ----------
+    kind : ``"fold"`` or ``"peak"``
+    freq_hz : float
+        Frequency of the fold (extremum of the frequency along the curve) or of the
+        peak (extremum of ``dof``'s fundamental amplitude along the curve), Hz,
+        located to ``hbm.folds.FREQ_TOL_HZ``.
+    dof : str or None
+        The DOF whose amplitude peaks (None for a fold).
+    index : int
+        Lies between curve points ``index - 1`` and ``index``.
+    amplitude, peak : ndarray, shape (n_dof,)
+        Fundamental amplitudes and ``max |q(t)|`` there, m or rad.
+    transmissibility : float
+    converged : bool
+        False when the location failed (a Newton re-solve); ``freq_hz`` is then the
+        cubic-interpolation estimate (folds) or the largest curve point (peaks).
+    interior : bool
+        False for a peak at an end of the range (not an extremum).
+    """
+
+    kind: str
+    freq_hz: float
+    dof: str | None
+    index: int
+    amplitude: np.ndarray
+    peak: np.ndarray
+    transmissibility: float
+    converged: bool = True
+    interior: bool = True
 
 
 def _landing(f, st, amp, i: int, sgn: float):
@@ -77,9 +113,24 @@ class FrequencyResponse:
     newton_per_point : ndarray of int, shape (n_points,)
     system_name : str
     turning_freq_hz : ndarray, shape (n_turning,)
-        Fold (jump) frequencies, Hz, located between the two points around each
-        turning point (extremum of the cubic Hermite interpolant of omega along the
-        arc, built from the points and their tangents).
+        Fold (jump) frequencies, Hz: the frequency's extremum along the curve between
+        the two points around each turning point, located by bisection with Newton
+        re-solves to 1e-6 Hz (``folds``).
+    folds, peaks : list of MarkedPoint
+        The located folds (one per turning point) and each DOF's resonance peak.
+    turning_points_merged : int
+        Turning points dropped as zigzags of the sampled residual (pairs that
+        vanished when re-traced with more AFT samples).
+    error_truncation, error_sampling : ndarray, shape (n_points,)
+        Estimated errors of each point from the harmonics above H and from the N AFT
+        samples, relative to the curve's peak (:mod:`hbm.error_estimate`; NaN if not
+        estimated).
+    error_reference : str
+        How the estimates were made.
+    tol_met : bool or None
+        Whether the error estimate met ``HBMOptions.tol / 2`` (None: not asked).
+    transmissibility_label : str
+        What ``transmissibility`` is (its definition), for plots.
     restarts : tuple of hbm.segments.Restart
         ``(freq_hz, reason)`` of every restart (``HBMOptions.max_restarts``): the
         curve is in ``len(restarts) + 1`` segments separated by one gap row each
@@ -107,6 +158,43 @@ class FrequencyResponse:
     system_name: str = ""
     turning_freq_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
     restarts: tuple = ()
+    folds: list = field(default_factory=list)
+    peaks: list = field(default_factory=list)
+    turning_points_merged: int = 0
+    error_truncation: np.ndarray | None = None
+    error_sampling: np.ndarray | None = None
+    error_reference: str = ""
+    tol_met: bool | None = None
+    transmissibility_label: str = ""
+
+    def __post_init__(self):
+        nan = np.full(self.freq_hz.size, np.nan)
+        if self.error_truncation is None:
+            self.error_truncation = nan.copy()
+        if self.error_sampling is None:
+            self.error_sampling = nan.copy()
+
+    def set_errors(self, est) -> None:
+        """Store an :class:`hbm.error_estimate.ErrorEstimate` of these points."""
+        self.error_truncation = np.asarray(est.truncation, float)
+        self.error_sampling = np.asarray(est.sampling, float)
+        self.error_reference = est.summary()
+
+    def error_max(self) -> float:
+        """Largest estimated error (truncation + sampling) relative to peak; NaN if
+        not estimated."""
+        e = self.error_truncation + self.error_sampling
+        e = e[np.isfinite(e)]
+        return float(e.max()) if e.size else float("nan")
+
+    def fold_freq_at(self, i: int, j: int) -> float | None:
+        """The located fold between neighbouring points i and j, Hz (None if none)."""
+        k = max(i, j)
+        for fo in self.folds:
+            if fo.index == k:
+                return fo.freq_hz
+        return None
+
 
     @property
     def n_points(self) -> int:
@@ -145,7 +233,8 @@ class FrequencyResponse:
         Returns
         -------
         list of ``(freq_hz, from_index, to_index)``
-            ``freq_hz`` is the frequency of the last point before the jump.
+            ``freq_hz`` is the located fold frequency (``folds``) where the sweep
+            jumps at a fold, else the frequency of the last point before the jump.
             ``to_index`` is -1 where the solution loses stability away from a fold
             (a bifurcation, e.g. symmetry breaking, onto a solution the curve does not
             contain): the sweep leaves the curve there and the walk ends. The walk
@@ -191,7 +280,8 @@ class FrequencyResponse:
             if best is None:
                 break
             if best[0] >= min_change:
-                jumps.append((float(f[i]), i, best[1]))
+                f_fold = self.fold_freq_at(i, j)
+                jumps.append((float(f[i]) if f_fold is None else f_fold, i, best[1]))
             i = best[1]
             d = heading(i)
         return jumps
@@ -201,18 +291,49 @@ class FrequencyResponse:
         cols = ["freq_hz"]
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
-        return cols + ["transmissibility", "stable"]
+        return cols + ["transmissibility", "stable", "err_truncation", "err_sampling"]
 
     def table(self) -> np.ndarray:
-        """The CSV table as an array, shape (n_points, 2 n_dof + 3)."""
+        """The CSV table as an array, shape (n_points, 2 n_dof + 5)."""
         parts = [self.freq_hz[:, None]]
         for i in range(len(self.dof_names)):
             parts += [self.amplitude[:, i:i + 1], self.peak[:, i:i + 1]]
-        parts += [self.transmissibility[:, None], self.stable[:, None].astype(float)]
+        parts += [self.transmissibility[:, None], self.stable[:, None].astype(float),
+                  self.error_truncation[:, None], self.error_sampling[:, None]]
         return np.hstack(parts)
 
+    def events_path(self, path: str | os.PathLike) -> str:
+        """The sidecar of the CSV ``path``: ``<stem>_events.csv`` beside it."""
+        root, _ = os.path.splitext(os.fspath(path))
+        return root + "_events.csv"
+
+    def events_to_csv(self, path: str | os.PathLike) -> None:
+        """Write the located folds and peaks: ``kind, dof, freq_hz, after_row,
+        converged, <dof>_amp, <dof>_peak, ..., transmissibility``; ``after_row`` is
+        the 0-based data row of the curve CSV the event follows."""
+        cols = ["kind", "dof", "freq_hz", "after_row", "converged"]
+        for d in self.dof_names:
+            cols += [f"{d}_amp", f"{d}_peak"]
+        cols.append("transmissibility")
+        from hbm.io import atomic_path
+        with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(f"# drymount HBM {self.system_name}: folds (extremum of the "
+                     f"frequency along the curve) and each DOF's resonance peak "
+                     f"(extremum of its fundamental amplitude), located to 1e-6 Hz; "
+                     f"amplitudes m or rad\n")
+            fh.write(",".join(cols) + "\n")
+            for e in list(self.folds) + list(self.peaks):
+                vals = [e.kind, e.dof or "", f"{e.freq_hz:.10f}", str(e.index - 1),
+                        str(int(e.converged))]
+                for a, p in zip(e.amplitude, e.peak, strict=True):
+                    vals += [f"{a:.10g}", f"{p:.10g}"]
+                vals.append(f"{e.transmissibility:.10g}")
+                fh.write(",".join(vals) + "\n")
+
     def to_csv(self, path: str | os.PathLike) -> None:
-        """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable``.
+        """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable,
+        err_truncation, err_sampling`` (the estimated errors relative to the peak,
+        :mod:`hbm.error_estimate`; NaN where not estimated).
 
         The first line is a ``# `` comment with units and provenance; ``stable`` is 1
         or 0; amplitudes in m (rad for rotations).
@@ -220,14 +341,16 @@ class FrequencyResponse:
         meth = "closed forms" if self.closed_form else f"AFT N={self.n_samples}"
         comment = (f"# drymount HBM {self.system_name}: H={self.harmonics} ({meth}); "
                    f"success={self.success} ({self.message}); amplitudes m or rad, "
-                   f"fundamental (_amp) and max over the period (_peak); stable 1/0; "
-                   f"turning points at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
+                   f"fundamental (_amp) and max over the period (_peak); err_* "
+                   f"estimated error relative to peak; stable 1/0; "
+                   f"folds at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
         from hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")
             for row in self.table():
-                vals = [f"{v:.10g}" for v in row[:-1]] + [str(int(row[-1]))]
+                vals = [f"{v:.10g}" for v in row[:-3]] + [str(int(row[-3]))]
+                vals += [f"{v:.3g}" for v in row[-2:]]
                 fh.write(",".join(vals) + "\n")
 
     def _plot_jumps(self, ax, y):
@@ -248,8 +371,13 @@ class FrequencyResponse:
     def plot(self, path: str | os.PathLike | None = None, ax=None,
              quantity: str = "transmissibility", dof: str | None = None,
              logy: bool = True, label: str | None = None, jumps: bool = True,
-             **kwargs):
-        """Plot the curve; unstable parts dashed, turning points marked.
+             logx: bool = False, **kwargs):
+        """Plot the curve; unstable parts dashed, located folds marked.
+
+        Without ``ax`` a whole figure is made (:func:`hbm.plot.plot_figure`): title
+        with the system and H/N, the transmissibility with its definition and, for
+        several DOFs, one panel per DOF amplitude; returns its first Axes. With
+        ``ax`` one ``quantity`` is drawn there (:func:`hbm.plot.plot_curve`).
 
         Parameters
         ----------
@@ -259,7 +387,8 @@ class FrequencyResponse:
         quantity : ``"transmissibility"``, ``"amplitude"`` or ``"peak"``
         dof : str, optional
             DOF name for amplitude/peak (default: the first).
-        logy : bool
+        logy, logx : bool
+            Logarithmic amplitude and frequency axes.
         label : str, optional
         jumps : bool
             Draw where slow sweeps up and down would jump (:meth:`sweep_jumps`):
@@ -271,49 +400,16 @@ class FrequencyResponse:
         -------
         matplotlib Axes
         """
-        if quantity not in ("transmissibility", "amplitude", "peak"):
-            raise ValueError(f"`quantity` must be transmissibility, amplitude or peak, "
-                             f"got {quantity!r}")
+        from hbm.plot import plot_curve, plot_figure
+
+        if ax is None and quantity == "transmissibility" and label is None \
+                and not kwargs:
+            return plot_figure(self, path, logx=logx, logy=logy).axes[0]
         if ax is None:
-            import matplotlib
-            if path is not None:
-                matplotlib.use("Agg", force=False)
-            import matplotlib.pyplot as plt
-            fig, ax = plt.subplots(figsize=(7, 4.5))
-        else:
-            fig = ax.figure
-        if quantity == "transmissibility":
-            y = self.transmissibility
-            ylabel = "transmissibility"
-        else:
-            name = dof if dof is not None else self.dof_names[0]
-            if name not in self.dof_names:
-                raise ValueError(f"`dof` must be one of {self.dof_names}, got {name!r}")
-            y = getattr(self, quantity)[:, self.dof_names.index(name)]
-            ylabel = f"{name} {quantity} [m or rad]"
-        label = label or f"HBM H={self.harmonics}"
-        st = self.stable.astype(bool)
-        ys = np.where(st, y, np.nan)
-        line, = ax.plot(self.freq_hz, ys, "-", label=label, **kwargs)
-        if not np.all(st):
-            # unstable parts dashed (include neighbours so the dashes join the curve)
-            un = ~st
-            un_ext = un | np.r_[un[1:], False] | np.r_[False, un[:-1]]
-            ax.plot(self.freq_hz, np.where(un_ext, y, np.nan), "--",
-                    color=line.get_color(), label=f"{label} (unstable)")
-        if len(self.turning_points):
-            ax.plot(self.freq_hz[self.turning_points], y[self.turning_points], "o",
-                    mfc="none", color=line.get_color(), label="turning points")
-        if jumps:
-            self._plot_jumps(ax, y)
-        if logy and np.all(y[np.isfinite(y)] > 0):
-            ax.set_yscale("log")
-        ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel(ylabel)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend()
+            from matplotlib.figure import Figure
+            ax = Figure(figsize=(7, 4.5), layout="constrained").add_subplot()
+        plot_curve(self, ax, quantity, dof, logy=logy, label=label, jumps=jumps,
+                   logx=logx, **kwargs)
         if path is not None:
-            from hbm.io import atomic_path
-            with atomic_path(path) as tmp:
-                fig.savefig(tmp, dpi=120, bbox_inches="tight")
+            ax.figure.savefig(path, dpi=120)
         return ax

@@ -23,7 +23,8 @@ BAND_RTOL = 1e-9
 #: Per-point fields of a FrequencyResponse and their value in a gap row.
 _POINT_FIELDS = {"freq_hz": None, "coefficients": np.nan, "amplitude": np.nan,
                  "peak": np.nan, "transmissibility": np.nan, "stable": True,
-                 "floquet_max_real": np.nan, "newton_per_point": 0}
+                 "floquet_max_real": np.nan, "newton_per_point": 0,
+                 "error_truncation": np.nan, "error_sampling": np.nan}
 
 
 class Restart(NamedTuple):
@@ -35,10 +36,10 @@ class Restart(NamedTuple):
 
 def _points(fr: FrequencyResponse, name: str) -> np.ndarray:
     value = np.asarray(getattr(fr, name))
-    if name in ("floquet_max_real", "newton_per_point") and value.shape[:1] != \
-            fr.freq_hz.shape:
+    if name in ("floquet_max_real", "newton_per_point", "error_truncation",
+                "error_sampling") and value.shape[:1] != fr.freq_hz.shape:
         # not computed: give one entry per point
-        fill = np.nan if name == "floquet_max_real" else 0
+        fill = 0 if name == "newton_per_point" else np.nan
         value = np.full(fr.freq_hz.shape, fill, dtype=value.dtype)
     return value
 
@@ -56,7 +57,32 @@ def clip(fr: FrequencyResponse, fmin: float, fmax: float) -> FrequencyResponse:
     fold = fold[kept] if fold.size == len(fr.turning_points) else fold
     return dataclasses.replace(
         fr, **{k: _points(fr, k)[keep] for k in _POINT_FIELDS},
-        turning_points=tps, turning_freq_hz=fold)
+        turning_points=tps, turning_freq_hz=fold,
+        folds=_moved(fr.folds, keep, new_index),
+        peaks=_moved(fr.peaks, keep, new_index))
+
+
+def _moved(events, keep, new_index) -> list:
+    """Located folds/peaks whose point was kept, renumbered."""
+    out = []
+    for e in events:
+        i = min(e.index, len(keep) - 1)
+        if keep[i]:
+            out.append(dataclasses.replace(e, index=int(new_index[i])))
+    return out
+
+
+def _joined_events(parts, offsets) -> tuple[list, list]:
+    """Folds of every segment (renumbered) and, per DOF, the highest peak."""
+    folds, peaks = [], {}
+    for fr, n in zip(parts, offsets, strict=True):
+        folds += [dataclasses.replace(e, index=e.index + n) for e in fr.folds]
+        for e in fr.peaks:
+            j = fr.dof_names.index(e.dof)
+            best = peaks.get(e.dof)
+            if best is None or e.amplitude[j] > best.amplitude[j]:
+                peaks[e.dof] = dataclasses.replace(e, index=e.index + n)
+    return folds, list(peaks.values())
 
 
 def _gap(fr: FrequencyResponse, f_gap: float) -> dict:
@@ -76,16 +102,18 @@ def join(parts: list[FrequencyResponse], restarts: list[Restart], fmax: float
     if len(parts) == 1:
         return parts[0]
     cols = {k: [] for k in _POINT_FIELDS}
-    tps, n = [], 0
+    tps, n, offsets = [], 0, []
     for i, fr in enumerate(parts):
         if i:
             for k, v in _gap(fr, restarts[i - 1].freq_hz).items():
                 cols[k].append(v)
             n += 1
+        offsets.append(n)
         for k in cols:
             cols[k].append(_points(fr, k))
         tps += [n + int(t) for t in fr.turning_points]
         n += len(fr.freq_hz)
+    folds, peaks = _joined_events(parts, offsets)
     last = parts[-1]
     reached = bool(len(last.freq_hz)) and \
         float(np.max(last.freq_hz)) >= fmax * (1 - BAND_RTOL)
@@ -98,4 +126,6 @@ def join(parts: list[FrequencyResponse], restarts: list[Restart], fmax: float
         turning_freq_hz=np.concatenate([np.asarray(p.turning_freq_hz) for p in parts]),
         success=success, status=Status.DONE if success else last.status,
         message=message, n_newton=sum(p.n_newton for p in parts),
-        n_steps=sum(p.n_steps for p in parts), restarts=tuple(restarts))
+        n_steps=sum(p.n_steps for p in parts), restarts=tuple(restarts),
+        folds=folds, peaks=peaks,
+        turning_points_merged=sum(p.turning_points_merged for p in parts))

@@ -172,3 +172,12 @@ def test_api_reference_builds_offline_with_every_public_name(tmp_path):
         assert f'id="{name}"' in page, name
     committed = REPO / "docs" / "api" / "drymount.html"
     assert committed.is_file(), "docs/api/ is committed: run python docs/build_api.py"
+
+
+@pytest.mark.parametrize("kw", [{"harmonics": 999}, {"harmonics": 0},
+                                {"n_samples": 10**9}, {"harmonics": 2.5}])
+def test_hbm_counts_are_bounded_like_the_cli(kw):
+    """H and N outside the CLI's limits fail at once, naming the argument."""
+    name = next(iter(kw))
+    with pytest.raises(ValueError, match=rf"`{name}` must be an integer in"):
+        drymount.hbm("sdof_halved", 1, 20, progress=False, **kw)

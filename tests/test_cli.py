@@ -223,13 +223,16 @@ def test_hbm_linear_preset_matches_exact_frf(tmp_path, capsys):
     assert "peak transmissibility" in stdout
     header, data = _read_csv(out)
     assert header[:3] == ["freq_hz", "x_amp", "x_peak"]
-    assert header[-2:] == ["transmissibility", "stable"]
+    assert header[-4:] == ["transmissibility", "stable", "err_truncation",
+                           "err_sampling"]
+    assert "error estimate" in stdout  # summarised (issue 17)
     system = load_preset("sdof_linear").system
     exact = np.abs(hbm.linear_frf(system, data[:, 0])[:, 0])
     np.testing.assert_allclose(data[:, 1], exact, rtol=RTOL_LINEAR_FRF)
     assert plot.stat().st_size > 1000
     # no temporary files left behind by the atomic writes
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["curve.csv", "curve.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "curve.csv", "curve.png", "curve_events.csv"]  # + folds and peaks
 
 
 def test_hbm_numerical_failure_exit_1_keeps_the_points(tmp_path, capsys,

@@ -59,7 +59,7 @@ def test_curve_points_solve_the_equations():
     assert r.success and r.freq_hz[0] == 2.0 and r.freq_hz[-1] == 15.0
     assert np.all(np.diff(r.freq_hz) > 0)  # no fold for this preset
     sel = slice(None, None, 3)
-    r2 = hbm.solve_frequencies(s, r.freq_hz[sel], harmonics=5)
+    r2 = hbm.solve_frequencies(s, r.freq_hz[sel], harmonics=5, n_samples=r.n_samples)
     np.testing.assert_allclose(r2.coefficients, r.coefficients[sel], rtol=0,
                                atol=1e-9 * r.amplitude.max())
     assert r.n_newton >= r.n_points - 1 and r.n_steps >= r.n_points - 1
@@ -140,12 +140,13 @@ def test_dead_end_of_the_sampled_problem_is_refined(six_dof_halved_issue4):
     so far comes back with status RETRACED; by default the samples are doubled, the curve
     reaches fmax and the message says what happened."""
     s = six_dof_halved_issue4
-    off = hbm.HBMOptions(stability=False, refine_samples=0)
+    # tol=None: the steps of the old default (the chord control would step past it)
+    off = hbm.HBMOptions(stability=False, refine_samples=0, tol=None)
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5, options=off)
     assert not r.success and r.status is Status.RETRACED and r.n_samples == 64
     assert r.n_points > 10 and 9.0 < r.freq_hz.max() < 10.0
     r = hbm.frequency_response(s, 2.0, 25.0, harmonics=5,
-                               options=hbm.HBMOptions(stability=False))
+                               options=hbm.HBMOptions(stability=False, tol=None))
     assert r.success and r.n_samples == 128 and r.freq_hz[-1] == 25.0
     assert "raised to 128" in r.message and "64 AFT samples" in r.message
 
@@ -159,19 +160,27 @@ def test_csv_and_plot(tmp_path):
     rows = list(csv.reader(lines[1:]))
     assert rows[0] == ["freq_hz", "engine_amp", "engine_peak", "sprung_amp",
                        "sprung_peak", "unsprung_amp", "unsprung_peak",
-                       "transmissibility", "stable"]
+                       "transmissibility", "stable", "err_truncation",
+                       "err_sampling"]
     data = np.array(rows[1:], dtype=float)
-    assert data.shape == (r.n_points, 9)
+    assert data.shape == (r.n_points, 11)
     np.testing.assert_allclose(data[:, 0], r.freq_hz, rtol=1e-9)
     np.testing.assert_allclose(data[:, 1], r.amplitude[:, 0], rtol=1e-9)
     np.testing.assert_allclose(data[:, 7], r.amplitude[:, 0] / r.amplitude[:, 1],
                                rtol=1e-9)  # thesis eq. 4.3
     assert set(data[:, 8]) <= {0.0, 1.0}
+    np.testing.assert_allclose(data[:, 9], r.error_truncation, rtol=1e-2)
     png = tmp_path / "curve.png"
     ax = r.plot(png)
     assert png.stat().st_size > 1000
-    import matplotlib.pyplot as plt
-    plt.close(ax.figure)
+    # one panel per DOF beside the transmissibility, titled with system and H/N
+    fig = ax.figure
+    assert len(fig.axes) == 4
+    assert "H = 3" in fig._suptitle.get_text()
+    assert "|sprung|" in fig.axes[0].get_ylabel() or "eq. 4.3" in fig.axes[0].get_ylabel()
+    assert [a.get_title() for a in fig.axes[1:]] == [
+        "DOF engine", "DOF sprung", "DOF unsprung"]
+    assert all("[m]" in a.get_ylabel() for a in fig.axes[1:])
 
 
 def test_force_transmissibility_equals_linear_formula():
@@ -245,8 +254,10 @@ def test_start_by_load_stepping():
     raises the excitation in steps."""
     ax = AxisParameters(law="piecewise", k1=91870.0, k2=513800.0, delta=0.002, c=150.0)
     s = sdof(70.0, MountParameters(axial=ax), "force", 400.0)
+    # zigzag_refine=1: every point at N = 32 (a merged zigzag is re-traced with more)
     r = hbm.frequency_response(s, 2.0, 5.0, harmonics=5, n_samples=32,
-                               options=hbm.HBMOptions(stability=False))
+                               options=hbm.HBMOptions(stability=False,
+                                                      zigzag_refine=1))
     assert r.n_points > 1 and r.freq_hz[0] == 2.0
     assert _max_relative_residual(s, r, 32) <= RTOL_POINT_RESIDUAL
 
@@ -278,7 +289,7 @@ def test_restarts_continue_past_a_stall_in_segments():
     assert r.freq_hz[segs[-1]].max() == 15.0
     pts = np.concatenate([r.freq_hz[seg] for seg in segs])
     ok = np.concatenate([r.amplitude[seg][:, 0] for seg in segs])
-    ref = hbm.solve_frequencies(s, pts[::7], harmonics=3,
+    ref = hbm.solve_frequencies(s, pts[::7], harmonics=3, n_samples=r.n_samples,
                                 options=hbm.HBMOptions(stability=False))
     assert ref.success
     assert np.allclose(ok[::7], ref.amplitude[:, 0], rtol=RTOL_RESTART, atol=0)

@@ -38,6 +38,7 @@ __all__ = [
     "BaseSine",
     "BumpRoad",
     "CrankInput",
+    "CrankRunUp",
     "DivergenceError",
     "FMUError",
     "HarmonicInput",

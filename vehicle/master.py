@@ -483,14 +483,26 @@ class Master:
 
     def run_period(self) -> PeriodRecord:
         """Run the next period of :meth:`begin_periodic`; returns its rows."""
+        t0, N, done = self._next_period()
+        self._run_rows(N, t0, done * N)
+        return self._finish_period()
+
+    def _next_period(self):
+        """Row 0 of the next period (row N of the last one); ``(t0, N, done)``.
+        :meth:`run_period` and :mod:`vehicle.batch` run the rows in between."""
         if self._periodic is None:
             raise RuntimeError("call begin_periodic() before run_period()")
         t0, N, done = self._periodic
+        if done:
+            L = self.layout  # the next period starts at row N
+            self._rec[0, :L.n_next] = self._rec[N, :L.n_next]
+        return t0, N, done
+
+    def _finish_period(self) -> PeriodRecord:
+        """Bookkeeping after the rows of a period ran: its :class:`PeriodRecord`."""
+        t0, N, done = self._periodic
         rec, L, n, h = self._rec, self.layout, self.system.n_dof, self._h
         cols = self._cols
-        if done:
-            rec[0, :L.n_next] = rec[N, :L.n_next]  # the next period starts at row N
-        self._run_rows(N, t0, done * N)
         self._check_finite(rec[N], t0 + (done + 1) * N * h)
         done += 1
         self._periodic[2] = done

@@ -234,7 +234,6 @@ def run_steady(master: Master, freq_hz: float, *,
     ``"linear"`` (:func:`linear_start`; sliders kept) or a :class:`SteadyState`
     (its end state and sliders). See the module docstring for the outputs.
     """
-    system = master.system
     if not (isinstance(freq_hz, (int, float, np.floating)) and math.isfinite(freq_hz)
             and freq_hz > 0):
         raise ValueError(f"`freq_hz` must be finite and > 0, got {freq_hz!r}")
@@ -246,6 +245,27 @@ def run_steady(master: Master, freq_hz: float, *,
         raise ValueError(f"`min_periods`, `max_periods` must be integers with "
                          f"1 <= min_periods <= max_periods, got {min_periods!r}, "
                          f"{max_periods!r}")
+    N, h, E_start = _begin(master, freq_hz, steps_per_period, start)
+    steps0 = master.backend.steps
+    wall0 = master.wall_time
+    change = math.inf
+    converged = False
+    for _ in range(max_periods):
+        period = master.run_period()
+        change = _period_change(period)
+        if period.index >= min_periods and change <= rtol:
+            converged = True
+            break
+        if period.index < max_periods:
+            E_start = period.energy
+    return _analyse(master, period, freq_hz, h, E_start, change, converged, rtol,
+                    steps0, wall0)
+
+
+def _begin(master: Master, freq_hz: float, steps_per_period, start):
+    """Set the start state of a run at ``freq_hz`` and begin its periods (see
+    :func:`run_steady`); returns ``(N, h, E_start)``."""
+    system = master.system
     spp = DEFAULT_STEPS_PER_PERIOD if steps_per_period is None else steps_per_period
     N = master.steps_per_period(freq_hz, spp)
     h = 1.0 / (freq_hz * N)
@@ -264,20 +284,7 @@ def run_steady(master: Master, freq_hz: float, *,
         raise ValueError(f"`start` must be 'continue', 'rest', 'linear' or a "
                          f"SteadyState, got {start!r}")
     master.begin_periodic(HarmonicInput(system, freq_hz), N, h)
-    steps0 = master.backend.steps
-    wall0 = master.wall_time
-    change = math.inf
-    converged = False
-    for _ in range(max_periods):
-        period = master.run_period()
-        change = _period_change(period)
-        if period.index >= min_periods and change <= rtol:
-            converged = True
-            break
-        if period.index < max_periods:
-            E_start = period.energy
-    return _analyse(master, period, freq_hz, h, E_start, change, converged, rtol,
-                    steps0, wall0)
+    return N, h, E_start
 
 
 def _period_change(period) -> float:

@@ -280,7 +280,8 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
           steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
           min_periods: int = DEFAULT_MIN_PERIODS,
           max_periods: int = DEFAULT_MAX_PERIODS,
-          warmup: int = DEFAULT_WARMUP) -> SweepResult:
+          warmup: int = DEFAULT_WARMUP, batch: bool = False, refine: int = 0,
+          hbm=None) -> SweepResult:
     """Stepped-sine sweep of ``system`` under its harmonic excitation.
 
     Parameters
@@ -302,6 +303,19 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         Steady-state options (:func:`vehicle.steady.steady_state`).
     warmup : int
         Warm-up frequencies of each parallel chunk after the first.
+    batch : bool
+        Step all frequencies at once as one array computation
+        (:mod:`vehicle.batch`; ``native`` backend, one process): each frequency
+        starts from the linearised response instead of the previous steady state.
+    refine : int
+        Extra frequencies to add where they matter (:mod:`vehicle.refine`): at the
+        peak, where the response changes fastest, and first at the peak and folds
+        of ``hbm``. They run after the grid, each group entered from the grid
+        frequency before it (a warm-up as for a parallel chunk); the result lists
+        all frequencies in sweep order.
+    hbm : object with ``freq_hz`` and ``transmissibility``, optional
+        A harmonic-balance curve (``hbm.FrequencyResponse``) whose peak and folds
+        ``refine`` visits first.
 
     Returns
     -------
@@ -319,6 +333,12 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         raise ValueError(f"`workers` must be an integer >= 1, got {workers!r}")
     if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
         raise ValueError(f"`warmup` must be an integer >= 0, got {warmup!r}")
+    if batch and (backend != "native" or workers != 1):
+        raise ValueError(f"`batch` steps the native law in one process: it needs "
+                         f"backend 'native' and workers 1, got backend {backend!r}, "
+                         f"workers {workers!r}")
+    if not (isinstance(refine, (int, np.integer)) and refine >= 0):
+        raise ValueError(f"`refine` must be an integer >= 0, got {refine!r}")
     f = np.sort(f) if direction == "up" else np.sort(f)[::-1]
     options = dict(steps_per_period=steps_per_period, rtol=rtol,
                    min_periods=min_periods, max_periods=max_periods)
@@ -331,15 +351,25 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     workers = int(min(workers, f.size))
     bar = tqdm(total=f.size, desc=f"sweep {direction} ({backend})", unit="freq",
                file=sys.stderr, disable=not progress, leave=False)
-    points, received = [], {}
+    points, received, added = [], {}, []
     try:
-        if workers == 1:
+        if batch:
+            from .batch import steady_states
+            steady_states(system, f, progress=bar, **options,
+                          report=lambda i, ss: received.__setitem__(
+                              i, SweepPoint.of(ss)))
+            points = [received[k] for k in sorted(received)]
+        elif workers == 1:
             _run_chunk(system, f.tolist(), [], backend, fmu_path, options, points,
                        report=lambda i, point: bar.update(1))
         else:
             _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,
                           received)
             points = [received[k] for k in sorted(received)]
+        if refine:
+            run = dict(system=system, backend=backend, fmu_path=fmu_path,
+                       options=options, batch=batch, bar=bar)
+            points, added = _refine(points, refine, hbm, direction, run)
     except BaseException as exc:
         # Stopped (Ctrl-C, SIGTERM, an FMU error): hand the caller what was
         # computed, in sweep order, on the exception.
@@ -353,7 +383,49 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         bar.close()
     return _result(system, points, direction, backend, _time.perf_counter() - t0,
                    workers, notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
-                                   "steps_per_period": steps_per_period})
+                                   "steps_per_period": steps_per_period,
+                                   "batch": bool(batch), "refined": added})
+
+
+def _refine(points, count, hbm, direction, run):
+    """Add up to ``count`` frequencies to the sweep ``points`` (vehicle.refine), in
+    rounds; returns the points in sweep order and the frequencies added."""
+    from .refine import MIN_STEP_FRACTION, PER_ROUND, hbm_targets, refine_targets
+
+    freqs = [p.freq_hz for p in points]
+    lo, hi = min(freqs), max(freqs)
+    min_step = MIN_STEP_FRACTION * max(hi - lo, hi)
+    first = [] if hbm is None else hbm_targets(hbm.freq_hz, hbm.transmissibility,
+                                               lo, hi)
+    added = []
+    while len(added) < count:
+        new = refine_targets([p.freq_hz for p in points],
+                             [p.transmissibility for p in points],
+                             min(PER_ROUND, count - len(added)), min_step=min_step,
+                             first=first)
+        if not new:
+            break
+        run["bar"].total += len(new)
+        points = points + _run_extra(points, sorted(new, reverse=direction == "down"),
+                                     direction, **run)
+        added += new
+    points.sort(key=lambda p: p.freq_hz, reverse=direction == "down")
+    return points, added
+
+
+def _run_extra(points, new, direction, *, system, backend, fmu_path, options, batch,
+               bar):
+    """Steady states at the frequencies ``new`` (in sweep order): batched, or one
+    chunk entered from the computed frequency before the first of them."""
+    if batch:
+        from .batch import steady_states
+        return [SweepPoint.of(ss) for ss in steady_states(system, new, progress=bar,
+                                                          **options)]
+    sign = 1.0 if direction == "up" else -1.0
+    before = [p.freq_hz for p in points if sign * (p.freq_hz - new[0]) < 0]
+    warm = [max(before, key=lambda x: sign * x)] if before else []
+    return _run_chunk(system, new, warm, backend, fmu_path, options, [],
+                      report=lambda i, point: bar.update(1))
 
 
 def _run_parallel(system, f, workers, warmup, backend, fmu_path, options, bar,

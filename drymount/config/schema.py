@@ -55,7 +55,8 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "mounts[].<axis>.friction": _FRICTION_KEYS,
     "excitation": ("kind", "amplitude"),
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
-    "hbm": ("harmonics", "n_samples"),
+    "hbm": ("harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
+            "ds_max", "max_angle"),
     "cosim": ("backend", "freq_hz", "duration", "steps_per_period", "input"),
     # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
     "cosim.input": ("road", "speed", "engine", "units"),
@@ -137,16 +138,34 @@ class HBMSettings:
         Default: ``hbm.HBMOptions``'s (the one source of the HBM defaults).
     n_samples : int or None
         AFT time samples per period (>= 2H + 1); None lets ``hbm`` choose.
+    tol : float or None
+        Wanted accuracy relative to the peak (``hbm.HBMOptions.tol``); None: its
+        default.
+    max_harmonics : int or None
+        Cap on H when ``tol`` raises it (``hbm.HBMOptions.max_harmonics``).
+    ds_initial, ds_min, ds_max, max_angle : float or None
+        Continuation step controls (scaled arc length, rad); None: the defaults of
+        ``hbm.HBMOptions``.
     """
 
     harmonics: int = HBMOptions.harmonics
     n_samples: int | None = HBMOptions.n_samples
+    tol: float | None = None
+    max_harmonics: int | None = None
+    ds_initial: float | None = None
+    ds_min: float | None = None
+    ds_max: float | None = None
+    max_angle: float | None = None
 
     def options(self, **overrides) -> HBMOptions:
-        """These settings as ``hbm.HBMOptions`` (other fields at their defaults or
-        ``overrides``)."""
-        return HBMOptions(harmonics=self.harmonics, n_samples=self.n_samples,
-                          **overrides)
+        """These settings as ``hbm.HBMOptions`` (H and N as where ``tol`` starts;
+        fields left None at hbm's defaults); ``overrides`` that are not None win."""
+        kw = {k: getattr(self, k) for k in (
+            "harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
+            "ds_max", "max_angle")}
+        kw.update({k: v for k, v in overrides.items() if v is not None})
+        kw = {k: v for k, v in kw.items() if v is not None or k == "n_samples"}
+        return HBMOptions(**kw)
 
 
 @dataclass(frozen=True)

@@ -91,6 +91,13 @@ def _settings(ck: _Checker, data: dict):
     if harmonics is not None:
         n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1,
                                maximum=MAX_N_SAMPLES)
+    hbm_extra = {k: ck.number(hb, k, "hbm", rule=">0", required=False)
+                 for k in ("tol", "ds_initial", "ds_min", "ds_max", "max_angle")}
+    if hbm_extra["tol"] is not None and not hbm_extra["tol"] < 0.5:
+        ck.add(f"`hbm.tol` must be a number > 0 and < 0.5 (relative to the peak), "
+               f"got {hbm_extra['tol']}")
+    hbm_extra["max_harmonics"] = ck.integer(hb, "max_harmonics", "hbm", minimum=1,
+                                            maximum=MAX_HARMONICS)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
     backend = ck.choice(cs, "backend", "cosim", BACKENDS, required=False,
@@ -102,7 +109,7 @@ def _settings(ck: _Checker, data: dict):
     if None in (fmin, fmax, points, direction, spacing, harmonics, backend):
         return None
     return (SweepSettings(fmin, fmax, points, direction, spacing),
-            HBMSettings(harmonics, n_samples),
+            HBMSettings(harmonics, n_samples, **hbm_extra),
             CosimSettings(backend, freq, duration, spp))
 
 

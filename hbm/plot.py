@@ -1,0 +1,110 @@
+"""Figures of a :class:`hbm.result.FrequencyResponse` that explain themselves.
+
+:func:`plot_curve` draws one quantity on one set of axes (unstable parts dashed,
+located folds marked, predicted sweep jumps as arrows); :func:`plot_figure` makes the
+figure of ``drymount hbm --plot``: titled with the system and H/N, the
+transmissibility (its definition in the y label) and, for a multi-DOF system, one
+panel per DOF with its fundamental amplitude (as the thesis's Figs. 4.11-4.16).
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+__all__ = ["plot_curve", "plot_figure", "dof_unit", "title"]
+
+#: DOF names measured in rad (rotations of the rigid engine); the others in m.
+ROTATIONS = ("alpha", "beta", "gamma", "phi", "theta", "psi")
+
+
+def dof_unit(name: str) -> str:
+    return "rad" if name in ROTATIONS else "m"
+
+
+def title(fr) -> str:
+    """``<system>: HBM H = .., N = ..`` (or closed forms)."""
+    meth = "closed forms" if fr.closed_form else f"N = {fr.n_samples}"
+    name = fr.system_name or "system"
+    return f"{name}: harmonic balance, H = {fr.harmonics}, {meth}"
+
+
+def _ylabel(fr, quantity: str, name: str | None) -> str:
+    if quantity == "transmissibility":
+        return fr.transmissibility_label or "transmissibility [-]"
+    what = ("fundamental amplitude" if quantity == "amplitude"
+            else "max |q(t)| over the period")
+    return f"{name} {what} [{dof_unit(name)}]"
+
+
+def _values(fr, quantity: str, name: str | None):
+    """Curve values and the values at the located folds."""
+    if quantity == "transmissibility":
+        return fr.transmissibility, [e.transmissibility for e in fr.folds]
+    j = fr.dof_names.index(name)
+    arr = fr.amplitude if quantity == "amplitude" else fr.peak
+    return arr[:, j], [getattr(e, quantity)[j] for e in fr.folds]
+
+
+def plot_curve(fr, ax, quantity: str = "transmissibility", dof: str | None = None,
+               logy: bool = True, label: str | None = None, jumps: bool = True,
+               logx: bool = False, **kwargs):
+    """Draw ``quantity`` of ``fr`` on ``ax``; returns ``ax``."""
+    if quantity not in ("transmissibility", "amplitude", "peak"):
+        raise ValueError(f"`quantity` must be transmissibility, amplitude or peak, "
+                         f"got {quantity!r}")
+    name = None
+    if quantity != "transmissibility":
+        name = dof if dof is not None else fr.dof_names[0]
+        if name not in fr.dof_names:
+            raise ValueError(f"`dof` must be one of {fr.dof_names}, got {name!r}")
+    y, y_fold = _values(fr, quantity, name)
+    label = label or f"HBM H={fr.harmonics}"
+    st = fr.stable.astype(bool)
+    line, = ax.plot(fr.freq_hz, np.where(st, y, np.nan), "-", label=label, **kwargs)
+    if not np.all(st):
+        # unstable parts dashed (include neighbours so the dashes join the curve)
+        un = ~st
+        un_ext = un | np.r_[un[1:], False] | np.r_[False, un[:-1]]
+        ax.plot(fr.freq_hz, np.where(un_ext, y, np.nan), "--",
+                color=line.get_color(), label=f"{label} (unstable)")
+    if fr.folds:
+        ax.plot([e.freq_hz for e in fr.folds], y_fold, "o", mfc="none", ms=7,
+                color=line.get_color(), label="folds (located to 1e-6 Hz)")
+    if jumps:
+        fr._plot_jumps(ax, y)
+    if logy and np.all(y[np.isfinite(y)] > 0):
+        ax.set_yscale("log")
+    if logx:
+        ax.set_xscale("log")
+    ax.set_xlabel("excitation frequency [Hz]")
+    ax.set_ylabel(_ylabel(fr, quantity, name))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small")
+    return ax
+
+
+def plot_figure(fr, path: str | os.PathLike | None = None, logx: bool = False,
+                logy: bool = True):
+    """The transmissibility and, for several DOFs, each DOF's amplitude in its own
+    panel; titled with the system and H/N. Saved to ``path`` if given. Returns the
+    figure."""
+    from matplotlib.figure import Figure
+
+    n = len(fr.dof_names)
+    panels = 1 if n == 1 else n + 1
+    cols = 1 if panels == 1 else 2
+    rows = (panels + cols - 1) // cols
+    fig = Figure(figsize=(7 * cols, 4.2 * rows), layout="constrained")
+    axes = [fig.add_subplot(rows, cols, k + 1) for k in range(panels)]
+    plot_curve(fr, axes[0], "transmissibility", logy=logy, logx=logx)
+    axes[0].set_title("transmissibility")
+    for k, name in enumerate(fr.dof_names if n > 1 else ()):
+        plot_curve(fr, axes[k + 1], "amplitude", dof=name, logy=logy, logx=logx,
+                   jumps=False)
+        axes[k + 1].set_title(f"DOF {name}")
+    fig.suptitle(title(fr))
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig

@@ -1,0 +1,287 @@
+"""Harmonic balance right by default (issue 17): exact folds and peaks, error
+estimates against the true error, curves readable between their points, merged
+zigzags of the sampled residual.
+
+References are independent of the code under test: closed forms (linear FRF peak,
+Duffing's single-harmonic relation in test_hbm_duffing.py), solves at H = 31 (the
+"true" error), event-exact time integration (hbm.reference) for the folds of a
+piecewise system.
+"""
+
+import numpy as np
+import pytest
+
+import hbm
+from fmu_src.mount_law import AxisParameters, MountParameters
+from hbm.analysis import build_problem
+from hbm.continuation import newton
+from hbm.systems import sdof
+
+M, K, C, F = 70.0, 91870.0, 150.0, 40.0
+
+
+def friction_system():
+    ax = AxisParameters(law="linear", k1=K, c=C, friction=True, kf=60000.0, mu=1.0,
+                        n0=20.0)
+    return sdof(M, MountParameters(axial=ax), "force", F)
+
+
+def piecewise_system():
+    """Hardening piecewise-linear mount (knee at 2 mm), no friction: two folds."""
+    ax = AxisParameters(law="piecewise", k1=45935.0, k2=256900.0, delta=0.002, c=60.0)
+    return sdof(M, MountParameters(axial=ax), "force", 60.0)
+
+
+def cubic_system():
+    ax = AxisParameters(law="cubic", k1=34770.0, kc=5.708e8, c=20.0)
+    return sdof(20.0, MountParameters(axial=ax), "force", 10.0)
+
+
+# --- peaks ---------------------------------------------------------------------------
+# the issue's 1e-8 (measured 1.8e-15 Hz and 2.2e-16 relative)
+PEAK_TOL = 1e-8
+
+
+def test_linear_peak_is_the_exact_frf_peak():
+    s = sdof(M, MountParameters(axial=AxisParameters(law="linear", k1=K, c=C)),
+             "force", F)
+    r = hbm.frequency_response(s, 2.0, 15.0, harmonics=1)
+    w2 = K / M - C**2 / (2 * M**2)  # maximum of F / |K - M w^2 + i C w|
+    a = F / np.sqrt((K - M * w2) ** 2 + C**2 * w2)
+    (p,) = r.peaks
+    assert p.kind == "peak" and p.dof == "x" and p.converged and p.interior
+    assert abs(p.freq_hz - np.sqrt(w2) / (2 * np.pi)) < PEAK_TOL
+    assert abs(p.amplitude[0] / a - 1) < PEAK_TOL
+    # the largest curve point is lower and elsewhere (the peak lies between points)
+    assert r.amplitude.max() <= p.amplitude[0]
+
+
+def test_events_csv(tmp_path):
+    r = hbm.frequency_response(cubic_system(), 3.0, 15.0, harmonics=1)
+    path = tmp_path / "c.csv"
+    r.to_csv(path)
+    side = r.events_path(path)
+    r.events_to_csv(side)
+    with open(side, encoding="utf-8") as fh:
+        lines = [ln for ln in fh if not ln.startswith("#")]
+    assert lines[0].strip() == ("kind,dof,freq_hz,after_row,converged,x_amp,x_peak,"
+                                "transmissibility")
+    rows = [ln.strip().split(",") for ln in lines[1:]]
+    assert [row[0] for row in rows] == ["fold", "fold", "peak"]
+    np.testing.assert_allclose([float(row[2]) for row in rows[:2]],
+                               r.turning_freq_hz, atol=1e-9)
+    # the fold lies between the curve rows after_row and after_row + 1
+    for row in rows[:2]:
+        k = int(row[3])
+        lo, hi = sorted(r.freq_hz[k:k + 2])
+        assert lo - 1e-9 <= float(row[2]) <= hi + 1e-9 or \
+            abs(float(row[2]) - r.freq_hz[k:k + 2]).min() < 0.05
+
+
+# --- error estimates -----------------------------------------------------------------
+def _true_error(r, system, fmin, fmax, H_ref=31, N_ref=2048):
+    """Distance of each point of ``r`` to the H = 31 curve, measured like the
+    estimate: Newton on the plane normal to the curve (tangent by central
+    differences of the points), each DOF's amplitude and max |q| relative to its
+    largest value, with the frequency shift relative to fmax - fmin (hypot)."""
+    ref = build_problem(system, fmin, fmax, H_ref, N_ref, False)
+    st = hbm.HBMOptions(max_newton=30).continuation_settings()
+    n, m, mr = len(r.dof_names), 2 * r.harmonics + 1, ref.hb.m
+    q0 = np.hstack([r.amplitude, r.peak])
+    scale = q0.max(axis=0)
+    out = np.full(r.n_points, np.nan)
+    for i in range(r.n_points):
+        w = 2 * np.pi * r.freq_hz[i]
+        Xp = np.zeros((mr, n))
+        Xp[:m] = r.coefficients[i].T
+        y0 = ref.y_of(Xp.ravel(), w)
+        j0, j1 = max(i - 1, 0), min(i + 1, r.n_points - 1)
+        dX = np.zeros((mr, n))
+        dX[:m] = r.coefficients[j1].T - r.coefficients[j0].T
+        t = np.append(dX.ravel() / ref.xs,
+                      2 * np.pi * (r.freq_hz[j1] - r.freq_hz[j0]) / ref.ws)
+        y, ok, _, _ = newton(ref, y0, st, tangent=t / np.linalg.norm(t), y_pred=y0)
+        if ok:
+            X, wr = ref.x_of(y)
+            Xr = X.reshape(mr, n)
+            q = np.hstack([np.hypot(Xr[1], Xr[2]), ref.hb.peak_abs(X, 256)])
+            out[i] = np.max(np.hypot((q - q0[i]) / scale,
+                                     (wr - w) / (2 * np.pi * (fmax - fmin))))
+    return out
+
+
+# The estimate's largest value over the curve (what `drymount hbm` reports and --tol
+# uses) against the largest true error, the issue's factor 3. Measured est/true:
+# friction 2.6, piecewise 1.4, cubic 1.5. Point by point the estimate of a point
+# with an error above a tenth of the largest is never below a third of its true
+# error (measured smallest est/true: 1.9, 0.47, 1.4); it may be larger (up to x10 at
+# the friction curve, where the sampling error oscillates with N).
+ESTIMATE_FACTOR = 3.0
+
+
+@pytest.mark.parametrize("case", [
+    ("friction", friction_system, 2.0, 15.0, 7, 256),
+    ("piecewise", piecewise_system, 2.0, 12.0, 7, 256),
+    ("cubic", cubic_system, 3.0, 15.0, 3, 64),
+], ids=lambda c: c[0])
+def test_error_estimate_vs_true_error(case):
+    _, make, fmin, fmax, H, N = case
+    system = make()
+    r = hbm.frequency_response(system, fmin, fmax, harmonics=H, n_samples=N,
+                               options=hbm.HBMOptions(tol=None))
+    assert r.success
+    est = r.error_truncation + r.error_sampling
+    true = _true_error(r, system, fmin, fmax)
+    assert np.all(np.isfinite(true))
+    ratio = np.nanmax(est) / true.max()
+    assert 1 / ESTIMATE_FACTOR <= ratio <= ESTIMATE_FACTOR, ratio
+    sel = np.arange(0, r.n_points, 4)  # the re-solved points (ESTIMATE_STRIDE)
+    big = sel[true[sel] > 0.1 * true.max()]
+    assert np.all(est[big] >= true[big] / ESTIMATE_FACTOR)
+
+
+# --- curves you can read -------------------------------------------------------------
+# With the defaults (tol 1e-3) the single-DOF friction curve, read by linear
+# interpolation between CSV rows, stays within 0.1 % of the peak of the converged
+# curve (H = 15, N = 512) at 300 frequencies (the issue's criterion; measured
+# 6.7e-4 amplitude, 6.4e-4 max |q|: tol/2 for H and N, tol/2 for the chords).
+READ_TOL = 1e-3
+
+
+def test_default_friction_curve_readable_between_rows():
+    s = friction_system()
+    r = hbm.frequency_response(s, 2.0, 15.0)
+    assert r.success and r.tol_met and np.all(np.diff(r.freq_hz) > 0)
+    f = np.linspace(2.0, 15.0, 300)
+    conv = hbm.solve_frequencies(s, f, harmonics=15, n_samples=512,
+                                 options=hbm.HBMOptions(stability=False,
+                                                        error_estimate=False))
+    assert conv.success
+    for quantity in ("amplitude", "peak"):
+        ref = getattr(conv, quantity)[:, 0]
+        got = np.interp(f, r.freq_hz, getattr(r, quantity)[:, 0])
+        err = np.abs(got - ref).max() / ref.max()
+        assert err < READ_TOL, (quantity, err)
+
+
+def test_tol_raises_resolution_and_says_when_it_cannot():
+    s = friction_system()
+    r = hbm.frequency_response(s, 2.0, 15.0, options=hbm.HBMOptions(tol=1e-3))
+    assert r.tol_met and r.n_samples > 64 and "raised" in r.message
+    # H fixed by the caller at 1: the estimate exceeds the tolerance and says why
+    r = hbm.frequency_response(s, 2.0, 15.0, harmonics=1,
+                               options=hbm.HBMOptions(tol=1e-4))
+    assert r.success and r.tol_met is False
+    assert "fixed by the caller" in r.message and "exceeds tol/2" in r.message
+    # a cap: max_harmonics = the starting H
+    r = hbm.frequency_response(s, 2.0, 15.0, options=hbm.HBMOptions(
+        tol=2e-4, harmonics=3, max_harmonics=3, max_samples=64))
+    assert r.tol_met is False and "caps" in r.message
+
+
+# --- turning points that are real ----------------------------------------------------
+def test_zigzags_of_the_sampled_residual_are_merged():
+    """The piecewise system at H = 7 and 64 samples zigzags near its upper fold
+    (32 turning points without merging, measured); merging leaves the two folds
+    of the finely sampled curve (H = 7, N = 1024: 9.05476 and 5.23779 Hz)."""
+    s = piecewise_system()
+    raw = hbm.frequency_response(s, 2.0, 12.0, harmonics=7, n_samples=256,
+                                 options=hbm.HBMOptions(tol=None, zigzag_refine=1,
+                                                        error_estimate=False))
+    assert len(raw.turning_points) > 10
+    r = hbm.frequency_response(s, 2.0, 12.0, harmonics=7, n_samples=256,
+                               options=hbm.HBMOptions(tol=None, error_estimate=False))
+    assert len(r.turning_points) == 2 and r.turning_points_merged > 10
+    np.testing.assert_allclose(r.turning_freq_hz, [9.05476, 5.23779], atol=5e-4)
+    i, j = r.turning_points
+    assert np.all(np.diff(r.freq_hz[:i]) > 0) and np.all(np.diff(r.freq_hz[j:]) > 0)
+
+
+# --- folds against long-time integration ---------------------------------------------
+def _initial_state(r, i):
+    """``(q(0), dq/dt(0))`` of curve point i."""
+    X = r.coefficients[i].T  # (2H+1, n)
+    w = 2 * np.pi * r.freq_hz[i]
+    k = np.arange(1, r.harmonics + 1)[:, None]
+    return X[0] + X[1::2].sum(axis=0), w * (k * X[2::2]).sum(axis=0)
+
+
+def _stays_up(system, freq_hz, state, amp_fold, **kw):
+    """Integrate from ``state`` (near the upper fold) at ``freq_hz``: does the motion
+    stay on the upper branch (True) or fall to the lower one (False)?"""
+    from hbm.reference import periodic_response
+    ref = periodic_response(system, freq_hz, initial=state, **kw)
+    assert ref.converged
+    return ref.amplitude[0] > 0.5 * amp_fold
+
+
+def _upper_fold(H, N):
+    s = piecewise_system()
+    r = hbm.frequency_response(s, 4.0, 10.0, harmonics=H, n_samples=N,
+                               options=hbm.HBMOptions(tol=None, stability=False,
+                                                      error_estimate=False))
+    assert len(r.folds) == 2  # the upper fold (jump down) first, then the lower
+    fold = r.folds[0]
+    assert fold.converged
+    return s, r, fold, _initial_state(r, fold.index - 1)
+
+
+# Default run: the located upper fold of the piecewise system (H = 7, N = 512) lies
+# between two long-time integrations 0.02 Hz either side of it: below, the motion
+# started on the HBM upper branch stays there (a periodic solution with the HBM's
+# amplitude); above, the motion started at the fold falls to the lower branch
+# (measured: fold 9.0500 Hz, the H = 25, N = 2048 fold within 1e-3 Hz of it; about
+# 15 s on a loaded 2-core machine, the slow test below bisects to 1e-4 Hz).
+FOLD_BRACKET_HZ = 0.02
+AMP_RTOL_BELOW = 1e-2  # HBM vs integration on the upper branch near the fold
+
+
+def test_piecewise_fold_brackets_time_integration():
+    s, r, fold, state = _upper_fold(7, 512)
+    amp = fold.amplitude[0]
+    kw = dict(max_periods=600, tol=1e-5, rtol=1e-7)
+    f_lo = fold.freq_hz - FOLD_BRACKET_HZ
+    up = np.flatnonzero(r.freq_hz[:fold.index] <= f_lo)[-1]  # upper branch point
+    from hbm.reference import periodic_response
+    below = periodic_response(s, f_lo, initial=_initial_state(r, up), **kw)
+    assert below.converged
+    a_hbm = np.interp(f_lo, r.freq_hz[up:up + 2], r.amplitude[up:up + 2, 0])
+    assert abs(below.amplitude[0] / a_hbm - 1) < AMP_RTOL_BELOW
+    assert not _stays_up(s, fold.freq_hz + FOLD_BRACKET_HZ, state, amp, **kw)
+
+
+# The issue's 1e-4 Hz: bisection with long-time integrations (each started at the
+# fold state) down to a bracket of 5e-5 Hz around the HBM fold at H = 25, N = 2048.
+FOLD_TIME_TOL_HZ = 1e-4
+
+
+@pytest.mark.slow
+def test_piecewise_fold_vs_time_integration_bisection():
+    s, _, fold, state = _upper_fold(25, 2048)
+    amp = fold.amplitude[0]
+    kw = dict(max_periods=20000, tol=1e-7, rtol=1e-10)
+    lo, hi = fold.freq_hz - 2e-3, fold.freq_hz + 2e-3
+    assert _stays_up(s, lo, state, amp, **kw) and not _stays_up(s, hi, state, amp, **kw)
+    while hi - lo > 0.5 * FOLD_TIME_TOL_HZ:
+        mid = 0.5 * (lo + hi)
+        if _stays_up(s, mid, state, amp, **kw):
+            lo = mid
+        else:
+            hi = mid
+    assert abs(fold.freq_hz - 0.5 * (lo + hi)) < FOLD_TIME_TOL_HZ, \
+        (fold.freq_hz, lo, hi)
+
+
+def test_failed_start_retried_with_more_samples_and_a_smaller_step():
+    """The issue's nearly rigid slider (kf = 1e8) at H = 7, N = 64 has no start
+    solution at fmin; the start is retried with 128 samples and a 4x smaller first
+    step, and the message says why."""
+    ax = AxisParameters(law="linear", k1=K, c=C, friction=True, kf=1e8, mu=1.0,
+                        n0=20.0)
+    s = sdof(M, MountParameters(axial=ax), "force", F)
+    opts = hbm.HBMOptions(tol=None, error_estimate=False)
+    r = hbm.frequency_response(s, 2.0, 3.0, options=opts)
+    assert r.success and r.n_samples == 128
+    # the first attempt (64 samples) failed, and the message says so
+    assert "with 64 AFT samples no solution at fmin" in r.message
+    assert "first step 0.005" in r.message
