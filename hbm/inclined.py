@@ -158,33 +158,47 @@ def solve_inclined_hbm(sys: InclinedSDOF, freq_hz: float, harmonics: int = 7,
                                                  f" (residual {res:.3g} not a root)"))
 
 
+class _LawElement:
+    """The element's exact map, committed at every call: ``element(x, v, t) -> F``."""
+
+    def __init__(self, p: InclinedParameters):
+        self.p, self.x, self.w1, self.w2 = p, 0.0, 0.0, 0.0
+
+    def __call__(self, x: float, v: float, t: float) -> float:
+        st = inclined_update(x, self.x, self.w1, self.w2, self.p)
+        self.x, self.w1, self.w2 = x, st.w1, st.w2
+        return st.force
+
+
 def inclined_time_reference(sys: InclinedSDOF, freq_hz: float, *, periods: int = 400,
                             steps: int = 1000, x_start: float = 0.0,
-                            rtol: float = 1e-7) -> np.ndarray:
+                            rtol: float = 1e-7, element=None) -> np.ndarray:
     """Last period of a time integration (velocity Verlet with a velocity predictor,
     ``steps`` per period, the element's exact map each step): displacement samples.
 
     Runs until two successive periods differ by less than ``rtol`` times the
     period's peak-to-peak displacement, at most ``periods`` periods (a stuck element
-    damps the start-up transient only by ``c``)."""
+    damps the start-up transient only by ``c``). ``element(x, v, t)`` gives the
+    element's force at deflection ``x`` (m), rate ``v`` (m/s, the half-step
+    velocity) and time ``t`` (s) and commits its state there (called once per step,
+    first at t = 0 from the relaxed element at x = 0); default the law in-process,
+    ``vehicle.inclined.InclinedFMU`` drives the InclinedMount FMU instead."""
     T = 1.0 / freq_hz
     dt = T / steps
     om = 2 * math.pi * freq_hz
+    element = _LawElement(sys.p) if element is None else element
     x, v = x_start, 0.0
-    st = inclined_update(x, 0.0, 0.0, 0.0, sys.p)
-    w1, w2 = st.w1, st.w2
-    acc = (sys.weight - sys.k1 * x - sys.c * v - st.force) / sys.m
+    acc = (sys.weight - sys.k1 * x - sys.c * v - element(x, v, 0.0)) / sys.m
     prev, cur = np.full(steps, np.inf), np.empty(steps)
     for period in range(periods):
         for j in range(steps):
             t = (period * steps + j) * dt
             v_half = v + 0.5 * dt * acc
             x_new = x + dt * v_half
-            st = inclined_update(x_new, x, w1, w2, sys.p)
-            w1, w2 = st.w1, st.w2
+            force = element(x_new, v_half, t + dt)
             v_pred = v_half + 0.5 * dt * acc        # predictor for the damper
             acc = (sys.weight + sys.force_amp * math.sin(om * (t + dt))
-                   - sys.k1 * x_new - sys.c * v_pred - st.force) / sys.m
+                   - sys.k1 * x_new - sys.c * v_pred - force) / sys.m
             v = v_half + 0.5 * dt * acc
             x = x_new
             cur[j] = x
