@@ -15,23 +15,17 @@ import subprocess
 import sys
 import textwrap
 import zipfile
-from ctypes import byref
 from pathlib import Path
 
 import numpy as np
 import pytest
 try:  # fmpy and pythonfmu are declared dependencies: only a broken install lacks them
     from fmpy import extract, read_model_description
-    from fmpy.fmi1 import FMICallException, calloc, free
-    from fmpy.fmi2 import (
-        FMU2Slave,
-        fmi2CallbackAllocateMemoryTYPE,
-        fmi2CallbackFreeMemoryTYPE,
-        fmi2CallbackFunctions,
-        fmi2CallbackLoggerTYPE,
-    )
-    from fmpy.logging import addLoggerProxy
+    from fmpy.fmi1 import FMICallException
+    from fmpy.fmi2 import FMU2Slave
     from fmpy.validation import validate_fmu
+
+    from vehicle.fmi_logging import callbacks as fmi_callbacks
 except ImportError as exc:
     pytest.skip(f"the FMU tests need fmpy ({exc}); install the project first: "
                 f"python3 -m pip install -e \".[test]\"", allow_module_level=True)
@@ -72,11 +66,7 @@ class Mount:
         md, unzipdir, self.vr = fmu
         self.messages: list[tuple[int, str]] = []
         self.types = {v.name: v.type for v in md.modelVariables}
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(self._log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(byref(cb))  # formats the variadic C message
+        cb = fmi_callbacks(self._log)  # one process-wide logger (vehicle.fmi_logging)
         self._callbacks = cb  # keep the ctypes callbacks alive
         self.slave = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
                                modelIdentifier=md.coSimulation.modelIdentifier,

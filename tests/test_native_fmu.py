@@ -14,7 +14,6 @@ Runtime about 20 s on 2 cores (most of it the Python reference of 4e5 steps).
 
 from __future__ import annotations
 
-import ctypes
 import math
 import zipfile
 
@@ -71,16 +70,12 @@ class Driver:
         kw = dict(unzipDirectory=self.unzip, instanceName=name,
                   modelIdentifier=md.coSimulation.modelIdentifier)
         if fmi == 2:
-            from fmpy.fmi2 import (FMU2Slave, fmi2CallbackFunctions,
-                                   fmi2CallbackLoggerTYPE)
-            from fmpy.logging import addLoggerProxy
+            from fmpy.fmi2 import FMU2Slave
 
             self.fmu = FMU2Slave(guid=md.guid, **kw)
-            cb = fmi2CallbackFunctions()
-            cb.logger = fmi2CallbackLoggerTYPE(self._log2)
-            cb.allocateMemory = fmpy.fmi2.fmi2CallbackAllocateMemoryTYPE(fmpy.calloc)
-            cb.freeMemory = fmpy.fmi2.fmi2CallbackFreeMemoryTYPE(fmpy.free)
-            addLoggerProxy(ctypes.byref(cb))
+            from vehicle.fmi_logging import callbacks
+
+            cb = callbacks(self._log2)  # one process-wide logger (see that module)
             self._cb = cb
             self.fmu.instantiate(callbacks=cb, loggingOn=True)
         else:

@@ -351,15 +351,8 @@ class FMUBackend(_Backend):
                  start_values=None):
         super().__init__(system, layout)
         from fmpy import extract, read_model_description
-        from fmpy.fmi2 import (
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
 
-        from fmpy import calloc, free
+        from vehicle import fmi_logging
 
         if fmu_path is None:
             from fmu_build import ensure_fmu
@@ -405,11 +398,7 @@ class FMUBackend(_Backend):
             if status >= 1:
                 _log.warning("FMU %s [%s] %s", name, label, text)
 
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(ctypes.byref(cb))
+        cb = fmi_logging.callbacks(logger)  # one process-wide logger (see module)
         self._callbacks = cb
         self._logger = logger
         try:
@@ -604,6 +593,10 @@ class FMUBackend(_Backend):
                         fmu.freeLibrary()
                 except Exception as exc:
                     _log.warning("freeing %s failed: %s", fmu.instanceName, exc)
+        if getattr(self, "_callbacks", None) is not None:
+            from vehicle import fmi_logging
+
+            fmi_logging.release(self._callbacks)  # every instance is freed by now
         if self._unzipdir is not None:
             shutil.rmtree(self._unzipdir, ignore_errors=True)
             self._unzipdir = None

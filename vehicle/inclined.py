@@ -92,25 +92,12 @@ class InclinedFMU:
         self._flags = [self.vr["slip1"], self.vr["slip2"]]
 
     def _callbacks(self):
-        import ctypes
-
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (
-            fmi2CallbackAllocateMemoryTYPE,
-            fmi2CallbackFreeMemoryTYPE,
-            fmi2CallbackFunctions,
-            fmi2CallbackLoggerTYPE,
-        )
-        from fmpy.logging import addLoggerProxy
+        from vehicle import fmi_logging
 
         def logger(env, instance, status, category, message):
             self.messages.append(message.decode("utf-8", "replace") if message else "")
 
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        addLoggerProxy(ctypes.byref(cb))
+        cb = fmi_logging.callbacks(logger)  # one process-wide logger (see module)
         self._cb = cb   # the FMU keeps pointers into it: keep it alive
         return cb
 
