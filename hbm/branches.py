@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hbm.analysis import build_problem, postprocess, resolve_options
+from hbm.postprocess import postprocess
+from hbm.problem import build_problem, resolve_options
 from hbm.continuation import Branch, Status, newton
 from hbm.result import FrequencyResponse
 from hbm.stability import is_stable

@@ -13,7 +13,7 @@ import pytest
 
 import hbm
 from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.analysis import build_problem
+from hbm.problem import build_problem
 from hbm.continuation import newton
 from hbm.systems import sdof
 

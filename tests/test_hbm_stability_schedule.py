@@ -1,13 +1,14 @@
-"""The schedule of Hill evaluations along a branch (hbm.analysis._stability): verdicts
-equal to evaluating every point for a verdict pattern with changes both at sign changes
-of det J and away from them (a complex pair crossing), with fewer evaluations."""
+"""The schedule of Hill evaluations along a branch (hbm.stability_schedule._stability):
+verdicts equal to evaluating every point for a verdict pattern with changes both at
+sign changes of det J and away from them (a complex pair crossing), with fewer
+evaluations."""
 
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-import hbm.analysis as an
+import hbm.stability_schedule as an
 
 
 def _run(monkeypatch, unstable, det_sign, stride):
