@@ -46,6 +46,7 @@ from .steady import (
     _analyse,
     _begin,
     _period_change,
+    check_convergence_settings,
 )
 
 __all__ = ["VectorLaw", "LawStep", "steady_states", "BATCH_SIZE"]
@@ -274,13 +275,7 @@ def steady_states(system, freqs_hz, *, steps_per_period: int | None = None,
     if not f or not all(np.isfinite(x) and x > 0 for x in f):
         raise ValueError(f"`freqs_hz` must be a non-empty list of finite frequencies "
                          f"> 0, got {np.asarray(freqs_hz).tolist()}")
-    if not (isinstance(rtol, (int, float)) and rtol > 0):
-        raise ValueError(f"`rtol` must be > 0, got {rtol!r}")
-    if not (isinstance(min_periods, int) and isinstance(max_periods, int)
-            and 1 <= min_periods <= max_periods):
-        raise ValueError(f"`min_periods`, `max_periods` must be integers with "
-                         f"1 <= min_periods <= max_periods, got {min_periods!r}, "
-                         f"{max_periods!r}")
+    check_convergence_settings(rtol, min_periods, max_periods)
     if not (isinstance(batch_size, int) and batch_size >= 1):
         raise ValueError(f"`batch_size` must be an integer >= 1, got {batch_size!r}")
     masters = _masters(system, len(f))

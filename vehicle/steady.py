@@ -223,6 +223,18 @@ def _transmissibility(system, omega, amp_q, phasor_F_axes, axis_index) -> float:
     return float(amp_q[tr.dof] / den) if den > 0 else float("nan")
 
 
+def check_convergence_settings(rtol, min_periods: int, max_periods: int) -> None:
+    """ValueError naming the argument unless ``rtol > 0`` and
+    ``1 <= min_periods <= max_periods`` (integers)."""
+    if not (isinstance(rtol, (int, float)) and rtol > 0):
+        raise ValueError(f"`rtol` must be > 0, got {rtol!r}")
+    if not (isinstance(min_periods, int) and isinstance(max_periods, int)
+            and 1 <= min_periods <= max_periods):
+        raise ValueError(f"`min_periods`, `max_periods` must be integers with "
+                         f"1 <= min_periods <= max_periods, got {min_periods!r}, "
+                         f"{max_periods!r}")
+
+
 def run_steady(master: Master, freq_hz: float, *,
                steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
                min_periods: int = DEFAULT_MIN_PERIODS,
@@ -238,13 +250,7 @@ def run_steady(master: Master, freq_hz: float, *,
             and freq_hz > 0):
         raise ValueError(f"`freq_hz` must be finite and > 0, got {freq_hz!r}")
     freq_hz = float(freq_hz)
-    if not (isinstance(rtol, (int, float)) and rtol > 0):
-        raise ValueError(f"`rtol` must be > 0, got {rtol!r}")
-    if not (isinstance(min_periods, int) and isinstance(max_periods, int)
-            and 1 <= min_periods <= max_periods):
-        raise ValueError(f"`min_periods`, `max_periods` must be integers with "
-                         f"1 <= min_periods <= max_periods, got {min_periods!r}, "
-                         f"{max_periods!r}")
+    check_convergence_settings(rtol, min_periods, max_periods)
     N, h, E_start = _begin(master, freq_hz, steps_per_period, start)
     steps0 = master.backend.steps
     wall0 = master.wall_time
