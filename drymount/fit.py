@@ -24,11 +24,6 @@ from pathlib import Path
 
 import numpy as np
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # Python 3.10
-    import tomli as tomllib
-
 from drymount.io import atomic_write_text, save_figure, write_csv
 from fmu_src.mount_law import AxisParameters
 from hbm.identify import (FIT_LAWS, UNITS, DataError, FitStatus, compare_elastic,
@@ -42,6 +37,7 @@ KINDS = ("elastic", "loops", "table")
 def resolve_mount(spec) -> AxisParameters:
     """The ``[mount]`` law of a TOML file (fragment or configuration) or a preset."""
     from drymount.config import ConfigError, list_presets, mount_from_table, preset_text
+    from drymount.config.loading import parse_toml
 
     path = Path(spec)
     if path.is_file():
@@ -51,10 +47,7 @@ def resolve_mount(spec) -> AxisParameters:
     else:
         raise ConfigError([f"--mount {spec!r} is neither a file nor a preset "
                            f"({', '.join(list_presets())})"], "--mount")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError([f"not valid TOML: {exc}"], source) from None
+    data = parse_toml(text, source)
     if not isinstance(data.get("mount"), dict):
         raise ConfigError(["no [mount] table (a `drymount fit elastic` fragment or a "
                            "single-mount configuration is needed)"], source)

@@ -11,17 +11,17 @@ from pathlib import Path
 
 import numpy as np
 
-from drymount.config.control import parse_control
 from drymount.config.checks import (
     _Checker,
     _type_name,
 )
+from drymount.config.control import parse_control
 from drymount.config.schema import (
+    _MODEL_TABLES,
     ALLOWED_KEYS,
+    MODELS,
     Config,
     ConfigError,
-    _MODEL_TABLES,
-    MODELS,
 )
 from drymount.config.static import static_load, static_settings
 from drymount.config.systems import (
@@ -177,11 +177,15 @@ def load_config(path_or_text, name: str | None = None) -> Config:
     else:
         raise ConfigError([f"expected a file path or TOML text, got "
                            f"{_type_name(path_or_text)}"], "<input>")
+    return config_from_dict(parse_toml(text, source), source=source, name=name)
+
+
+def parse_toml(text: str, source: str) -> dict:
+    """The TOML document ``text``; ConfigError naming ``source`` on a syntax error."""
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError([f"TOML syntax error: {exc}"], source) from None
-    return config_from_dict(data, source=source, name=name)
 
 
 # ======================================================================================
