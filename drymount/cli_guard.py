@@ -161,14 +161,12 @@ def check_out_dir(path, option: str) -> Path:
     target = Path(os.path.realpath(text))
     if target.exists() and not target.is_dir():
         raise UsageError(f"{option}: {str(text)!r} exists and is not a folder")
-    parent = target
-    while not parent.exists():
-        parent = parent.parent
-    if not parent.is_dir():
-        raise UsageError(f"{option}: cannot create {str(text)!r}: {str(parent)!r} is "
-                         f"not a directory")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise UsageError(f"{option}: cannot write into {str(parent)!r}")
+    from drymount.io import OutputPathError, check_creatable_in
+
+    try:
+        check_creatable_in(target, option, repr(str(text)))
+    except OutputPathError as exc:
+        raise UsageError(str(exc)) from None
     return Path(path)
 
 

@@ -43,6 +43,7 @@ from pathlib import Path
 __all__ = [
     "OutputPathError",
     "check_output_path",
+    "check_creatable_in",
     "mark_partial",
     "PARTIAL_PREFIX",
     "atomic_path",
@@ -107,7 +108,14 @@ def check_output_path(path, what: str = "output") -> Path:
                     stat.S_ISSOCK(mode) else "a device")
             raise OutputPathError(f"{what}: {shown} is {kind}, not a regular file; "
                                   f"drymount writes results to regular files only")
-    parent = target.parent
+    check_creatable_in(target.parent, what, shown)
+    return target
+
+
+def check_creatable_in(folder: Path, what: str, shown: str) -> None:
+    """OutputPathError unless the nearest existing ancestor of ``folder`` (itself
+    included) is a writable directory, so that ``shown`` can be created below it."""
+    parent = Path(folder)
     while not parent.exists():
         parent = parent.parent
     if not parent.is_dir():
@@ -116,7 +124,6 @@ def check_output_path(path, what: str = "output") -> Path:
     if not os.access(parent, os.W_OK | os.X_OK):
         raise OutputPathError(f"{what}: cannot write {shown}: the folder "
                               f"{str(parent)!r} is not writable")
-    return target
 
 
 def mark_partial(path, reason: str) -> Path:
