@@ -107,7 +107,8 @@ def _hbm_accuracy_args(p) -> None:
                         "--harmonics/--n-samples fix them), and the step until reading "
                         "between CSV rows stays within tol/2")
     g.add_argument("--max-harmonics", type=_int_at_least(1), default=None,
-                   help="cap on H when --tol raises it (default 25)")
+                   help="cap on H when --tol raises it (default 25; 13 for "
+                        "systems of more than 3 DOF, the 6-DOF presets)")
     for flag, what in (("--ds-initial", "first"), ("--ds-min", "smallest"),
                        ("--ds-max", "largest")):
         g.add_argument(flag, type=_positive_float, default=None,

@@ -18,9 +18,9 @@ import numpy as np
 
 from hbm.aft import default_n_samples
 from hbm.continuation import Branch, Status, continue_branch, newton
-from hbm.error_estimate import estimate_errors
+from hbm.error_estimate import curve_scale, estimate_errors, probe_errors
 from hbm.folds import merge_spurious_pairs
-from hbm.options import HBMOptions
+from hbm.options import MAX_HARMONICS, HBMOptions
 from hbm.postprocess import postprocess
 from hbm.problem import (
     _check_range,
@@ -40,7 +40,37 @@ __all__ = ["frequency_response", "solve_frequencies"]
 
 #: The error estimate re-solves every ESTIMATE_STRIDE-th point (and the points around
 #: turning points); the points between get the larger of their neighbours' estimates.
+#: Long curves (the 6-DOF presets: about 500 points) get a larger stride, so that
+#: about MAX_ESTIMATED points are re-solved.
 ESTIMATE_STRIDE = 4
+MAX_ESTIMATED = 48
+
+#: Before ``tol`` makes a whole curve be traced at a higher resolution, that
+#: resolution is tried at the PROBE_POINTS points with the largest estimates (half by
+#: truncation, half by sampling), each DOF's largest amplitude, the turning points
+#: and PROBE_SPREAD points spread over the curve: re-solved there and estimated like
+#: curve points.
+#: The errors of two resolutions give the decay rates (``H^-p``, ``N^-q``), from
+#: which the smallest H and N expected to meet the tolerance are predicted and probed
+#: in turn (at most MAX_PROBES probes per raise). The next whole curve then has its
+#: own full estimate, which decides.
+PROBE_POINTS = 8
+PROBE_SPREAD = 16
+MAX_PROBES = 3
+#: The whole curve's largest estimate exceeded the probes' by up to 3x (measured on
+#: six_dof_halved and six_dof_original with the worst points only: the worst points
+#: move between resolutions), so a probe has to meet the goal / PROBE_MARGIN.
+PROBE_MARGIN = 2.0
+
+
+@dataclasses.dataclass
+class _Level:
+    """What traced one curve, kept to probe other resolutions and to finish it."""
+
+    prob: _Problem
+    br: Branch
+    located: dict
+    light: bool
 
 
 def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
@@ -103,10 +133,13 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     H, N, opts = resolve_options(options, harmonics, n_samples)
     pin_h = harmonics is not None or closed_form is True
     pin_n = n_samples is not None
+    # curves traced only to estimate their error skip stability and events; the last
+    # one gets them (_finish)
+    light = opts.tol is not None and opts.max_restarts == 0
     floor, raised = None, []
     while True:
         result = _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
-                        floor)
+                        floor, light)
         if opts.tol is None or not result.success:
             break
         trunc, samp = _nanmax(result.error_truncation), _nanmax(result.error_sampling)
@@ -114,22 +147,150 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
         if trunc + samp <= goal:
             result.tol_met = True
             break
+        cap = opts.harmonics_cap(system.n_dof)
         H_new, N_new, why = _next_resolution(result, trunc, samp, goal, opts, pin_h,
-                                             pin_n)
+                                             pin_n, cap)
+        probes = []
+        if H_new is not None:
+            H_new, N_new, probes = _probe(system, fmin_hz, fmax_hz, result, H_new,
+                                          N_new, goal, opts, pin_h, pin_n, cap)
         if H_new is None:
             result.tol_met = False
             result.message += (f"; the error estimate {trunc + samp:.2g} of peak "
                                f"exceeds tol/2 = {goal:.2g} and {why}")
             break
         raised.append(f"H = {result.harmonics}, N = {result.n_samples}: estimate "
-                      f"{trunc + samp:.2g}")
+                      f"{trunc + samp:.2g}" + (" (probes, truncation + sampling at "
+                                              "a few points: " + ", ".join(probes)
+                                              + ")" if probes else ""))
         floor = np.nanmax(result.amplitude, axis=0)
         H, N = H_new, N_new
     if raised:
         result.message += (f"; H and N raised to {result.harmonics}, "
                            f"{result.n_samples} for tol = {opts.tol:g} (from "
                            + "; ".join(raised) + ")")
-    return result
+    return _finish(result, opts)
+
+
+def _finish(result: FrequencyResponse, opts: HBMOptions) -> FrequencyResponse:
+    """The curve with stability and located folds and peaks, if it was traced
+    without them (a light level)."""
+    level = result.__dict__.pop("_level", None)
+    if level is None or not level.light:
+        return result
+    full = postprocess(level.prob, level.br.y, opts, level.br,
+                       level.br.turning_points, level.located)
+    for name in ("message", "error_truncation", "error_sampling", "error_reference",
+                 "tol_met", "turning_points_merged"):
+        setattr(full, name, getattr(result, name))
+    return full
+
+
+def _probe_points(result: FrequencyResponse) -> list[int]:
+    """The points with the largest truncation and sampling estimates (half each),
+    each DOF's largest amplitude and the turning points (where the errors of a
+    finer resolution concentrate)."""
+    picked = [int(i) for i in np.argmax(result.amplitude, axis=0)] if \
+        result.n_points else []
+    picked += [int(i) for i in result.turning_points]
+    # and points spread over the whole curve
+    picked += [int(i) for i in np.linspace(0, result.n_points - 1, PROBE_SPREAD)]
+    for e in (result.error_truncation, result.error_sampling):
+        e = np.where(np.isfinite(e), e, -np.inf)
+        seen = set()
+        for i in np.argsort(-e, kind="stable"):
+            if len(seen) >= PROBE_POINTS // 2 or not np.isfinite(e[i]):
+                break
+            if e[i] in seen or int(i) in picked:  # interpolated copies of a point
+                continue
+            seen.add(e[i])
+            picked.append(int(i))
+    return sorted(set(picked))
+
+
+def _fit_level(x0, e0, x1, e1, target, lo, hi, default_rate):
+    """Smallest x in [lo, hi] with error below ``target`` for errors ``e0`` at x0 and
+    ``e1`` at x1 decaying like ``x^-p`` (p fitted from the two, else
+    ``default_rate``)."""
+    if not (np.isfinite(e1) and e1 > 0):
+        return max(lo, min(x1, hi))
+    x = x1 * (e1 / target) ** (1.0 / _rate(x0, e0, x1, e1, default_rate))
+    return int(max(lo, min(math.ceil(x - 1e-9), hi)))
+
+
+def _rate(x0, e0, x1, e1, default_rate) -> float:
+    """Decay rate p of errors ``e ~ x^-p`` through (x0, e0) and (x1, e1) (clipped to
+    0.5..8), or ``default_rate`` if they do not decay."""
+    if x1 > x0 and np.isfinite(e0) and np.isfinite(e1) and e0 > e1 > 0:
+        return float(np.clip(math.log(e0 / e1) / math.log(x1 / x0), 0.5, 8.0))
+    return default_rate
+
+
+def _probe(system, fmin_hz, fmax_hz, result, H1, N1, goal, opts, pin_h, pin_n, cap):
+    """``(H, N, notes)``: the resolution to trace next, predicted from probes at a few
+    points of ``result`` (PROBE_POINTS, MAX_PROBES); ``(H1, N1)`` (the rule of
+    :func:`_next_resolution`) is the first probe. Without the curve's branch (a
+    curve of restarted segments) ``(H1, N1, [])``."""
+    level = getattr(result, "_level", None)
+    pts = _probe_points(result)
+    if level is None or not pts or not level.br.tangent:
+        return H1, N1, []
+
+    def make(H, N, cf):
+        return build_problem(system, fmin_hz, fmax_hz, H, N, cf)
+
+    H0 = result.harmonics
+    N0 = result.n_samples if not result.closed_form else default_n_samples(H0)
+    t0 = _nanmax(result.error_truncation[pts])
+    s0 = _nanmax(result.error_sampling[pts]) if not result.closed_form else np.nan
+    scale = curve_scale(level.prob, level.br.y, opts.n_peak)
+    settings = opts.continuation_settings()
+    half = 0.5 * goal / PROBE_MARGIN  # truncation target
+    tried, best, notes = {}, None, []
+    H, N = H1, N1
+    for _ in range(MAX_PROBES):
+        est = probe_errors(level.prob, level.br.y, level.br.tangent, pts, make,
+                           settings, opts.n_peak, H, N, scale)
+        if est is None:
+            break
+        t, s_ = est.max()
+        tried[(H, N)] = (t, s_)
+        notes.append(f"H = {H}, N = {N}: {t:.2g} + {s_:.2g}")
+        if PROBE_MARGIN * (t + s_) <= goal and (best is None or
+                                                _cost(H, N) < _cost(*best)):
+            best = (H, N)
+        # the next candidate from the decay between the curve and this probe
+        H_next = H if pin_h else _fit_level(H0, t0, H, t, half, H0 + (t0 > half),
+                                            cap, 1.5)
+        N_next = N
+        if not pin_n:
+            # sampling need not be far below the truncation left at the cap
+            t_left = t * (H / H_next) ** _rate(H0, t0, H, t, 1.5)
+            n_min = _pow2(max(default_n_samples(H_next), 2 * H_next + 2))
+            n_fit = _fit_level(N0, s0, N, s_, max(half, 0.25 * t_left),
+                               n_min, opts.max_samples, 2.0)
+            N_next = min(max(_pow2(n_fit), n_min),
+                         max(opts.max_samples, 2 * H_next + 2))
+        if (H_next, N_next) in tried or (best is not None and
+                                         _cost(H_next, N_next) >= _cost(*best)):
+            break
+        H, N = H_next, N_next
+    else:
+        H_next, N_next = H, N
+    if best is None:  # no probe met it: the last prediction (capped)
+        best = (H_next, N_next)
+    return best[0], best[1], notes
+
+
+def _pow2(n: int) -> int:
+    """The smallest power of two >= n."""
+    return 1 << (max(int(n), 1) - 1).bit_length()
+
+
+def _cost(H: int, N: int) -> float:
+    """Relative cost of a curve at H harmonics and N samples (Jacobian ~ H^2, AFT
+    ~ N H)."""
+    return H * H + N * H / 8
 
 
 def _nanmax(a) -> float:
@@ -138,12 +299,13 @@ def _nanmax(a) -> float:
     return float(a.max()) if a.size else float("nan")
 
 
-def _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress, floor
-           ) -> FrequencyResponse:
-    """One curve at (H, N), restarted past stalls (``opts.max_restarts``)."""
+def _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress, floor,
+           light=False) -> FrequencyResponse:
+    """One curve at (H, N), restarted past stalls (``opts.max_restarts``); ``light``
+    (only without restarts): without stability and events, for :func:`_finish`."""
     if opts.max_restarts == 0:
         return _refined(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
-                        floor)
+                        floor, light)
     # Restarts: a new segment past the highest frequency reached, clipped to the band
     f0, parts, restarts = float(fmin_hz), [], []
     while True:
@@ -162,7 +324,8 @@ def _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress, floor
 
 
 def _next_resolution(result: FrequencyResponse, trunc: float, samp: float,
-                     goal: float, opts: HBMOptions, pin_h: bool, pin_n: bool):
+                     goal: float, opts: HBMOptions, pin_h: bool, pin_n: bool,
+                     cap: int):
     """``(H, N, "")`` to trace next so the error estimate falls below ``goal``
     (truncation ~ H^-1.5, sampling ~ N^-2), or ``(None, None, why not)``."""
     if not (math.isfinite(trunc) and math.isfinite(samp)):
@@ -172,7 +335,7 @@ def _next_resolution(result: FrequencyResponse, trunc: float, samp: float,
     H_new, N_new = H, N
     if trunc > 0.5 * goal and not pin_h:
         want = math.ceil(H * (trunc / (0.5 * goal)) ** (1 / 1.5))
-        H_new = min(opts.max_harmonics, max(H + 2, min(want, 2 * H + 1)))
+        H_new = min(cap, max(H + 2, min(want, 2 * H + 1)))
         if pin_n:
             H_new = max(H, min(H_new, (N - 1) // 2))  # N > 2H stays true
     if samp > 0.5 * goal and not pin_n:
@@ -189,21 +352,26 @@ def _next_resolution(result: FrequencyResponse, trunc: float, samp: float,
         elif pin_h and trunc > samp:
             why = f"H = {H} was fixed by the caller (truncation {trunc:.2g})"
         else:
-            why = (f"H = {H}, N = {N} are at the caps max_harmonics = "
-                   f"{opts.max_harmonics}, max_samples = {opts.max_samples} "
+            default = (" (the default for systems of more than 3 DOF; set "
+                       "max_harmonics to raise it)"
+                       if opts.max_harmonics is None and cap < MAX_HARMONICS
+                       else "")
+            why = (f"H = {H}, N = {N} are at the caps max_harmonics = {cap}"
+                   f"{default}, max_samples = {opts.max_samples} "
                    f"(truncation {trunc:.2g}, sampling {samp:.2g})")
         return None, None, why
     return H_new, N_new, ""
 
 
 def _refined(system: System, fmin_hz: float, fmax_hz: float, H: int, N, closed_form,
-             opts: HBMOptions, progress: bool, floor=None) -> FrequencyResponse:
+             opts: HBMOptions, progress: bool, floor=None, light=False
+             ) -> FrequencyResponse:
     """One curve from ``fmin_hz`` to ``fmax_hz`` with its error estimates; traced
     again with twice the AFT samples (at most ``opts.refine_samples`` times) when it
     dead-ends or stalls at a kink of the sampled residual (the kinks shrink with more
     samples) or finds no start (then also with a 4x smaller first step)."""
     prob = build_problem(system, fmin_hz, fmax_hz, H, N, closed_form)
-    result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
+    result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor, light)
     history = []
     refine = 0
     while (not result.success and result.status in (Status.STEP_TOO_SMALL,
@@ -216,7 +384,7 @@ def _refined(system: System, fmin_hz: float, fmax_hz: float, H: int, N, closed_f
                                                             opts.ds_min))
         prob = build_problem(system, fmin_hz, fmax_hz, H, 2 * prob.hb.n_samples,
                              closed_form)
-        result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor)
+        result, br = _trace(prob, fmin_hz, fmax_hz, opts, progress, floor, light)
     if history:
         first = any("no solution at fmin" in h for h in history)
         result.message += (f" (AFT samples raised to {prob.hb.n_samples}"
@@ -229,7 +397,8 @@ def _refined(system: System, fmin_hz: float, fmax_hz: float, H: int, N, closed_f
 def _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result) -> None:
     """Error estimates of the traced points into ``result`` (if wanted).
 
-    Re-solved at every ``ESTIMATE_STRIDE``-th point, at the ends and around the
+    Re-solved at every ``ESTIMATE_STRIDE``-th point (fewer on long curves,
+    ``MAX_ESTIMATED``), at the ends and around the
     turning points; a point in between gets the larger estimate of the two re-solved
     points around it (a per-segment estimate)."""
     if not (opts.error_estimate or opts.tol is not None) or not br.y:
@@ -239,7 +408,8 @@ def _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result) -> None:
         return build_problem(system, fmin_hz, fmax_hz, H, N, cf)
 
     npts = len(br.y)
-    pts = sorted(set(range(0, npts, ESTIMATE_STRIDE)) | {npts - 1}
+    stride = max(ESTIMATE_STRIDE, math.ceil(npts / MAX_ESTIMATED))
+    pts = sorted(set(range(0, npts, stride)) | {npts - 1}
                  | {j for i in br.turning_points for j in (i - 1, i)})
     est = estimate_errors(prob, br.y, br.tangent, make, opts.continuation_settings(),
                           opts.n_peak, pts)
@@ -251,10 +421,11 @@ def _estimate(system, fmin_hz, fmax_hz, prob, br, opts, result) -> None:
 
 
 def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
-           progress: bool, floor=None):
+           progress: bool, floor=None, light=False):
     """One continuation of ``prob`` from ``fmin_hz`` to ``fmax_hz`` (steps within the
     chord tolerance with ``opts.tol``), spurious turning points merged. Returns
-    ``(FrequencyResponse, Branch)``."""
+    ``(FrequencyResponse, Branch)``; the result keeps what traced it (``_level``),
+    and ``light`` leaves out stability and located folds and peaks."""
     H = prob.hb.H
     settings = opts.continuation_settings()
     chord = None if opts.tol is None else _chord_error_fn(prob, 0.5 * opts.tol, floor)
@@ -304,7 +475,10 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
         if bar is not None:
             bar.close()
     zz = _merge_zigzags(prob, br, opts)
-    result = postprocess(prob, br.y, opts, br, br.turning_points, zz.folds)
+    post = dataclasses.replace(opts, stability=False) if light else opts
+    result = postprocess(prob, br.y, post, br, br.turning_points, zz.folds,
+                         events=not light)
+    result._level = _Level(prob, br, zz.folds, light)
     result.turning_points_merged = zz.merged
     if zz.refined:
         result.message += "; " + "; ".join(

@@ -44,9 +44,11 @@ def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
 
 
 def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
-                turning, located=None) -> FrequencyResponse:
+                turning, located=None, events: bool = True) -> FrequencyResponse:
     """The :class:`FrequencyResponse` of the scaled points ``ys`` of ``prob``, with
-    its folds (``located``: those already located on a finer re-trace) and peaks."""
+    its folds (``located``: those already located on a finer re-trace) and peaks
+    (``events`` False: neither located, for a curve only traced to estimate its
+    error)."""
     hb = prob.hb
     sysm = hb.system
     n, m, H = hb.n, hb.m, hb.H
@@ -66,7 +68,8 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                               opts.n_peak)
     if opts.stability and npts:
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
-    folds, peaks = _events(prob, br, opts, turning, located or {})
+    folds, peaks = (_events(prob, br, opts, turning, located or {}) if events
+                    else ([], []))
     return FrequencyResponse(
         turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,

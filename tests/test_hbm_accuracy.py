@@ -110,13 +110,32 @@ def _true_error(r, system, fmin, fmax, H_ref=31, N_ref=2048):
     return out
 
 
-# The estimate's largest value over the curve (what `drymount hbm` reports and --tol
-# uses) against the largest true error, the issue's factor 3. Measured est/true:
-# friction 2.6, piecewise 1.4, cubic 1.5. Point by point the estimate of a point
-# with an error above a tenth of the largest is never below a third of its true
-# error (measured smallest est/true: 1.9, 0.47, 1.4); it may be larger (up to x10 at
-# the friction curve, where the sampling error oscillates with N).
+# The issue's factor 3, checked two ways against the true error (the distance to the
+# H = 31, N = 2048 curve, measured like the estimate), both on the estimate
+# truncation + sampling (the CSV's two columns):
+# 1. curve maximum: the largest estimate (what `drymount hbm` reports and --tol uses)
+#    against the largest true error. Measured est/true: friction 2.45, piecewise 1.35,
+#    cubic 1.51.
+# 2. per point, at the re-solved points where the true error is above the noise
+#    floor (a tenth of its largest value). Measured est/true: friction 1.52..2.50 at
+#    all 7 points, cubic 1.51..1.53 at all 9, piecewise 1.07..3.12 with 19 of 20
+#    within 3x (3.12 at 8.943 Hz, on the stretch near the upper fold re-traced past
+#    kinks of the sampled residual), so the piecewise case is held to the factor 3
+#    at PER_POINT_FRACTION of its points, the others at every point. (Before the
+#    re-solves started cold, hbm.error_estimate.estimate_errors, the friction case
+#    was 1.91..9.55 per point.)
 ESTIMATE_FACTOR = 3.0
+PER_POINT_FRACTION = 0.9
+NOISE_FLOOR = 0.1
+
+
+def _resolved_points(r):
+    """Indices the estimate re-solved (hbm.analysis._estimate's schedule)."""
+    from hbm.analysis import ESTIMATE_STRIDE, MAX_ESTIMATED
+    n = r.n_points
+    stride = max(ESTIMATE_STRIDE, -(-n // MAX_ESTIMATED))
+    return np.array(sorted(set(range(0, n, stride)) | {n - 1}
+                           | {j for i in r.turning_points for j in (i - 1, i)}))
 
 
 @pytest.mark.parametrize("case", [
@@ -125,19 +144,27 @@ ESTIMATE_FACTOR = 3.0
     ("cubic", cubic_system, 3.0, 15.0, 3, 64),
 ], ids=lambda c: c[0])
 def test_error_estimate_vs_true_error(case):
-    _, make, fmin, fmax, H, N = case
+    name, make, fmin, fmax, H, N = case
     system = make()
     r = hbm.frequency_response(system, fmin, fmax, harmonics=H, n_samples=N,
                                options=hbm.HBMOptions(tol=None))
     assert r.success
-    est = r.error_truncation + r.error_sampling
     true = _true_error(r, system, fmin, fmax)
     assert np.all(np.isfinite(true))
-    ratio = np.nanmax(est) / true.max()
+    # 1. the curve's largest estimate
+    ratio = np.nanmax(r.error_truncation + r.error_sampling) / true.max()
     assert 1 / ESTIMATE_FACTOR <= ratio <= ESTIMATE_FACTOR, ratio
-    sel = np.arange(0, r.n_points, 4)  # the re-solved points (ESTIMATE_STRIDE)
-    big = sel[true[sel] > 0.1 * true.max()]
-    assert np.all(est[big] >= true[big] / ESTIMATE_FACTOR)
+    # 2. per point, above the noise floor
+    est = r.error_truncation + r.error_sampling
+    sel = _resolved_points(r)
+    big = sel[true[sel] > NOISE_FLOOR * true.max()]
+    per = est[big] / true[big]
+    assert np.all(np.isfinite(per)) and len(per) >= 5
+    inside = np.mean((per >= 1 / ESTIMATE_FACTOR) & (per <= ESTIMATE_FACTOR))
+    if name == "piecewise":
+        assert inside >= PER_POINT_FRACTION, per
+    else:
+        assert inside == 1.0, per
 
 
 # --- curves you can read -------------------------------------------------------------
@@ -292,3 +319,51 @@ def test_failed_start_retried_with_more_samples_and_a_smaller_step():
     # the first attempt (64 samples) failed, and the message says so
     assert "with 64 AFT samples no solution at fmin" in r.message
     assert "first step 0.005" in r.message
+
+
+# --- adaptive defaults that stay affordable ------------------------------------------
+def test_harmonics_cap_by_dof_count():
+    from hbm.options import MAX_HARMONICS, MULTI_DOF_MAX_HARMONICS
+    o = hbm.HBMOptions()
+    assert o.harmonics_cap(1) == o.harmonics_cap(3) == MAX_HARMONICS == 25
+    assert o.harmonics_cap(6) == MULTI_DOF_MAX_HARMONICS == 13
+    assert hbm.HBMOptions(max_harmonics=31).harmonics_cap(6) == 31
+
+
+# errors falling like H^-3 from 0.014 at H = 5: 0.014 (5/H)^3 <= 2.5e-4 needs H >= 19.1
+def test_resolution_predicted_from_two_levels():
+    from hbm.analysis import _fit_level, _rate
+    e = lambda H: 0.014 * (5 / H) ** 3  # noqa: E731
+    assert abs(_rate(5, e(5), 11, e(11), 1.5) - 3.0) < 1e-12
+    assert _fit_level(5, e(5), 11, e(11), 2.5e-4, 6, 25, 1.5) == 20
+    assert _fit_level(5, e(5), 11, e(11), 2.5e-4, 6, 13, 1.5) == 13  # the cap
+    # no decay between the two: the default rate
+    assert _rate(5, 1e-3, 11, 2e-3, 1.5) == 1.5
+
+
+# A probe at the curve's own resolution re-solves its points (on the plane normal to
+# the curve: they hardly move) and estimates them again: the same estimates as the
+# curve's at those points (measured max relative difference 4e-9).
+PROBE_SELF_RTOL = 1e-5
+
+
+def test_probe_at_the_curves_resolution_reproduces_its_estimates():
+    from hbm.analysis import _estimate, _probe_points
+    from hbm.error_estimate import curve_scale, probe_errors
+    s = friction_system()
+    opts = hbm.HBMOptions(tol=None)
+    r = hbm.frequency_response(s, 2.0, 15.0, harmonics=5, n_samples=128, options=opts)
+    prob = build_problem(s, 2.0, 15.0, 5, 128, False)
+    from hbm.analysis import _trace
+    r, br = _trace(prob, 2.0, 15.0, opts, False)
+    _estimate(s, 2.0, 15.0, prob, br, opts, r)
+    pts = [i for i in _probe_points(r) if i % 4 == 0]  # re-solved points
+    assert len(pts) >= 4
+    est = probe_errors(prob, br.y, br.tangent, pts,
+                       lambda H, N, cf: build_problem(s, 2.0, 15.0, H, N, cf),
+                       opts.continuation_settings(), opts.n_peak, 5, 128,
+                       curve_scale(prob, br.y, opts.n_peak))
+    np.testing.assert_allclose(est.truncation, r.error_truncation[pts],
+                               rtol=PROBE_SELF_RTOL)
+    np.testing.assert_allclose(est.sampling, r.error_sampling[pts],
+                               rtol=PROBE_SELF_RTOL, atol=1e-12)
