@@ -29,8 +29,15 @@ With ``--adaptive`` it also runs each case once with the adaptive defaults of is
 chord-error steps, zigzags merged) and prints the cost as a ratio to today's options
 (fixed H and N) measured in the same run.
 
+With ``--presets [NAME ...]`` it runs ``drymount hbm``'s curve of each preset (all
+eleven without names) twice in the same run: with today's fixed defaults (the
+preset's H, N automatic, no error estimate, every turning point kept: the defaults
+before issue 17) and with the adaptive defaults (``tol`` = 1e-3, the H cap of 13 for
+more than 3 DOF), and prints both times, their ratio, where the adaptation ended and
+its error estimate.
+
 Run: ``python bench/bench_hbm.py [--repeat 5] [--convergence] [--adaptive]
-[--six-dof-adaptive] [--threads]``
+[--six-dof-adaptive] [--presets [NAME ...]] [--threads]``
 """
 
 from __future__ import annotations
@@ -50,7 +57,10 @@ def _parse():
     ap.add_argument("--adaptive", action="store_true",
                     help="also compare the adaptive defaults (tol 1e-3) with today's")
     ap.add_argument("--six-dof-adaptive", action="store_true",
-                    help="include the six-DOF case in --adaptive (minutes)")
+                    help="include the six-DOF case in --adaptive (about a minute)")
+    ap.add_argument("--presets", nargs="*", default=None, metavar="NAME",
+                    help="compare the adaptive defaults with today's on the presets' "
+                         "`drymount hbm` curves (all without names)")
     return ap.parse_args()
 
 
@@ -111,6 +121,8 @@ def main():
               f"{'' if r.success else '  FAILED: ' + r.message}")
     if args.adaptive:
         _adaptive(hbm, np, cases, opts, args.six_dof_adaptive)
+    if args.presets is not None:
+        _presets(hbm, args.presets)
     if args.convergence:
         _convergence(hbm, np, s1, opts)
 
@@ -146,6 +158,39 @@ def _adaptive(hbm, np, cases, today, six):
               f"{r1.n_points:7d} {r1.harmonics:3d} {r1.n_samples:5d} {t2 - t1:7.2f} "
               f"{len(r1.turning_points):4d} {r1.error_max():8.1e} "
               f"{(t2 - t1) / (t1 - t0):5.1f}x")
+
+
+def _presets(hbm, names):
+    """``drymount hbm``'s curve of each preset with today's fixed defaults and with
+    the adaptive ones, timed in the same run; the ratio is the adaptive defaults'
+    cost."""
+    import dataclasses
+    import time
+
+    from drymount.config.loading import list_presets
+    from drymount.paths import load_with_overrides
+
+    names = names or list_presets()
+    print("\npresets: `drymount hbm` defaults, today's (fixed H, N) against the "
+          "adaptive ones (tol 1e-3), one run each:")
+    hdr = (f"{'preset':22s} {'DOF':>3s} {'today s':>8s} | {'tol s':>7s} {'H':>3s} "
+           f"{'N':>5s} {'err est':>8s} {'met':>4s} {'cost':>6s}")
+    print(hdr)
+    print("-" * len(hdr))
+    for name in names:
+        cfg = load_with_overrides(name, ())
+        band = (cfg.sweep.fmin_hz, cfg.sweep.fmax_hz)
+        adaptive = cfg.hbm.options()
+        today = dataclasses.replace(adaptive, tol=None, error_estimate=False,
+                                    zigzag_refine=1)
+        t0 = time.perf_counter()
+        hbm.frequency_response(cfg.system, *band, options=today)
+        t1 = time.perf_counter()
+        r = hbm.frequency_response(cfg.system, *band, options=adaptive)
+        t2 = time.perf_counter()
+        print(f"{name:22s} {cfg.system.n_dof:3d} {t1 - t0:8.2f} | {t2 - t1:7.2f} "
+              f"{r.harmonics:3d} {r.n_samples:5d} {r.error_max():8.1e} "
+              f"{'yes' if r.tol_met else 'NO':>4s} {(t2 - t1) / (t1 - t0):5.1f}x")
 
 
 def _convergence(hbm, np, s1, opts):
