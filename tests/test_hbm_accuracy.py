@@ -332,7 +332,7 @@ def test_harmonics_cap_by_dof_count():
 
 # errors falling like H^-3 from 0.014 at H = 5: 0.014 (5/H)^3 <= 2.5e-4 needs H >= 19.1
 def test_resolution_predicted_from_two_levels():
-    from hbm.analysis import _fit_level, _rate
+    from hbm.resolution import _fit_level, _rate
     e = lambda H: 0.014 * (5 / H) ** 3  # noqa: E731
     assert abs(_rate(5, e(5), 11, e(11), 1.5) - 3.0) < 1e-12
     assert _fit_level(5, e(5), 11, e(11), 2.5e-4, 6, 25, 1.5) == 20
@@ -348,7 +348,8 @@ PROBE_SELF_RTOL = 1e-5
 
 
 def test_probe_at_the_curves_resolution_reproduces_its_estimates():
-    from hbm.analysis import _estimate, _probe_points
+    from hbm.analysis import _estimate
+    from hbm.resolution import _probe_points
     from hbm.error_estimate import curve_scale, probe_errors
     s = friction_system()
     opts = hbm.HBMOptions(tol=None)
