@@ -182,6 +182,8 @@ def probe(system, fmin_hz, fmax_hz, result, H1, N1, goal, opts, pin_h, pin_n, ca
         H_next, N_next = H, N
     if best is None:  # no probe met it: the last prediction (capped)
         best = (H_next, N_next)
+    if best[0] <= H0 and best[1] <= N0:  # never the curve's own resolution again
+        best = (H1, N1)
     return best[0], best[1], notes
 
 
