@@ -64,7 +64,8 @@ typedef struct {
     double u[3], v[3], n[3];
     int n_set[3];
     double w[3], e[3];
-    double time;      /* end of the last step (= start time before the first) */
+    double time;      /* end of the last step (= start time before the first; NAN:
+                       * none, FMI 2.0 without fmi2SetupExperiment) */
     int started;      /* a step was done since initialization */
 } md_data;
 
@@ -82,6 +83,7 @@ typedef struct {
     ml_axis_result res[3];
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */
+    unsigned long warned;  /* hash of the last "outputs are 0" warning's problems */
 } md_instance;
 
 /* Number of variables, the variable table and the instantiation token (GUID), all
@@ -108,7 +110,9 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
 #define MD_IN(mode) (1u << (mode))
 
 void md_reset(md_instance *m);
-md_status md_enter_initialization(md_instance *m, const char *call, double start);
+/* start_defined 0: FMI 2.0 without fmi2SetupExperiment, the first step starts anywhere */
+md_status md_enter_initialization(md_instance *m, const char *call, double start,
+                                  int start_defined);
 md_status md_exit_initialization(md_instance *m, const char *call);
 md_status md_terminate(md_instance *m, const char *call);
 md_status md_do_step(md_instance *m, const char *call, double t, double h);
@@ -118,6 +122,10 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
                  double *value);
 md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
                  double value);
+/* MD_OK if md_set would accept the value (nothing changed; refusals are logged): the
+ * glue checks every value of a call before setting any (docs/fmu.md 4a). */
+md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                       double value);
 
 /* FMU state: a heap copy of md_data, serialized as magic + size + bytes. */
 md_status md_get_state(md_instance *m, const char *call, void **state);
