@@ -1,12 +1,21 @@
 """Drive the mount FMU through libcosim (libcosimpy), a C++ FMI 2.0 importer.
 
-Run as a script: ``python libcosim_drive.py FMU``; prints one JSON object.
-``python libcosim_drive.py FMU --bad NAME=VALUE ...`` instead starts one instance with
-those parameters (friction on) and prints ``{"step_ok": ..., "survived": true, ...}``:
-the FMU must refuse bad parameters with fmi2Error at fmi2ExitInitializationMode and
-libcosim must report the failed step without aborting the process. Used by
-``tests/test_fmu_libcosim.py`` in a subprocess, so that the importer's process holds
-nothing but libcosim, the FMU and (for the reference) the mount law.
+Run as a script: ``python libcosim_drive.py FMU``; prints one JSON object. Other
+modes (one JSON object each):
+
+* ``--bad NAME=VALUE ...``: one instance with those parameters (friction on), one
+  step, ``{"step_ok": ..., "survived": true, ...}``. The FMU refuses them with
+  fmi2Error at fmi2ExitInitializationMode; libcosimc runs initialization in its thread
+  pool, where that error is std::terminate (see ``tests/importers/libcosim_host.cpp``
+  and docs/fmu.md, 7), so this mode documents libcosim's behaviour.
+* ``--nan-input``: a good run of a few steps, then ``u_axial = NaN`` through the
+  override manipulator: the FMU refuses the fmi2SetReal (fmi2Error) inside libcosim's
+  step, which libcosimc catches: ``cosim_execution_step`` fails and
+  ``cosim_last_error_message`` names the value; then the run of the default mode in
+  the same process.
+
+Used by ``tests/test_fmu_libcosim.py`` in a subprocess, so that the importer's
+process holds nothing but libcosim, the FMU and (for the reference) the mount law.
 
 Two instances of the FMU in one execution (different normal forces), the axial
 deflection a sine ``X sin(omega t)`` set through libcosim's override manipulator before
@@ -25,6 +34,7 @@ from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 from libcosimpy.CosimManipulator import CosimManipulator
 from libcosimpy.CosimObserver import CosimObserver
 from libcosimpy.CosimSlave import CosimLocalSlave
+from libcosimpy._internal import get_last_error_message
 
 H = 1e-4           # s, communication step
 X, FREQ = 0.002, 5.0   # m, Hz: the sine deflection
@@ -93,8 +103,30 @@ def bad_parameters(fmu: str, settings: list[str]) -> dict:
                 time=ex.status().current_time * 1e-9)
 
 
+def nan_input(fmu: str) -> dict:
+    """Three good steps, then a NaN input: the step fails with the FMU's message;
+    then the default run in the same process."""
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_step_size(step_size=int(round(H * 1e9)))
+    i = ex.add_local_slave(CosimLocalSlave(fmu_path=fmu, instance_name="nan"))
+    ref = {v.name.decode(): v.reference for v in ex.slave_variables(i)}
+    man = CosimManipulator.create_override()
+    ex.add_manipulator(man)
+    good = []
+    for k in range(3):
+        man.slave_real_values(i, [ref["u_axial"]], [1e-4 * k])
+        good.append(bool(ex.step(1)))
+    man.slave_real_values(i, [ref["u_axial"]], [math.nan])
+    failed_step_ok = bool(ex.step(1))
+    message = get_last_error_message()
+    return dict(good_steps_ok=good, nan_step_ok=failed_step_ok, message=message,
+                after=main(fmu))
+
+
 if __name__ == "__main__":
-    if "--bad" in sys.argv:
+    if "--nan-input" in sys.argv:
+        print(json.dumps(nan_input(sys.argv[1])))
+    elif "--bad" in sys.argv:
         print(json.dumps(bad_parameters(sys.argv[1],
                                         sys.argv[sys.argv.index("--bad") + 1:])))
     else:
