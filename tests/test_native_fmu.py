@@ -4,8 +4,9 @@
   steps through the FMI 2.0 binary in a plain C host started with an empty environment
   (two instances side by side), 2 x 4000 steps through fmpy for each FMI version;
 * ``fmpy validate`` and ``fmpy simulate``; the model description is the interface table;
-* the FMI state machine: calls out of order, bad step sizes, time jumps, non-finite
-  inputs (discard), invalid parameters (the PythonFMU's message), state get/set/
+* the FMI state machine (docs/fmu.md 4a): calls out of order, bad step sizes, time
+  jumps, non-finite values (refused at the set), invalid parameters (the PythonFMU's
+  message; outputs 0 with a warning before), state get/set/
   serialize, reset;
 * the binary needs no Python: no libpython, no Py* symbol, only libc and libm.
 

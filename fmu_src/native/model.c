@@ -258,9 +258,10 @@ static md_status evaluate(md_instance *m, const char *call, int j)
         ml_repr_double(u, su, sizeof su);
         ml_repr_double(v, sv, sizeof sv);
         ml_repr_double(n, sn, sizeof sn);
-        md_log(m, MD_DISCARD, "FrictionMount: inputs of axis %s must be finite, got "
+        /* a guard: md_check_set refuses non-finite values (docs/fmu.md 4a) */
+        md_log(m, MD_ERROR, "FrictionMount: inputs of axis %s must be finite, got "
                "u_%s=%s, v_%s=%s, n_%s=%s (in %s)", a, a, su, a, sv, a, sn, call);
-        return MD_DISCARD;
+        return MD_ERROR;
     }
 #ifdef DRYMOUNT_NULL_MODEL
     /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
@@ -376,7 +377,7 @@ md_status md_do_step(md_instance *m, const char *call, double t, double h)
     for (j = 0; j < 3; ++j) {
         status = evaluate(m, call, j);
         if (status != MD_OK)
-            return status;  /* discard or error: nothing committed */
+            return status;  /* error: nothing committed */
     }
     for (j = 0; j < 3; ++j) {
         m->d.w[j] = m->res[j].w_new;

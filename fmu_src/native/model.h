@@ -8,10 +8,10 @@
  * the sliders and adds the dissipated energy. Statuses use the FMI numbering (OK 0,
  * Warning 1, Discard 2, Error 3, Fatal 4) of both standards.
  *
- * A refused call (out of order, unknown value reference, invalid parameters, non-finite
- * step size) returns MD_ERROR, logs a message naming the call and the state, and changes
- * nothing. Non-finite inputs make the outputs and md_do_step return MD_DISCARD (nothing
- * committed; the master may correct the inputs and repeat the step).
+ * The call-order rules of docs/fmu.md 4a: a refused call (out of order, unknown value
+ * reference, a non-finite value, invalid parameters, a step size not in (0, 1e6] s, a
+ * time that does not continue) returns MD_ERROR, logs a message naming the call and the
+ * state or the value, and changes nothing.
  */
 #ifndef DRYMOUNT_MODEL_H
 #define DRYMOUNT_MODEL_H
