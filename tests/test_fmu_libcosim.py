@@ -6,21 +6,26 @@ FMI 2.0 importer that is not fmpy.
   observer, against the in-process law; an FMU error during a step (a NaN input
   refused by fmi2SetReal) is a failed ``cosim_execution_step`` with the FMU's message
   and the process goes on.
-* issue 11, bad parameters: a C++ host on libcosim's C++ API
-  (``tests/importers/libcosim_host.cpp``) with the fixed-step algorithm on zero worker
+* issue 11, bad parameters, with libcosim's fixed-step algorithm on zero worker
   threads, the setting under which libcosim lets an FMU error during initialization
-  reach the host: every bad-parameter case is a ``cosim::error`` with the FMU's
-  message, and a good run in the same process afterwards equals the law.
-* libcosimc (and so libcosimpy) always runs initialization in a thread pool of
-  ``hardware_concurrency() - 1`` threads that does not catch: a bad parameter there
-  ends the host with std::terminate, whatever the FMU returns. Pinned here so that
-  a libcosim that fixes it is noticed (docs/fmu.md, 7, names the source lines).
+  reach the host: (a) libcosimpy loading an SSP whose default experiment says
+  ``numWorkerThreads="0"``; (b) a C++ host on libcosim's C++ API
+  (``tests/importers/libcosim_host.cpp``). Every bad-parameter case is refused by
+  fmi2ExitInitializationMode, the host gets an error status (a failed step, a
+  ``cosim::error``) with the FMU's message and survives, and a good run in the same
+  process afterwards equals the law.
+* with its default thread pool (``hardware_concurrency() - 1`` threads, what
+  ``cosim_execution_create`` and so ``CosimExecution.from_step_size`` use) libcosim
+  runs initialization in a worker thread without a catch: a bad parameter ends the
+  host with std::terminate, whatever the FMU returns. Pinned here so that a libcosim
+  that changes it is noticed (docs/fmu.md 4a names the source lines).
 
 libcosimpy ships wheels for CPython >= 3.11 on linux x86_64 only (the `test` extra
 installs it there); elsewhere this module is skipped and the plain C importer of
 ``tests/test_fmu.py`` remains the non-fmpy check. The C++ host also needs g++ and the
 Boost and GSL headers (``apt-get install libboost-dev libmsgsl-dev``): its tests are
-skipped without them. Runtime ~25 s (two FMU builds, one C++ compile, 5 libcosim runs).
+skipped without them. Runtime ~35 s (two FMU builds, one C++ compile, 10 libcosim
+runs).
 """
 
 from __future__ import annotations
@@ -101,7 +106,7 @@ def test_error_during_a_step_is_a_failed_step_not_a_crash(fmu, tmp_path):
 
 
 # ======================================================================================
-# Bad parameters (issue 11): a C++ host on libcosim's C++ API survives them
+# Bad parameters (issue 11): libcosim hosts without worker threads survive them
 # ======================================================================================
 
 HOST_SOURCE = IMPORTERS / "libcosim_host.cpp"
@@ -166,10 +171,35 @@ def _law_forces(t: list[float]) -> list[float]:
     return forces
 
 
-def _error_call(log: str) -> str:
-    """The FMI call libcosim made last before the FMU's first error message."""
-    before = log[:log.index(FMI_ERROR_LOG)]
-    return before.rsplit("Calling ", 1)[1].split()[0]
+def _failed_calls(log: str) -> list[str]:
+    """For each error message of the FMU in libcosim's debug log, the FMI call
+    libcosim had made last (its log line ``Calling fmi2...``)."""
+    calls, end = [], log.find(FMI_ERROR_LOG)
+    while end >= 0:
+        calls.append(log[:end].rsplit("Calling ", 1)[1].split()[0])
+        end = log.find(FMI_ERROR_LOG, end + 1)
+    return calls
+
+
+def test_bad_parameters_in_libcosimpy_are_failed_steps_via_ssp(fmu, tmp_path):
+    """issue 11 in libcosimpy itself: each bad-parameter case as an SSP whose default
+    experiment gives libcosim's fixed-step algorithm no worker thread (the OSP
+    annotation ``numWorkerThreads="0"``), all in one process: fmi2ExitInitializationMode
+    refuses with fmi2Error, ``ex.step()`` fails, ``cosim_last_error_message`` is the
+    FMU's message; nothing is fatal; a run afterwards in the same process equals the
+    law."""
+    cases = [",".join(settings) for settings, _ in BAD_CASES]
+    out = _run([sys.executable, str(DRIVER), str(fmu), "--ssp-bad", *cases], tmp_path)
+    text = out.stdout + out.stderr
+    assert out.returncode == 0, text[-3000:]
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    for (_, message), case in zip(BAD_CASES, res["cases"], strict=True):
+        assert not case["step_ok"] and case["message"].startswith("Model error: "), case
+        assert message in case["message"], case
+    assert _failed_calls(text) == ["fmi2ExitInitializationMode"] * len(BAD_CASES), \
+        text[-3000:]
+    assert "status=fatal" not in text and "Fatal Python error" not in text
+    _check_good_run(res["after"])
 
 
 def test_bad_parameters_are_an_error_the_libcosim_host_survives(cpp_host, fmu,
@@ -190,8 +220,8 @@ def test_bad_parameters_are_an_error_the_libcosim_host_survives(cpp_host, fmu,
     for (_, message), res in zip(BAD_CASES, results, strict=False):
         assert not res["ok"] and res["errc"] == "Model error", res
         assert message in res["error"], res
-    assert text.count(FMI_ERROR_LOG) == len(BAD_CASES), text[-3000:]
-    assert _error_call(text) == "fmi2ExitInitializationMode", text[-3000:]
+    assert _failed_calls(text) == ["fmi2ExitInitializationMode"] * len(BAD_CASES), \
+        text[-3000:]
     assert "status=fatal" not in text and "Fatal Python error" not in text
     res = results[-1]
     assert res["ok"], res
@@ -215,7 +245,7 @@ def test_libcosimc_initialization_error_is_still_std_terminate(fmu, tmp_path):
     pool (hardware_concurrency() - 1 workers) runs initialization without a catch, so
     the FMU's correct fmi2Error at fmi2ExitInitializationMode ends the process with
     SIGABRT; on one CPU the pool has no thread and the step fails cleanly. If this
-    fails, libcosim changed: use libcosimpy for the bad-parameter cases above."""
+    fails, libcosim changed (update docs/fmu.md 4a)."""
     out = _run([sys.executable, str(DRIVER), str(fmu), "--bad", "axial_kf=-5"],
                tmp_path)
     text = out.stdout + out.stderr
