@@ -65,6 +65,15 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed)
     return MD_ERROR;
 }
 
+/* FNV-1a of a message: which "outputs are 0" warning was logged last. */
+static unsigned long text_hash(const char *text)
+{
+    unsigned long h = 2166136261UL;
+    for (; *text; ++text)
+        h = (h ^ (unsigned char)*text) * 16777619UL;
+    return h ? h : 1UL;
+}
+
 /* ------------------------------------------------------------------ life cycle */
 
 static void set_field(ml_axis_params *p, md_field field, double value)
@@ -193,15 +202,6 @@ static int unported(const ml_axis_params *p, const char *prefix, char *buf,
              "PythonFMU FrictionMount.fmu for micro-slip or non-symmetric friction",
              prefix, p->sliders, prefix, p->fs_ratio);
     return 1;
-}
-
-/* FNV-1a of a message: which "outputs are 0" warning was logged last. */
-static unsigned long text_hash(const char *text)
-{
-    unsigned long h = 2166136261UL;
-    for (; *text; ++text)
-        h = (h ^ (unsigned char)*text) * 16777619UL;
-    return h ? h : 1UL;
 }
 
 /* Check every parameter once (FrictionMount._prepare): MD_OK, or MD_ERROR logged at
@@ -424,13 +424,17 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
         *value = 0.0;  /* the error comes from ExitInitializationMode */
         return MD_OK;
     }
+    if (var->role == MD_TIME && isnan(m->d.time)) {
+        *value = 0.0;  /* no start time yet (FMI 2.0 without fmi2SetupExperiment) */
+        return MD_OK;
+    }
     switch (var->role) {
     case MD_PARAMETER: *value = get_field(&m->d.p[j], var->field); return MD_OK;
     case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
     case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
     case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
     case MD_LOCAL_W: *value = m->d.w[j]; return MD_OK;
-    case MD_TIME: *value = isnan(m->d.time) ? 0.0 : m->d.time; return MD_OK;
+    case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
     default: break;
     }

@@ -64,8 +64,7 @@ typedef struct {
     double u[3], v[3], n[3];
     int n_set[3];
     double w[3], e[3];
-    double time;      /* end of the last step (= start time before the first; NAN:
-                       * none, FMI 2.0 without fmi2SetupExperiment) */
+    double time;      /* end of the last step (= start time before the first) */
     int started;      /* a step was done since initialization */
 } md_data;
 
@@ -110,7 +109,8 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
 #define MD_IN(mode) (1u << (mode))
 
 void md_reset(md_instance *m);
-/* start_defined 0: FMI 2.0 without fmi2SetupExperiment, the first step starts anywhere */
+/* start_defined 0: FMI 2.0 without fmi2SetupExperiment, the first step starts anywhere
+ * (md_data.time is NAN until the first step) */
 md_status md_enter_initialization(md_instance *m, const char *call, double start,
                                   int start_defined);
 md_status md_exit_initialization(md_instance *m, const char *call);
