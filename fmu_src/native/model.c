@@ -204,11 +204,11 @@ static int unported(const ml_axis_params *p, const char *prefix, char *buf,
     return 1;
 }
 
-/* Check every parameter once (FrictionMount._prepare): MD_OK, or MD_ERROR logged at
- * `level`: MD_ERROR (the call fails), MD_WARNING (an output read before the end of
- * initialization: it reads 0, the warning is logged once per distinct problem). */
+/* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
 static md_status check_parameters(md_instance *m, const char *call, md_status level)
 {
+    /* logged at `level`: MD_ERROR (the call fails) or MD_WARNING (an output read before
+     * the end of initialization reads 0; one warning per distinct problem) */
     char all[2048] = "", one[1024], prefix[16];
     int j, count = 0;
     if (m->params_ok)
