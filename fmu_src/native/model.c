@@ -74,6 +74,18 @@ static unsigned long text_hash(const char *text)
     return h ? h : 1UL;
 }
 
+/* 1 if variables of this role are outputs (everything not settable nor the time) */
+static int is_output(md_role role)
+{
+    switch (role) {
+    case MD_PARAMETER: case MD_INPUT_U: case MD_INPUT_V: case MD_INPUT_N:
+    case MD_LOCAL_W: case MD_TIME:
+        return 0;
+    default:
+        return 1;
+    }
+}
+
 /* ------------------------------------------------------------------ life cycle */
 
 static void set_field(ml_axis_params *p, md_field field, double value)
@@ -418,8 +430,7 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     if (lookup(m, call, type, vr, &var) != MD_OK)
         return MD_ERROR;  /* getters are allowed in every state (docs/fmu.md 4a) */
     j = var->axis;
-    if (var->role >= MD_OUTPUT_F && var->role <= MD_OUTPUT_E_TOTAL
-            && m->d.mode <= MD_INIT
+    if (is_output(var->role) && m->d.mode <= MD_INIT
             && check_parameters(m, call, MD_WARNING) != MD_OK) {
         *value = 0.0;  /* the error comes from ExitInitializationMode */
         return MD_OK;
