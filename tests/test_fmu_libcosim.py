@@ -118,7 +118,8 @@ SYSTEM_HEADERS = (("boost/functional/hash.hpp", "libboost-dev"),
 
 #: (parameter settings with friction on, the FMU's message for them)
 BAD_CASES = [
-    (["axial_kf=-5"], "`axial_kf` must be finite and > 0 when friction is on, got -5.0"),
+    (["axial_kf=-5"],
+     "`axial_kf` must be finite and > 0 when friction is on, got -5.0"),
     (["radial1_delta=0"], "`radial1_delta` must be finite and > 0, got 0.0"),
     (["axial_mu=-1", "axial_n0=-2"],
      "`axial_mu` must be finite and >= 0, got -1.0; `axial_n0` must be finite and >= "
@@ -132,9 +133,9 @@ FMI_ERROR_LOG = "[FMI status=error, category=logStatusError]"
 
 
 def _has_header(gxx: str, header: str) -> bool:
-    probe = subprocess.run([gxx, "-std=c++17", "-E", "-x", "c++", "-", "-o", os.devnull],
-                           input=f"#include <{header}>\n", capture_output=True,
-                           text=True)
+    probe = subprocess.run([gxx, "-std=c++17", "-E", "-x", "c++", "-", "-o",
+                            os.devnull], input=f"#include <{header}>\n",
+                           capture_output=True, text=True)
     return probe.returncode == 0
 
 

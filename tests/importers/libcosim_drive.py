@@ -156,8 +156,8 @@ def _ssp_folder(folder: Path, fmu: str, settings: list[str]) -> Path:
              '</ssv:Parameter>']
     for item in settings:
         name, _, value = item.partition("=")
-        lines.append(f'<ssv:Parameter name="{name}"><ssv:Real value="{float(value)!r}"/>'
-                     f'</ssv:Parameter>')
+        lines.append(f'<ssv:Parameter name="{name}">'
+                     f'<ssv:Real value="{float(value)!r}"/></ssv:Parameter>')
     (folder / "SystemStructure.ssd").write_text(SSD.format(
         fmu=Path(fmu).name, parameters="\n".join(lines), h=H))
     return folder
