@@ -178,13 +178,15 @@ def test_model_description_interface(fmu):
     md = fmu[0]
     by_name = {v.name: v for v in md.modelVariables}
     fields = ["law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
-              "mu", "n0", "sliders", "spread", "fs_ratio"]
+              "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind",
+              "theta_deg", "k", "kf2", "mu1", "mu2", "preload"]
     expected = {f"{a}_{f}": "parameter" for a in AXES for f in fields}
     for a in AXES:
         expected.update({f"u_{a}": "input", f"v_{a}": "input", f"n_{a}": "input",
                          f"F_{a}": "output", f"Ffr_{a}": "output", f"kt_{a}": "output",
                          f"slip_{a}": "output", f"E_fr_{a}": "output",
-                         f"w_{a}": "local"})
+                         f"w_{a}": "local", f"N_{a}": "output",
+                         f"N2_{a}": "output"})
     expected["E_fr"] = "output"
     assert {n: v.causality for n, v in by_name.items()} == expected
     units = {u.name for u in md.unitDefinitions}
@@ -196,6 +198,7 @@ def test_model_description_interface(fmu):
             assert v.variability == "fixed", v.name
     assert by_name["F_axial"].unit == "N" and by_name["kt_radial1"].unit == "N/m"
     assert by_name["axial_kc"].unit == "N/m3" and by_name["E_fr"].unit == "J"
+    assert by_name["radial1_theta_deg"].unit == "deg" and by_name["N2_axial"].unit == "N"
     newton = next(u for u in md.unitDefinitions if u.name == "N")
     assert (newton.baseUnit.kg, newton.baseUnit.m, newton.baseUnit.s) == (1, 1, -2)
     assert float(by_name["n_axial"].start) == AxisParameters().n0
