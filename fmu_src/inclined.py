@@ -33,7 +33,8 @@ from typing import NamedTuple
 
 __all__ = ["InclinedParameters", "InclinedStep", "ContactLost", "inclined_update",
            "inclined_forces", "InclinedState", "relaxed_state", "relaxed_force",
-           "stuck_stiffness", "step_derivatives", "INCLINED_FIELDS"]
+           "stuck_stiffness", "step_derivatives", "INCLINED_FIELDS", "axis_step",
+           "axis_normal_forces"]
 
 #: The element's parameters as fields of a mount axis (``fmu_src.mount_law.
 #: AxisParameters``): the axis's ``kf`` is the inclined surface's contact stiffness.
@@ -302,12 +303,19 @@ def _check_contact(x, vals, p):
 # --------------------------------------------------------------------------------------
 # The element as the friction element of a mount axis (fmu_src.mount_law.axis_force):
 # its state, the relaxed state at a deflection, and the derivatives of one increment.
+#
+# Sign convention on an axis: the element is pressed into the wedge when the mount is
+# compressed, x = -u (u = engine minus chassis deflection along the axis, negative in
+# compression), and it pushes the two sides apart, F = -N2 (a positive axis force is
+# tension). With the axis pointing up from the chassis to the engine, the engine's
+# weight presses the wedge in, as in the thesis's Fig. 5.4.
 # --------------------------------------------------------------------------------------
 
 
 class InclinedState(NamedTuple):
-    """Committed state of the element on a mount axis: the sliders ``w1``, ``w2`` (m)
-    and the committed deflection ``uc`` (m), where the next increment starts."""
+    """Committed state of the element on a mount axis: the sliders ``w1``, ``w2`` (m,
+    element coordinates) and the committed axis deflection ``uc`` (m; the element's
+    ``x = -uc``), where the next increment starts."""
 
     w1: float
     w2: float
@@ -315,20 +323,40 @@ class InclinedState(NamedTuple):
 
 
 def relaxed_state(p: InclinedParameters, u: float) -> InclinedState:
-    """The element at deflection ``u`` (m) with both surfaces unloaded (f1 = f2 = 0):
-    ``w1 = u / sin``, ``w2 = u cos / sin``. The harness's one-number slider value of
-    the axis (``w_<axis>``) is ``uc``; setting it relaxes the element there."""
+    """The element at axis deflection ``u`` (m) with both surfaces unloaded (f1 = f2
+    = 0): ``w1 = x / sin``, ``w2 = x cos / sin``, ``x = -u``. The harness's one-number
+    slider value of the axis (``w_<axis>``) is ``uc``; setting it relaxes the element
+    there."""
     s, c = p.sc
     u = float(u)
-    return InclinedState(u / s, u * c / s, u)
+    return InclinedState(-u / s, -u * c / s, u)
 
 
 def relaxed_force(u: float, p: InclinedParameters) -> tuple[float, float]:
-    """Force (N) and tangent (N/m) of the element relaxed at ``u`` (f1 = f2 = 0):
-    ``N2 = cos (k u cos / sin + P) / sin`` (eq. 5.1-5.3 with the sliders unloaded); the
-    static working point's law (``hbm.static``)."""
+    """Axis force (N) and tangent dF/du (N/m) of the element relaxed at axis
+    deflection ``u`` (f1 = f2 = 0): ``F = -N2 = -cos (k x cos / sin + P) / sin``,
+    ``x = -u`` (eq. 5.1-5.3 with the sliders unloaded); the static working point's law
+    (``hbm.static``)."""
     s, c = p.sc
-    return c * (p.k * u * c / s + p.preload) / s, p.k * c * c / (s * s)
+    return -c * (-p.k * u * c / s + p.preload) / s, p.k * c * c / (s * s)
+
+
+def axis_step(u: float, state: InclinedState, p: InclinedParameters
+              ) -> tuple[InclinedStep, InclinedState]:
+    """The element's increment on an axis from ``state`` to axis deflection ``u``:
+    the :class:`InclinedStep` in element coordinates (``x = -u``; the axis force is
+    ``-step.force``, its tangent dF/du is ``step.tangent``) and the new state."""
+    st = inclined_update(-u, -state.uc, state.w1, state.w2, p)
+    return st, InclinedState(st.w1, st.w2, u)
+
+
+def axis_normal_forces(state: InclinedState, p: InclinedParameters
+                       ) -> tuple[float, float]:
+    """Normal forces ``(N, N2)`` in N of the element in ``state``: the stuck-regime
+    forces at the committed deflection reproduce every regime's (a slipping surface's
+    slider sits at ``d_i - f_i / kf_i``)."""
+    _, _, n1, n2 = inclined_forces(-state.uc, state.w1, state.w2, p)
+    return n1, n2
 
 
 def stuck_stiffness(p: InclinedParameters) -> float:

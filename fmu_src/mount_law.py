@@ -43,7 +43,8 @@ friction element of the axis is the wedge of :mod:`fmu_src.inclined` (parameters
 forces follow from its kinematics (``n0``, ``mu`` and the normal-force input are not
 used). Its state is an :class:`fmu_src.inclined.InclinedState` (sliders ``w1``, ``w2``
 and the committed deflection); its force (N2, along the axis) is the friction force
-of the axis.
+of the axis. The wedge is pressed in when the axis is compressed (element deflection
+``x = -u``) and pushes the sides apart (axis force ``-N2``).
 
 A positive force is a tensile force along the axis: for u > 0 (engine moved in the
 positive axis direction relative to the chassis) the elastic force is positive, and the
@@ -61,8 +62,8 @@ from dataclasses import dataclass, fields, replace
 from typing import NamedTuple
 
 from .inclined import (INCLINED_FIELDS, InclinedParameters, InclinedState,
-                       inclined_forces, inclined_update, relaxed_force,
-                       relaxed_state, stuck_stiffness)
+                       axis_normal_forces, axis_step, relaxed_force, relaxed_state,
+                       stuck_stiffness)
 
 __all__ = [
     "AXES",
@@ -688,8 +689,7 @@ def normal_forces(p: AxisParameters, w, fs: float | None = None
     if not p.friction:
         return 0.0, 0.0
     if p.inclined is not None:
-        _, _, n1, n2 = inclined_forces(w.uc, w.w1, w.w2, p.inclined)
-        return n1, n2
+        return axis_normal_forces(w, p.inclined)
     if fs is None:
         return p.n0, 0.0
     return (fs / p.mu if p.mu > 0 else p.n0), 0.0
@@ -745,10 +745,9 @@ def iwan_update(u: float, w: tuple[float, ...], bank) -> AxisForce:
 def _friction(u: float, w, p: AxisParameters, fs: float):
     """Friction of a non-symmetric, micro-slip or inclined axis: (force, w_new,
     tangent, slipping, dissipated)."""
-    if p.inclined is not None:
-        st = inclined_update(u, w.uc, w.w1, w.w2, p.inclined)
-        return (st.force, InclinedState(st.w1, st.w2, u), st.tangent,
-                st.slip1 or st.slip2, st.dissipated)
+    if p.inclined is not None:   # element coordinates x = -u, F = -N2 (inclined.py)
+        st, w_new = axis_step(u, w, p.inclined)
+        return -st.force, w_new, st.tangent, st.slip1 or st.slip2, st.dissipated
     if p.sliders > 1:
         r = iwan_update(u, w, slider_bank(p, fs))
         return r[0], r[2], r[3], r[4], r[5]
