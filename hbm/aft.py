@@ -27,6 +27,7 @@ import numpy as np
 
 from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
 from hbm.friction_march import jenkins_aft
+from hbm.inclined import inclined_aft
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 
@@ -121,6 +122,19 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     dF : ndarray, shape (..., n_ax, 2H+1, 2H+1) or None
         ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
+    if ax.inclined:   # the inclined element's march (hbm.inclined), added per axis
+        F, dF = _aft_jenkins(U, ax, basis, jacobian)
+        for a, Fa, dFa in inclined_aft(basis.E @ U, ax, basis, jacobian):
+            F[..., a] += Fa
+            if jacobian:
+                dF[..., a, :, :] += dFa
+        return F, dF
+    return _aft_jenkins(U, ax, basis, jacobian)
+
+
+def _aft_jenkins(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
+                 jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`aft_forces` of the elastic remainders and the Jenkins elements."""
     E, P = basis.E, basis.P
     if _has_slider_banks(ax):   # micro-slip or non-symmetric sliders: per slider
         return _aft_banks(U, ax, basis, jacobian)
