@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from drymount.studies.output import md_table, new_figure, progress_bar, save_fig
-from fmu_src.inclined import ContactLost, axis_normal_forces, relaxed_state
+from fmu_src.inclined import axis_normal_forces, relaxed_state
 from fmu_src.mount_law import AxisParameters, MountParameters, ParameterError
 from hbm import frequency_response
 from hbm.branches import solutions_at
@@ -84,24 +84,57 @@ def incline_system(theta: float, k: float, preload: float):
     return replace(system, static_load=np.array([-MASS * G]))  # x points up
 
 
-def _solve_at(system, curve, prob, freqs, p, u0):
-    """Transmissibility (fundamental of the mount force / force amplitude) and the
-    range of N at each study frequency, solved on the curve (first stable crossing)."""
-    hb = prob.hb
-    out, nmin, nmax, missing = [], math.inf, -math.inf, 0
+def _covers(curve, f: float) -> bool:
+    fr = np.asarray(curve.freq_hz)
+    return fr.size > 1 and fr.min() <= f <= fr.max()
+
+
+def _curves_and_solutions(system, freqs):
+    """Per study frequency the HBM solution ``(prob, y)``, ``"lost"`` (the element
+    loses contact: no solution keeps N, N2 >= 0, e.g. load stepping from the working
+    point ends with N2 -> 0) or None (no solution found). Arc-length curves
+    (:func:`hbm.frequency_response`) start at the first frequency not yet covered and
+    run to the band's end; each frequency is solved on its curve."""
+    out, curve, prob = [], None, None
     for f in freqs:
-        sols = solutions_at(system, curve, float(f), prob, OPTIONS)
+        f = float(f)
+        if curve is None or not _covers(curve, f):
+            curve = frequency_response(system, f, float(freqs[-1]) + 1e-9 * f,
+                                       options=OPTIONS)
+            prob = build_problem(system, f, float(freqs[-1]) + 1e-9 * f, HARMONICS,
+                                 curve.n_samples, False)
+            if len(curve.freq_hz) == 0:
+                out.append("lost" if "loses contact" in curve.message else None)
+                curve = None
+                continue
+        sols = solutions_at(system, curve, f, prob, OPTIONS)
         if not sols:
-            missing += 1
-            out.append(math.nan)
+            out.append(None)
             continue
-        y = next((y for y, stable, _ in sols if stable), sols[0][0])
+        out.append((prob, next((y for y, stable, _ in sols if stable), sols[0][0])))
+    return out
+
+
+def _solve_at(system, freqs, p, u0):
+    """Transmissibility (fundamental of the mount force / force amplitude), the range
+    of N, the frequencies where contact is lost and the number of missing ones."""
+    trans, nmin, nmax, lost, missing = [], math.inf, -math.inf, [], 0
+    for f, sol in zip(freqs, _curves_and_solutions(system, freqs)):
+        if not isinstance(sol, tuple):
+            trans.append(math.nan)
+            if sol == "lost":
+                lost.append(float(f))
+            else:
+                missing += 1
+            continue
+        prob, y = sol
+        hb = prob.hb
         X, w = prob.x_of(y)
         c1, s1 = hb.axis_force_fundamental(X, w, [(0, 0)])
-        out.append(math.hypot(c1, s1) / FORCE_AMP)
+        trans.append(math.hypot(c1, s1) / FORCE_AMP)
         lo, hi, _, _ = normal_force_range(hb.time_samples(X, hb.n_samples)[:, 0], p, u0)
         nmin, nmax = min(nmin, lo), max(nmax, hi)
-    return np.array(out), nmin, nmax, missing
+    return np.array(trans), nmin, nmax, lost, missing
 
 
 def _design(theta, k, preload, freqs) -> InclineDesign:
@@ -115,21 +148,14 @@ def _design(theta, k, preload, freqs) -> InclineDesign:
     point = working_point(system)
     u0 = float(point.deflection[0, 0])
     d.x_static = -u0
-    try:
-        d.n_static, d.n2_static = axis_normal_forces(relaxed_state(p, u0), p)
-        if min(d.n_static, d.n2_static) < 0:
-            raise ContactLost("N < 0 at the working point")
-        curve = frequency_response(system, float(freqs[0]), float(freqs[-1]),
-                                   options=OPTIONS)
-        prob = build_problem(system, float(freqs[0]), float(freqs[-1]), HARMONICS,
-                             curve.n_samples, False)
-        d.trans, d.n_min, d.n_max, d.missing = _solve_at(system, curve, prob, freqs,
-                                                         p, u0)
-    except ContactLost as exc:
-        d.status = ("loses contact under the weight" if d.trans is None
-                    and math.isnan(d.n_min) and "working point" in str(exc)
-                    else f"loses contact ({exc})")
+    d.n_static, d.n2_static = axis_normal_forces(relaxed_state(p, u0), p)
+    if min(d.n_static, d.n2_static) < 0:
+        d.status = "loses contact under the weight"
         return d
+    d.trans, d.n_min, d.n_max, lost, d.missing = _solve_at(system, freqs, p, u0)
+    if lost:
+        span = f"{min(lost):g}" if len(lost) == 1 else f"{min(lost):g}-{max(lost):g}"
+        d.status = f"loses contact at {span} Hz"
     d.freqs = np.asarray(freqs)
     if not np.all(np.isnan(d.trans)):
         d.peak_trans = float(np.nanmax(d.trans))
