@@ -4,7 +4,8 @@ FrictionMount FMU), the configuration, and the refusals (batch, control).
 
 References: ``fmu_src.inclined.inclined_update`` stepped by hand on the trajectory the
 master produced (the element coordinates x = -u, axis force -N2), and the static
-equilibrium written out by hand. About 6 s (one FMU co-simulation of 0.5 s).
+equilibrium written out by hand. About 20 s (FMU co-simulations of the SDOF, the
+quarter car and the 6-DOF engine).
 """
 
 import math
@@ -164,3 +165,26 @@ def test_dynamic_stiffness_of_an_inclined_axis_aft_time_march_and_fmu():
     assert abs(k_aft - k_time) <= CHARACTERISE_TOL * abs(k_time)
     assert abs(k_fmu - k_time) <= CHARACTERISE_TOL * abs(k_time)
     assert k_time.imag > AXIS.c * 2 * math.pi * f   # friction dissipates
+
+
+def test_six_dof_engine_on_inclined_mounts_native_equals_fmu():
+    import copy
+
+    from drymount.config import config_from_dict
+
+    data = copy.deepcopy(load_preset("six_dof_halved").data)
+    table = {"kind": "inclined", "theta_deg": 60.0, "k": 2e4, "kf": 6e4, "kf2": 6e4,
+             "mu1": 0.3, "mu2": 0.3, "preload": 200.0}
+    for m in data["mounts"]:
+        m["axial"]["friction"] = dict(table)
+    data["static"] = {"gravity": True}
+    data["excitation"]["amplitude"] = [0.0, 0.0, 0.001]
+    s = config_from_dict(data).system
+    a = simulate(s, 7.0, 0.2, backend="native")
+    b = simulate(s, 7.0, 0.2, backend="fmu")
+    assert np.abs(a.q - b.q).max() == 0.0
+    col = list(a.force_names).index("mount3_axial")
+    p = s.elements[2].params.axial
+    u0 = working_point(s).deflection[2, 0]
+    ref = _hand_march(a.deflections[:, col], p, u0)
+    assert np.abs(a.friction_forces[:, col] - ref).max() <= HAND_TOL
