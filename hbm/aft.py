@@ -8,7 +8,8 @@ truncated to H harmonics; ``P E = I`` for ``N > 2H``). The Jacobian follows by t
 rule through the law's tangent at each sample (``dF/dU = P diag(df/du) E``); for the
 Jenkins element a stuck sample depends on the last slip sample too (see
 :func:`hbm.elements.jenkins_periodic`). The Jenkins march is vectorised over samples,
-elements and batches (:mod:`hbm.friction_march`).
+elements and batches (:mod:`hbm.friction_march`). The inclined element of Ch. 5 is
+marched by :mod:`hbm.inclined`, its Jacobian carried through the march.
 
 The nonlinear remainders are rate independent (the viscous part ``c v`` is linear and
 handled in the frequency domain), so the AFT needs no velocities and its result does
