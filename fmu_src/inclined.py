@@ -180,13 +180,23 @@ def inclined_forces(x: float, w1: float, w2: float, p: InclinedParameters,
     return _solve(x, w1, w2, reg, p, s, c)
 
 
+_SLOPES: dict = {}
+
+
 def _affine(x, w1, w2, reg, p, s, c):
     """Values at ``x`` and slopes d/dx of ``(f1, f2, N, N2)`` in regime ``reg``."""
     v0 = _solve(x, w1, w2, reg, p, s, c)
-    # the sliders only shift the intercept: slopes from the pair x = 0, 1 with w = 0
-    v0z = _solve(0.0, 0.0, 0.0, reg, p, s, c)
-    v1z = _solve(1.0, 0.0, 0.0, reg, p, s, c)
-    return v0, tuple(b - a for a, b in zip(v0z, v1z))
+    # the sliders only shift the intercept: slopes from the pair x = 0, 1 with w = 0,
+    # constants of (parameters, regime), computed once (the same floats every time)
+    key = (p, reg)
+    slopes = _SLOPES.get(key)
+    if slopes is None:
+        if len(_SLOPES) > 4096:   # many designs in one process: start over
+            _SLOPES.clear()
+        v0z = _solve(0.0, 0.0, 0.0, reg, p, s, c)
+        v1z = _solve(1.0, 0.0, 0.0, reg, p, s, c)
+        slopes = _SLOPES[key] = tuple(b - a for a, b in zip(v0z, v1z))
+    return v0, slopes
 
 
 def _consistent(vals, slopes, reg, at_limit, d, p, s, c) -> bool:
@@ -391,25 +401,42 @@ def step_derivatives(x: float, x_old: float, w1: float, w2: float,
     restuck = (not st.slip1 and st.w1 != w1) or (not st.slip2 and st.w2 != w2)
     if restuck:
         return _fd_derivatives(x, x_old, w1, w2, p)
-    s, c = p.sc
     # regime signs only matter for slipping surfaces: take them from the end forces
     sreg = (0 if not reg[0] else (1 if st.f1 >= 0 else -1),
             0 if not reg[1] else (1 if st.f2 >= 0 else -1))
+    return _regime_derivatives(p, sreg)
+
+
+_REGIME_CACHE: dict = {}
+
+
+def _regime_derivatives(p: InclinedParameters, sreg):
+    """The rows of :func:`step_derivatives` in regime ``sreg``: constants of the
+    regime (every force is affine there), computed once per (parameters, regime)."""
+    key = (p, sreg)
+    rows = _REGIME_CACHE.get(key)
+    if rows is not None:
+        return rows
+    if len(_REGIME_CACHE) > 4096:   # many designs in one process: start over
+        _REGIME_CACHE.clear()
+    s, c = p.sc
     base = _solve(0.0, 0.0, 0.0, sreg, p, s, c)
     dx = [b - a for a, b in zip(base, _solve(1.0, 0.0, 0.0, sreg, p, s, c))]
     dw1 = ([b - a for a, b in zip(base, _solve(0.0, 1.0, 0.0, sreg, p, s, c))]
-           if not reg[0] else [0.0] * 4)
+           if not sreg[0] else [0.0] * 4)
     dw2 = ([b - a for a, b in zip(base, _solve(0.0, 0.0, 1.0, sreg, p, s, c))]
-           if not reg[1] else [0.0] * 4)
+           if not sreg[1] else [0.0] * 4)
     rows_f = [(dx[i], 0.0, dw1[i], dw2[i]) for i in range(4)]   # f1, f2, N, N2
     w_rows = []
     for i, (kfi, da) in enumerate(((p.kf, 1.0 / s), (p.kf2, c / s))):
-        if reg[i]:
+        if sreg[i]:
             f = rows_f[i]
             w_rows.append((da - f[0] / kfi, 0.0, -f[2] / kfi, -f[3] / kfi))
         else:
             w_rows.append((0.0, 0.0, 1.0, 0.0) if i == 0 else (0.0, 0.0, 0.0, 1.0))
-    return rows_f[3], rows_f[2], w_rows[0], w_rows[1]
+    rows = (rows_f[3], rows_f[2], w_rows[0], w_rows[1])
+    _REGIME_CACHE[key] = rows
+    return rows
 
 
 def _fd_derivatives(x, x_old, w1, w2, p):

@@ -75,9 +75,9 @@ def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0
     m = E.shape[1] if jac else 0
     st0 = relaxed_state(p, w_start)
     w1, w2, x_old = st0.w1, st0.w2, -st0.uc
-    S1 = np.zeros(m)
-    S2 = np.zeros(m)
-    dx_old = np.zeros(m)   # d x_old / dU; the start deflection is fixed
+    # rows: d x / dU, d x_old / dU (the start deflection is fixed), d w1 / dU, d w2 / dU
+    sens = np.zeros((4, m))
+    minus_E = -E if jac else None
     force = np.empty(n)
     dforce = np.empty((n, m)) if jac else None
     n1 = np.empty(n)
@@ -91,11 +91,11 @@ def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0
             st = inclined_update(x, x_old, w1, w2, p)
             if jac:
                 dF, _, dw1, dw2 = step_derivatives(x, x_old, w1, w2, p, st)
-                dx = -E[i]
-                dforce[i] = -(dF[0] * dx + dF[1] * dx_old + dF[2] * S1 + dF[3] * S2)
-                S1, S2 = (dw1[0] * dx + dw1[1] * dx_old + dw1[2] * S1 + dw1[3] * S2,
-                          dw2[0] * dx + dw2[1] * dx_old + dw2[2] * S1 + dw2[3] * S2)
-                dx_old = dx
+                sens[0] = minus_E[i]
+                new = np.array((dF, dw1, dw2)) @ sens
+                dforce[i] = -new[0]
+                sens[1] = sens[0]
+                sens[2:] = new[1:]
             w1, w2, x_old = st.w1, st.w2, x
             force[i] = -st.force
             n1[i], n2[i] = st.n1, st.n2
