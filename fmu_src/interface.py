@@ -113,7 +113,8 @@ PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
      "one, >= 0 (1: symmetric friction)"),
 )
 
-_KIND_TEXT = ", ".join(f"{friction_kind_code(name)} = {name}" for name in FRICTION_KINDS)
+_KIND_TEXT = ", ".join(f"{friction_kind_code(name)} = {name}"
+                       for name in FRICTION_KINDS)
 
 #: (field, FMI type, unit, description) of the inclined element's per-axis parameters
 #: (thesis Ch. 5, fmu_src/inclined.py), in the order of the fields of

@@ -16,7 +16,8 @@ elastic laws' equilibrium and each slider's committed position is the deflection
 (``w = u0``). The inclined element of Ch. 5 is relaxed the same way (both surfaces
 unloaded, ``fmu_src.inclined.relaxed_state``); its wedge spring and preload still
 carry load through the inclined surface, so its relaxed force
-(``fmu_src.mount_law.static_force``) enters the equilibrium. The alternative, sliders stuck at a position committed before loading
+(``fmu_src.mount_law.static_force``) enters the equilibrium. The alternative, sliders
+stuck at a position committed before loading
 (e.g. 0), would let them carry up to Fs of the load, a history-dependent share that no
 datasheet knows; it moves the working point by at most Fs / k_tangent per mount.
 

@@ -216,7 +216,8 @@ class System:
         Each axis contributes ``k1`` (small-deflection stiffness) and ``c``; with
         ``stuck`` a friction element adds its contact stiffness ``kf`` (stuck
         Jenkins element; the both-stuck tangent of the inclined element,
-        ``AxisParameters.contact_stiffness``), otherwise it adds nothing (free slider). Exact for linear
+        ``AxisParameters.contact_stiffness``), otherwise it adds nothing (free
+        slider). Exact for linear
         laws; for the others it is the tangent at zero deflection.
 
         Returns ``(K_total, C_total)``, shapes (n, n).

@@ -200,7 +200,8 @@ def test_model_description_interface(fmu):
             assert v.variability == "fixed", v.name
     assert by_name["F_axial"].unit == "N" and by_name["kt_radial1"].unit == "N/m"
     assert by_name["axial_kc"].unit == "N/m3" and by_name["E_fr"].unit == "J"
-    assert by_name["radial1_theta_deg"].unit == "deg" and by_name["N2_axial"].unit == "N"
+    assert by_name["radial1_theta_deg"].unit == "deg"
+    assert by_name["N2_axial"].unit == "N"
     newton = next(u for u in md.unitDefinitions if u.name == "N")
     assert (newton.baseUnit.kg, newton.baseUnit.m, newton.baseUnit.s) == (1, 1, -2)
     assert float(by_name["n_axial"].start) == AxisParameters().n0
@@ -882,7 +883,8 @@ def test_inclined_axis_outputs_equal_the_law_and_state_restores(fmu):
     rng = np.random.default_rng(7)
     n = 400
     # random walk in compression (the wedge stays loaded), random rates
-    u = np.column_stack([-0.004 + np.cumsum(rng.normal(0, 2e-4, n)).clip(-0.006, 0.0035),
+    walk = np.cumsum(rng.normal(0, 2e-4, n)).clip(-0.006, 0.0035)
+    u = np.column_stack([-0.004 + walk,
                          0.002 * np.sin(np.arange(n) / 9.0), np.zeros(n)])
     v = rng.normal(0, 0.05, (n, 3))
     ref = _inclined_reference(u, v)
@@ -890,7 +892,7 @@ def test_inclined_axis_outputs_equal_the_law_and_state_restores(fmu):
     vr_in = [m.vr[f"{q}_{a}"] for a in AXES for q in ("u", "v")]
     vr_out = [m.vr[name] for name in INCLINED_OUTPUTS]
     try:
-        rows, state, after = [], None, None
+        rows, state = [], None
         for k in range(n):
             m.slave.setReal(vr_in, [x for j in range(3) for x in (u[k, j], v[k, j])])
             rows.append(m.slave.getReal(vr_out))

@@ -184,7 +184,8 @@ def _write(out: Path, designs, freqs) -> str:
     md = ["# Inclined friction mount (thesis Ch. 5)", "",
           f"Engine {MASS} kg (weight {MASS * G:.1f} N) on k1 = {K1:g} N/m, c = {C:g} "
           f"N s/m and the inclined element (kf = kf2 = 60 000 N/m, mu1 = mu2 = 0.3); "
-          f"harmonic force {FORCE_AMP:g} N; HBM H = {HARMONICS} (general route: arc-length "
+          f"harmonic force {FORCE_AMP:g} N; HBM H = {HARMONICS} (general route: "
+          f"arc-length "
           f"continuation, each frequency solved on the curve); the element relaxed at "
           f"the static working point; static x = compression under the weight.", "",
           md_table(["theta [deg]", "k [N/m]", "preload [N]", "status",
