@@ -10,6 +10,7 @@ from __future__ import annotations
 import ctypes
 import math
 import struct
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -17,7 +18,8 @@ import pytest
 from native_helpers import need_gcc, random_axis, run
 
 from fmu_build.native import CFLAGS, SOURCE_DIR
-from fmu_src.mount_law import LAWS, AxisParameters, axis_force
+from fmu_src.mount_law import (LAWS, AxisParameters, axis_force, initial_sliders,
+                               mean_slider)
 
 #: Agreement required between C and Python, relative to the force (or stiffness)
 #: scale of the samples. Measured: 0 (bit-identical) for every law.
@@ -168,3 +170,108 @@ def test_float_text_equals_python_repr(law):
     for x in values:
         law.ml_repr_double(x, buf, len(buf))
         assert buf.value.decode() == repr(x)
+
+
+# ---------------------------------------------------------------------- micro-slip
+
+#: Measured: 0 (bit-identical) for every output and slider; the mean slider position
+#: (math.fsum port) is compared for equality.
+MICRO_STEPS = 500
+MICRO_AXES = 200
+
+
+def _general_law(law):
+    """ctypes signatures of the general-friction entry points of mount_law.c."""
+    law.ml_axis_force_w.restype = Result
+    law.ml_axis_force_w.argtypes = [
+        ctypes.c_double, ctypes.c_double, ctypes.POINTER(ctypes.c_double),
+        ctypes.POINTER(Params), ctypes.c_double, ctypes.POINTER(ctypes.c_double)]
+    law.ml_mean_slider.restype = ctypes.c_double
+    law.ml_mean_slider.argtypes = [ctypes.POINTER(ctypes.c_double), ctypes.c_int]
+    law.ml_n_sliders.restype = ctypes.c_int
+    law.ml_n_sliders.argtypes = [ctypes.POINTER(Params)]
+    return law
+
+
+def _c_params(p: AxisParameters) -> Params:
+    return Params(law=LAWS.index(p.law), k1=p.k1, kc=p.kc, k2=p.k2, delta=p.delta,
+                  delta_neg=p.delta_neg, c=p.c, friction=int(p.friction), kf=p.kf,
+                  mu=p.mu, n0=p.n0, sliders=p.sliders, spread=p.spread,
+                  fs_ratio=p.fs_ratio)
+
+
+def _general_axis(rng, i: int) -> AxisParameters:
+    """Axis ``i`` of the sweep: micro-slip (2 to 64 sliders, spread 0 to 0.95, with
+    and without fs_ratio), non-symmetric macro-slip, and a few without friction."""
+    law_name = C_LAWS[i % len(C_LAWS)]
+    kind = i % 5
+    sliders = 1 if kind == 3 else int(rng.choice([2, 3, 8, 17, 64]))
+    spread = float(rng.choice([0.0, rng.uniform(0.0, 0.95)]))
+    fs_ratio = 1.0 if kind == 0 else float(rng.choice(
+        [0.0, rng.uniform(0.1, 0.9), rng.uniform(1.1, 3.0)]))
+    return replace(random_axis(rng, law_name, kind != 4), sliders=sliders,
+                   spread=spread, fs_ratio=fs_ratio)
+
+
+def test_micro_slip_and_fs_ratio_equal_python_law(law):
+    """1e5 steps: 200 axes (micro-slip, non-symmetric, both, friction off) x 500
+    steps of a random walk with reversals and a varying slip force (10 % zero:
+    contact lost), the slider state carried from step to step as in the FMU."""
+    law = _general_law(law)
+    rng = np.random.default_rng(314)
+    worst = dict.fromkeys(("force", "friction", "tangent", "dissipated"), 0.0)
+    scale = dict.fromkeys(worst, 1.0)
+    slips = sliders_off = 0
+    for i in range(MICRO_AXES):
+        p = _general_axis(rng, i)
+        cp = _c_params(p)
+        n = law.ml_n_sliders(ctypes.byref(cp))
+        assert n == (p.sliders if p.micro_slip else 1)
+        eps = p.fs / p.kf if p.friction and p.fs > 0 else 1e-3
+        # steps of up to 1.5 eps with random signs: partial and full slip, reversals
+        u = np.cumsum(rng.normal(0.0, 0.6 * eps, MICRO_STEPS)).tolist()
+        v = rng.normal(0.0, 0.5, MICRO_STEPS).tolist()
+        fs = np.where(rng.random(MICRO_STEPS) < 0.1, 0.0,
+                      p.fs * rng.uniform(0.5, 1.5, MICRO_STEPS)).tolist()
+        w_py = initial_sliders(p)
+        w_c = (ctypes.c_double * 64)()
+        w_new = (ctypes.c_double * 64)()
+        for ui, vi, si in zip(u, v, fs, strict=True):
+            r = law.ml_axis_force_w(ui, vi, w_c, ctypes.byref(cp), si, w_new)
+            ref = axis_force(ui, vi, w_py, p, si)
+            assert bool(r.slipping) == ref.slipping
+            slips += ref.slipping
+            for name, value in (("force", ref.force), ("friction", ref.friction_force),
+                                ("tangent", ref.tangent),
+                                ("dissipated", ref.dissipated)):
+                worst[name] = max(worst[name], abs(getattr(r, name) - value))
+                scale[name] = max(scale[name], abs(value))
+            w_py = ref.w_new
+            got = list(w_new[:n])
+            assert got == (list(w_py) if isinstance(w_py, tuple) else [w_py])
+            ctypes.memmove(w_c, w_new, 8 * n)
+            assert law.ml_mean_slider(w_c, n) == mean_slider(w_py)
+            sliders_off += isinstance(w_py, tuple) and len(set(w_py)) > 1
+    assert 0.05 * MICRO_AXES * MICRO_STEPS < slips < 0.95 * MICRO_AXES * MICRO_STEPS
+    assert sliders_off > 0.1 * MICRO_AXES * MICRO_STEPS  # sliders apart (measured 21 %)
+    for name, err in worst.items():
+        assert err <= TOL_REL * scale[name], (name, err, scale[name])
+
+
+def test_mean_slider_is_python_fsum(law):
+    """ml_mean_slider == mount_law.mean_slider (math.fsum / n) exactly, on sums with
+    cancellation and ties of the half-even rounding."""
+    law = _general_law(law)
+    rng = np.random.default_rng(9)
+    cases = [[1e-16, 1.0, 1e16], [1.0, 1e100, 1.0, -1e100], [0.1] * 10 + [0.2],
+             [1e308, -1e308, 1e-300], [2.0 ** -1074, 1.0, -1.0],
+             [1.0, 2.0 ** -53, 2.0 ** -106, 3.0]]
+    for _ in range(3000):
+        n = int(rng.integers(2, 65))
+        mag = 10.0 ** rng.integers(-20, 20, n)
+        cases.append((rng.standard_normal(n) * mag).tolist())
+    buf = (ctypes.c_double * 64)()
+    for w in cases:
+        for i, x in enumerate(w):
+            buf[i] = x
+        assert law.ml_mean_slider(buf, len(w)) == mean_slider(tuple(w)), w

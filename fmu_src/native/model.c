@@ -13,7 +13,7 @@ static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '1'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '2'};
 
 size_t md_n_variables(void) { return MD_N_VARIABLES; }
 
@@ -104,6 +104,16 @@ static double get_field(const ml_axis_params *p, md_field field)
     return 0.0;
 }
 
+/* w_<axis> = value: every slider of axis j there (FrictionMount._set_sliders: as
+ * many as the current <axis>_sliders says, one if that is not > 1). */
+static void put_sliders(md_data *d, int j, double value)
+{
+    int i, n = d->p[j].sliders;
+    for (i = 0; i < ML_MAX_SLIDERS; ++i)
+        d->w[j][i] = value;
+    d->nw[j] = n > 1 ? (n < ML_MAX_SLIDERS ? n : ML_MAX_SLIDERS) : 1;
+}
+
 static void invalidate(md_instance *m)
 {
     m->valid[0] = m->valid[1] = m->valid[2] = 0;
@@ -122,7 +132,7 @@ void md_reset(md_instance *m)
         case MD_PARAMETER: set_field(&m->d.p[var->axis], var->field, var->start); break;
         case MD_INPUT_U: m->d.u[var->axis] = var->start; break;
         case MD_INPUT_V: m->d.v[var->axis] = var->start; break;
-        case MD_LOCAL_W: m->d.w[var->axis] = var->start; break;
+        case MD_LOCAL_W: put_sliders(&m->d, var->axis, var->start); break;
         default: break;  /* n follows <axis>_n0 until set; outputs are computed */
         }
     }
@@ -174,20 +184,6 @@ void md_delete(md_instance *m)
 
 /* ------------------------------------------------------------------ the law */
 
-/* The micro-slip and non-symmetric friction elements are not ported to C: a clear
- * message (1) instead of the macro-slip result, 0 if the axis uses neither. */
-static int unported(const ml_axis_params *p, const char *prefix, char *buf,
-                    size_t size)
-{
-    if (!p->friction || (p->sliders == 1 && p->fs_ratio == 1.0))
-        return 0;
-    snprintf(buf, size, "`%ssliders` = %d, `%sfs_ratio` = %g: the native FMU ports "
-             "only the macro-slip element (sliders = 1, fs_ratio = 1); build the "
-             "PythonFMU FrictionMount.fmu for micro-slip or non-symmetric friction",
-             prefix, p->sliders, prefix, p->fs_ratio);
-    return 1;
-}
-
 /* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
 static md_status check_parameters(md_instance *m, const char *call)
 {
@@ -197,8 +193,7 @@ static md_status check_parameters(md_instance *m, const char *call)
         return MD_OK;
     for (j = 0; j < 3; ++j) {
         snprintf(prefix, sizeof prefix, "%s_", AXIS_NAMES[j]);
-        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0
-                && !unported(&m->d.p[j], prefix, one, sizeof one))
+        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0)
             continue;
         if (count++)
             strncat(all, "; ", sizeof all - strlen(all) - 1);
@@ -207,6 +202,15 @@ static md_status check_parameters(md_instance *m, const char *call)
     if (count) {
         md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all, call);
         return MD_ERROR;
+    }
+    /* a micro-slip axis keeps one position per slider (FrictionMount._prepare) */
+    for (j = 0; j < 3; ++j) {
+        int want = ml_n_sliders(&m->d.p[j]);
+        if (m->d.nw[j] != want) {
+            double mean = ml_mean_slider(m->d.w[j], m->d.nw[j]);
+            put_sliders(&m->d, j, mean);
+            m->d.nw[j] = want;
+        }
     }
     m->params_ok = 1;
     return MD_OK;
@@ -240,9 +244,10 @@ static md_status evaluate(md_instance *m, const char *call, int j)
 #ifdef DRYMOUNT_NULL_MODEL
     /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
     memset(&m->res[j], 0, sizeof m->res[j]);
-    m->res[j].w_new = m->d.w[j];
+    m->res[j].w_new = m->d.w[j][0];
+    memcpy(m->w_new[j], m->d.w[j], ml_n_sliders(&m->d.p[j]) * sizeof(double));
 #else
-    m->res[j] = ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n);
+    m->res[j] = ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n, m->w_new[j]);
     if (!(isfinite(m->res[j].force) && isfinite(m->res[j].tangent))) {
         const char *a = AXIS_NAMES[j];
         char sf[40];
@@ -333,7 +338,7 @@ md_status md_do_step(md_instance *m, const char *call, double t, double h)
             return status;  /* discard or error: nothing committed */
     }
     for (j = 0; j < 3; ++j) {
-        m->d.w[j] = m->res[j].w_new;
+        memcpy(m->d.w[j], m->w_new[j], ml_n_sliders(&m->d.p[j]) * sizeof(double));
         m->d.e[j] += m->res[j].dissipated;
     }
     m->d.time = t + h;
@@ -377,7 +382,7 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
     case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
     case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
-    case MD_LOCAL_W: *value = m->d.w[j]; return MD_OK;
+    case MD_LOCAL_W: *value = ml_mean_slider(m->d.w[j], m->d.nw[j]); return MD_OK;
     case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
     default: break;
@@ -435,7 +440,7 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: m->d.u[j] = value; break;
     case MD_INPUT_V: m->d.v[j] = value; break;
     case MD_INPUT_N: m->d.n[j] = value; m->d.n_set[j] = 1; break;
-    default: m->d.w[j] = value; break;
+    default: put_sliders(&m->d, j, value); break;
     }
     m->valid[j] = 0;
     return MD_OK;

@@ -63,7 +63,11 @@ typedef struct {
     ml_axis_params p[3];
     double u[3], v[3], n[3];
     int n_set[3];
-    double w[3], e[3];
+    /* committed slider positions per axis: nw[j] of them are the state (1, or the
+     * sliders of a micro-slip axis; all equal to the last w_<axis> set) */
+    double w[3][ML_MAX_SLIDERS];
+    int nw[3];
+    double e[3];
     double time;      /* end of the last step (= start time before the first) */
     int started;      /* a step was done since initialization */
 } md_data;
@@ -80,6 +84,7 @@ typedef struct {
     int params_ok;         /* parameters checked since the last parameter change */
     int valid[3];          /* cached trial results per axis */
     ml_axis_result res[3];
+    double w_new[3][ML_MAX_SLIDERS];  /* slider positions of the cached results */
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */
 } md_instance;

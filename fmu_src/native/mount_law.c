@@ -81,28 +81,197 @@ double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new
     return trial;
 }
 
+double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_neg,
+                        double *w_new, double *tangent, int *slipping)
+{
+    double trial = kf * (u - w);
+    if (trial > fs_pos) {
+        *w_new = u - fs_pos / kf;
+        *tangent = 0.0;
+        *slipping = 1;
+        return fs_pos;
+    }
+    if (trial < -fs_neg) {
+        *w_new = u + fs_neg / kf;
+        *tangent = 0.0;
+        *slipping = 1;
+        return -fs_neg;
+    }
+    *w_new = w;
+    *tangent = kf;
+    *slipping = 0;
+    return trial;
+}
+
+ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
+                              double fs, double *w_new)
+{
+    /* slider_bank: k_i = kf / S, r_i = 1 + spread ((2 i + 1) / S - 1),
+     * fs_pos_i = Fs r_i / S, fs_neg_i = Fs r_i fs_ratio / S (same operation order) */
+    ml_axis_result r;
+    int n = p->sliders, i;
+    double k = p->kf / n, f = 0.0, kt = 0.0, diss = 0.0;
+    int slipping = 0;
+    for (i = 0; i < n; ++i) {
+        double ri = 1.0 + p->spread * ((double)(2 * i + 1) / n - 1.0);
+        double fp = fs * ri / n, fn = fs * ri * p->fs_ratio / n;
+        double wi = w[i], trial = k * (u - wi), wn;
+        if (trial > fp) {
+            wn = u - fp / k;
+            f += fp;
+            diss += fp * (wn - wi);
+            slipping = 1;
+        } else if (trial < -fn) {
+            wn = u + fn / k;
+            f -= fn;
+            diss += fn * (wi - wn);
+            slipping = 1;
+        } else {
+            wn = wi;
+            f += trial;
+            kt += k;
+        }
+        w_new[i] = wn;
+    }
+    r.force = f;
+    r.friction = f;
+    r.w_new = w_new[0];
+    r.tangent = kt;
+    r.slipping = slipping;
+    r.dissipated = diss;
+    return r;
+}
+
+int ml_n_sliders(const ml_axis_params *p)
+{
+    return p->friction && p->sliders > 1 ? p->sliders : 1;
+}
+
+/* math.fsum (CPython's Shewchuk summation with its half-even correction) of n <=
+ * ML_MAX_SLIDERS finite values; a non-finite term or an intermediate overflow (where
+ * Python raises) gives the plain sum. */
+static double exact_sum(const double *values, int n)
+{
+    double part[ML_MAX_SLIDERS + 1], x, y, t, hi = 0.0, lo = 0.0, yr, plain = 0.0;
+    int np = 0, i, j, k;
+    for (k = 0; k < n; ++k)
+        plain += values[k];
+    if (!isfinite(plain))
+        return plain;
+    for (k = 0; k < n; ++k) {
+        x = values[k];
+        for (i = j = 0; j < np; ++j) {
+            y = part[j];
+            if (fabs(x) < fabs(y)) {
+                t = x;
+                x = y;
+                y = t;
+            }
+            hi = x + y;
+            yr = hi - x;
+            lo = y - yr;
+            if (lo != 0.0)
+                part[i++] = lo;
+            x = hi;
+        }
+        np = i;
+        if (x != 0.0) {
+            if (!isfinite(x))
+                return plain;
+            part[np++] = x;
+        }
+    }
+    hi = 0.0;
+    if (np > 0) {
+        hi = part[--np];
+        while (np > 0) {
+            x = hi;
+            y = part[--np];
+            hi = x + y;
+            yr = hi - x;
+            lo = y - yr;
+            if (lo != 0.0)
+                break;
+        }
+        if (np > 0 && ((lo < 0.0 && part[np - 1] < 0.0)
+                       || (lo > 0.0 && part[np - 1] > 0.0))) {
+            y = lo * 2.0;
+            x = hi + y;
+            yr = x - hi;
+            if (y == yr)
+                hi = x;
+        }
+    }
+    return hi;
+}
+
+double ml_mean_slider(const double *w, int n)
+{
+    int i;
+    if (n <= 1)
+        return w[0];
+    for (i = 1; i < n; ++i)
+        if (!(w[i] == w[0]))
+            return exact_sum(w, n) / n;
+    return w[0];
+}
+
+ml_axis_result ml_axis_force_w(double u, double v, const double *w,
+                               const ml_axis_params *p, double fs, double *w_new)
+{
+    ml_axis_result r;
+    double f_el, k_el, k_fr;
+    ml_elastic_force(u, p->law, p->k1, p->kc, p->k2, p->delta, p->delta_neg, &f_el,
+                     &k_el);
+    if (!p->friction) {
+        r.force = f_el + p->c * v;
+        r.friction = 0.0;
+        r.w_new = w_new[0] = w[0];
+        r.tangent = k_el;
+        r.slipping = 0;
+        r.dissipated = 0.0;
+        return r;
+    }
+    if (p->sliders > 1) {  /* micro-slip (mount_law._friction) */
+        ml_axis_result fr = ml_iwan_update(u, w, p, fs, w_new);
+        r.friction = fr.force;
+        r.w_new = fr.w_new;
+        k_fr = fr.tangent;
+        r.slipping = fr.slipping;
+        r.dissipated = fr.dissipated;
+    } else if (p->fs_ratio != 1.0) {  /* non-symmetric macro-slip */
+        double fn = fs * p->fs_ratio;
+        r.friction = ml_slider_update(u, w[0], p->kf, fs, fn, &r.w_new, &k_fr,
+                                      &r.slipping);
+        r.dissipated = (r.w_new > w[0] ? fs : fn) * fabs(r.w_new - w[0]);
+        w_new[0] = r.w_new;
+    } else {
+        r.friction = ml_jenkins_update(u, w[0], p->kf, fs, &r.w_new, &k_fr,
+                                       &r.slipping);
+        r.dissipated = fs * fabs(r.w_new - w[0]);
+        w_new[0] = r.w_new;
+    }
+    r.force = f_el + p->c * v + r.friction;
+    r.tangent = k_el + k_fr;
+    return r;
+}
+
 ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
                              double kc, double k2, double delta, double delta_neg,
                              double c, double kf, double fs)
 {
-    ml_axis_result r;
-    double f_el, k_el;
-    ml_elastic_force(u, law, k1, kc, k2, delta, delta_neg, &f_el, &k_el);
-    if (kf > 0.0) {
-        double k_fr;
-        r.friction = ml_jenkins_update(u, w, kf, fs, &r.w_new, &k_fr, &r.slipping);
-        r.force = f_el + c * v + r.friction;
-        r.tangent = k_el + k_fr;
-        r.dissipated = fs * fabs(r.w_new - w);
-        return r;
-    }
-    r.force = f_el + c * v;
-    r.friction = 0.0;
-    r.w_new = w;
-    r.tangent = k_el;
-    r.slipping = 0;
-    r.dissipated = 0.0;
-    return r;
+    ml_axis_params p = ml_default_params();
+    double w_new;
+    p.law = law;
+    p.k1 = k1;
+    p.kc = kc;
+    p.k2 = k2;
+    p.delta = delta;
+    p.delta_neg = delta_neg;
+    p.c = c;
+    p.friction = kf > 0.0;
+    p.kf = kf;
+    return ml_axis_force_w(u, v, &w, &p, fs, &w_new);
 }
 
 double ml_slip_force(const ml_axis_params *p, double n)
@@ -113,12 +282,10 @@ double ml_slip_force(const ml_axis_params *p, double n)
     return n > 0.0 ? p->mu * n : 0.0;
 }
 
-ml_axis_result ml_axis_force_p(double u, double v, double w, const ml_axis_params *p,
-                               double n)
+ml_axis_result ml_axis_force_p(double u, double v, const double *w,
+                               const ml_axis_params *p, double n, double *w_new)
 {
-    return ml_axis_force(u, v, w, p->law, p->k1, p->kc, p->k2, p->delta,
-                         p->delta_neg, p->c, p->friction ? p->kf : 0.0,
-                         ml_slip_force(p, n));
+    return ml_axis_force_w(u, v, w, p, ml_slip_force(p, n), w_new);
 }
 
 /* ------------------------------------------------------------------ messages */

@@ -22,18 +22,19 @@ typedef struct {
     double k1, kc, k2, delta, delta_neg, c;
     int friction;     /* 0 or 1 */
     double kf, mu, n0;
-    int sliders;      /* micro-slip sliders; the C port runs only 1 (see model.c) */
-    double spread, fs_ratio;  /* checked; fs_ratio != 1 is not ported either */
+    int sliders;      /* Jenkins elements of the micro-slip (Iwan) element, 1..64 */
+    double spread, fs_ratio;  /* slip-displacement spread; negative/positive Fs */
 } ml_axis_params;
 
 /* Result of mount_law.axis_force. */
 typedef struct {
     double force;       /* total force, N */
     double friction;    /* friction force, N */
-    double w_new;       /* slider position after the increment, m */
+    double w_new;       /* slider position after the increment, m (micro-slip: the
+                           first slider's; all of them in the caller's array) */
     double tangent;     /* dF/du, N/m */
     int slipping;       /* 1 while the slider slips */
-    double dissipated;  /* fs * |w_new - w|, J */
+    double dissipated;  /* energy the sliders dissipate in the increment, J */
 } ml_axis_result;
 
 /* The thesis's defaults (mount_law.AxisParameters()). */
@@ -47,7 +48,33 @@ void ml_elastic_force(double u, int law, double k1, double kc, double k2,
 double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new,
                          double *tangent, int *slipping);
 
-/* mount_law.axis_force (kf <= 0: no friction element). */
+/* mount_law.slider_update (non-symmetric slip forces fs_pos, fs_neg); returns the
+ * friction force. */
+double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_neg,
+                        double *w_new, double *tangent, int *slipping);
+
+/* mount_law.iwan_update with the bank mount_law.slider_bank(p, fs): the micro-slip
+ * element of axis p alone (force = friction). w holds the p->sliders committed
+ * positions, w_new receives them after the increment. */
+ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
+                              double fs, double *w_new);
+
+/* Number of slider positions in the friction state of axis p
+ * (mount_law.initial_sliders): p->sliders for a micro-slip axis, else 1. */
+int ml_n_sliders(const ml_axis_params *p);
+
+/* mount_law.mean_slider of the n positions w: the common position when all are
+ * equal, else their exactly rounded sum (math.fsum) / n. */
+double ml_mean_slider(const double *w, int n);
+
+/* mount_law.axis_force for every friction element of p (macro-slip, non-symmetric,
+ * micro-slip) with slip force fs: w holds the ml_n_sliders(p) committed positions,
+ * w_new receives them after the increment (nothing else is written). */
+ml_axis_result ml_axis_force_w(double u, double v, const double *w,
+                               const ml_axis_params *p, double fs, double *w_new);
+
+/* mount_law.axis_force of the symmetric macro-slip element (kf <= 0: no friction
+ * element). */
 ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
                              double kc, double k2, double delta, double delta_neg,
                              double c, double kf, double fs);
@@ -55,9 +82,9 @@ ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
 /* Slip force from the normal-force input: mu * max(n, 0) with friction, else 0. */
 double ml_slip_force(const ml_axis_params *p, double n);
 
-/* mount_law.axis_force with the parameters of an axis and normal force n. */
-ml_axis_result ml_axis_force_p(double u, double v, double w, const ml_axis_params *p,
-                               double n);
+/* ml_axis_force_w with the parameters of an axis and normal force n. */
+ml_axis_result ml_axis_force_p(double u, double v, const double *w,
+                               const ml_axis_params *p, double n, double *w_new);
 
 /* Append the problems of p (AxisParameters.problems(prefix), plus the law-code check
  * of the FMU) to buf as "; "-separated text. Returns the number of problems found.
