@@ -18,6 +18,7 @@ import pytest
 from native_helpers import need_gcc, random_axis, run
 
 from fmu_build.native import CFLAGS, SOURCE_DIR
+from fmu_src import mount_law
 from fmu_src.mount_law import (LAWS, AxisParameters, axis_force, initial_sliders,
                                mean_slider)
 
@@ -40,16 +41,19 @@ class Params(ctypes.Structure):
                 ("friction", ctypes.c_int), ("kf", ctypes.c_double),
                 ("mu", ctypes.c_double), ("n0", ctypes.c_double),
                 ("sliders", ctypes.c_int), ("spread", ctypes.c_double),
-                ("fs_ratio", ctypes.c_double)]
+                ("fs_ratio", ctypes.c_double), ("friction_kind", ctypes.c_int)] + [
+        (name, ctypes.c_double)
+        for name in ("theta_deg", "k", "kf2", "mu1", "mu2", "preload")]
 
 
 @pytest.fixture(scope="module")
 def law(tmp_path_factory):
-    """mount_law.c compiled with the FMU's flags into a shared library."""
+    """mount_law.c (with inclined.c, the inclined element) compiled with the FMU's
+    flags into a shared library."""
     need_gcc()
     lib = tmp_path_factory.mktemp("law") / "libmountlaw.so"
     proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
-                SOURCE_DIR / "mount_law.c", "-lm"])
+                SOURCE_DIR / "mount_law.c", SOURCE_DIR / "inclined.c", "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(lib))
     dll.ml_axis_force.restype = Result
@@ -129,22 +133,63 @@ BAD = [
 ]
 
 
+#: The friction elements of the law (``mount_law.FRICTION_KINDS`` where the law has
+#: the inclined element as a friction kind of an axis; the C port has both).
+KINDS = getattr(mount_law, "FRICTION_KINDS", ("jenkins",))
+if "inclined" in KINDS:
+    BAD += [
+        {"friction_kind": 2},
+        {"friction_kind": -1, "law": 5},
+        {"friction": True, "friction_kind": "inclined", "theta_deg": 95.0,
+         "kf2": 0.0},
+        {"friction": True, "friction_kind": "inclined", "theta_deg": 10.0,
+         "mu1": 0.5},
+        {"friction": True, "friction_kind": "inclined", "sliders": 3,
+         "fs_ratio": 0.5, "kf": 0.0},
+        {"friction": False, "friction_kind": "inclined", "theta_deg": 95.0},
+    ]
+
+
+def _code(values: dict, name: str, table: tuple[str, ...]) -> int:
+    value = values.get(name, table[0])
+    return value if isinstance(value, int) else table.index(value)
+
+
+def _params(values: dict) -> Params:
+    """The C parameters of raw FMU-like values (codes for law and friction_kind)."""
+    out = Params()
+    for name, ctype in Params._fields_:
+        if name == "law":
+            out.law = _code(values, "law", LAWS)
+        elif name == "friction_kind":
+            out.friction_kind = _code(values, "friction_kind", KINDS)
+        elif name in values:
+            setattr(out, name, int(values[name]) if ctype is ctypes.c_int
+                    else float(values[name]))
+    return out
+
+
+def _fmu_code_check(values: dict, name: str, table) -> list[str]:
+    """The FMU's own check of an integer code (fmu_src/friction_mount.py, _prepare);
+    replaces an invalid code by the first entry as it does."""
+    code = values.get(name)
+    if not isinstance(code, int):
+        return []
+    if 0 <= code < len(table):
+        values[name] = table[code]
+        return []
+    allowed = ", ".join(f"{i} = {entry}" for i, entry in enumerate(table))
+    values[name] = table[0]
+    return [f"`radial1_{name}` must be one of {allowed}, got {code!r}"]
+
+
 @pytest.mark.parametrize("bad", BAD)
 def test_parameter_messages_equal_python(law, bad):
     values = {**AxisParameters().to_dict(), **bad}
-    code = values["law"]
-    p = Params(law=code if isinstance(code, int) else LAWS.index(code),
-               **{k: float(v) for k, v in values.items()
-                  if k not in ("law", "friction", "sliders")},
-               friction=int(values["friction"]), sliders=values["sliders"])
-    expected = []
-    if isinstance(code, int) and not 0 <= code < len(LAWS):
-        # the FMU's own law check (fmu_src/friction_mount.py, _prepare)
-        allowed = ", ".join(f"{i} = {name}" for i, name in enumerate(LAWS))
-        expected.append(f"`radial1_law` must be one of {allowed}, got {code!r}")
-        values["law"] = LAWS[0]
-    elif isinstance(code, int):
-        values["law"] = LAWS[code]
+    p = _params(values)
+    expected = _fmu_code_check(values, "law", LAWS)
+    if "friction_kind" in values:
+        expected += _fmu_code_check(values, "friction_kind", KINDS)
     expected += AxisParameters.problems(SimpleNamespace(**values), "radial1_")
     assert expected, "every case has a problem"
     assert _problems_c(law, p, "radial1_") == expected
@@ -182,14 +227,15 @@ MICRO_AXES = 200
 
 def _general_law(law):
     """ctypes signatures of the general-friction entry points of mount_law.c."""
-    law.ml_axis_force_w.restype = Result
+    law.ml_axis_force_w.restype = ctypes.c_int
     law.ml_axis_force_w.argtypes = [
         ctypes.c_double, ctypes.c_double, ctypes.POINTER(ctypes.c_double),
-        ctypes.POINTER(Params), ctypes.c_double, ctypes.POINTER(ctypes.c_double)]
+        ctypes.POINTER(Params), ctypes.c_double, ctypes.POINTER(ctypes.c_double),
+        ctypes.POINTER(Result), ctypes.c_char_p, ctypes.c_size_t]
     law.ml_mean_slider.restype = ctypes.c_double
     law.ml_mean_slider.argtypes = [ctypes.POINTER(ctypes.c_double), ctypes.c_int]
-    law.ml_n_sliders.restype = ctypes.c_int
-    law.ml_n_sliders.argtypes = [ctypes.POINTER(Params)]
+    law.ml_state_size.restype = ctypes.c_int
+    law.ml_state_size.argtypes = [ctypes.POINTER(Params)]
     return law
 
 
@@ -225,7 +271,7 @@ def test_micro_slip_and_fs_ratio_equal_python_law(law):
     for i in range(MICRO_AXES):
         p = _general_axis(rng, i)
         cp = _c_params(p)
-        n = law.ml_n_sliders(ctypes.byref(cp))
+        n = law.ml_state_size(ctypes.byref(cp))
         assert n == (p.sliders if p.micro_slip else 1)
         eps = p.fs / p.kf if p.friction and p.fs > 0 else 1e-3
         # steps of up to 1.5 eps with random signs: partial and full slip, reversals
@@ -236,8 +282,10 @@ def test_micro_slip_and_fs_ratio_equal_python_law(law):
         w_py = initial_sliders(p)
         w_c = (ctypes.c_double * 64)()
         w_new = (ctypes.c_double * 64)()
+        r = Result()
         for ui, vi, si in zip(u, v, fs, strict=True):
-            r = law.ml_axis_force_w(ui, vi, w_c, ctypes.byref(cp), si, w_new)
+            assert law.ml_axis_force_w(ui, vi, w_c, ctypes.byref(cp), si, w_new,
+                                       ctypes.byref(r), None, 0) == 0
             ref = axis_force(ui, vi, w_py, p, si)
             assert bool(r.slipping) == ref.slipping
             slips += ref.slipping

@@ -78,6 +78,13 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_SLIDERS: p->sliders = (int)value; break;
     case MD_P_SPREAD: p->spread = value; break;
     case MD_P_FS_RATIO: p->fs_ratio = value; break;
+    case MD_P_FRICTION_KIND: p->friction_kind = (int)value; break;
+    case MD_P_THETA_DEG: p->theta_deg = value; break;
+    case MD_P_K: p->k = value; break;
+    case MD_P_KF2: p->kf2 = value; break;
+    case MD_P_MU1: p->mu1 = value; break;
+    case MD_P_MU2: p->mu2 = value; break;
+    case MD_P_PRELOAD: p->preload = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -99,19 +106,66 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_SLIDERS: return p->sliders;
     case MD_P_SPREAD: return p->spread;
     case MD_P_FS_RATIO: return p->fs_ratio;
+    case MD_P_FRICTION_KIND: return p->friction_kind;
+    case MD_P_THETA_DEG: return p->theta_deg;
+    case MD_P_K: return p->k;
+    case MD_P_KF2: return p->kf2;
+    case MD_P_MU1: return p->mu1;
+    case MD_P_MU2: return p->mu2;
+    case MD_P_PRELOAD: return p->preload;
     case MD_P_NONE: break;
     }
     return 0.0;
 }
 
-/* w_<axis> = value: every slider of axis j there (FrictionMount._set_sliders: as
- * many as the current <axis>_sliders says, one if that is not > 1). */
+/* Every slider of axis j at value, as many as the current <axis>_sliders says (one if
+ * that is not > 1). */
 static void put_sliders(md_data *d, int j, double value)
 {
     int i, n = d->p[j].sliders;
     for (i = 0; i < ML_MAX_SLIDERS; ++i)
         d->w[j][i] = value;
     d->nw[j] = n > 1 ? (n < ML_MAX_SLIDERS ? n : ML_MAX_SLIDERS) : 1;
+    d->wkind[j] = 0;
+}
+
+/* mount_law.initial_sliders of the checked axis j at value: the inclined element
+ * relaxed there, or n = ml_state_size sliders there. */
+static void initial_state(md_data *d, int j, double value)
+{
+    if (ml_is_inclined(&d->p[j])) {
+        ml_relaxed_state(&d->p[j], value, d->w[j]);
+        d->nw[j] = 3;
+        d->wkind[j] = 1;
+        return;
+    }
+    put_sliders(d, j, value);
+    d->nw[j] = ml_state_size(&d->p[j]);
+}
+
+/* mount_law.mean_slider of axis j's committed state (uc of the inclined element). */
+static double mean_state(const md_data *d, int j)
+{
+    return d->wkind[j] ? d->w[j][2] : ml_mean_slider(d->w[j], d->nw[j]);
+}
+
+/* mount_law.conform_state once the parameters are checked: the state of the axis's
+ * kind, kept if it is one already. */
+static void conform_state(md_data *d, int j)
+{
+    const ml_axis_params *p = &d->p[j];
+    if (ml_is_inclined(p)) {
+        if (d->wkind[j])
+            return;
+        if (d->nw[j] == 3) {  /* a 3-sequence reads as (w1, w2, uc) */
+            d->wkind[j] = 1;
+            return;
+        }
+        initial_state(d, j, mean_state(d, j));
+        return;
+    }
+    if (d->wkind[j] || d->nw[j] != ml_state_size(p))
+        initial_state(d, j, mean_state(d, j));
 }
 
 static void invalidate(md_instance *m)
@@ -203,15 +257,10 @@ static md_status check_parameters(md_instance *m, const char *call)
         md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all, call);
         return MD_ERROR;
     }
-    /* a micro-slip axis keeps one position per slider (FrictionMount._prepare) */
-    for (j = 0; j < 3; ++j) {
-        int want = ml_n_sliders(&m->d.p[j]);
-        if (m->d.nw[j] != want) {
-            double mean = ml_mean_slider(m->d.w[j], m->d.nw[j]);
-            put_sliders(&m->d, j, mean);
-            m->d.nw[j] = want;
-        }
-    }
+    /* a micro-slip axis keeps one position per slider, an inclined one its (w1, w2,
+     * uc) (FrictionMount._prepare) */
+    for (j = 0; j < 3; ++j)
+        conform_state(&m->d, j);
     m->params_ok = 1;
     return MD_OK;
 }
@@ -245,9 +294,16 @@ static md_status evaluate(md_instance *m, const char *call, int j)
     /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
     memset(&m->res[j], 0, sizeof m->res[j]);
     m->res[j].w_new = m->d.w[j][0];
-    memcpy(m->w_new[j], m->d.w[j], ml_n_sliders(&m->d.p[j]) * sizeof(double));
+    memcpy(m->w_new[j], m->d.w[j], ml_state_size(&m->d.p[j]) * sizeof(double));
 #else
-    m->res[j] = ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n, m->w_new[j]);
+    if (ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n, m->w_new[j], &m->res[j],
+                        m->lost, sizeof m->lost)) {  /* inclined: ContactLost */
+        const char *a = AXIS_NAMES[j];
+        ml_repr_double(u, su, sizeof su);
+        md_log(m, MD_ERROR, "FrictionMount: axis %s at u_%s=%s: %s (in %s)", a, a, su,
+               m->lost, call);
+        return MD_ERROR;
+    }
     if (!(isfinite(m->res[j].force) && isfinite(m->res[j].tangent))) {
         const char *a = AXIS_NAMES[j];
         char sf[40];
@@ -338,7 +394,7 @@ md_status md_do_step(md_instance *m, const char *call, double t, double h)
             return status;  /* discard or error: nothing committed */
     }
     for (j = 0; j < 3; ++j) {
-        memcpy(m->d.w[j], m->w_new[j], ml_n_sliders(&m->d.p[j]) * sizeof(double));
+        memcpy(m->d.w[j], m->w_new[j], ml_state_size(&m->d.p[j]) * sizeof(double));
         m->d.e[j] += m->res[j].dissipated;
     }
     m->d.time = t + h;
@@ -382,7 +438,7 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
     case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
     case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
-    case MD_LOCAL_W: *value = ml_mean_slider(m->d.w[j], m->d.nw[j]); return MD_OK;
+    case MD_LOCAL_W: *value = mean_state(&m->d, j); return MD_OK;
     case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
     default: break;
@@ -397,6 +453,13 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_OUTPUT_FFR: *value = m->res[j].friction; break;
     case MD_OUTPUT_KT: *value = m->res[j].tangent; break;
     case MD_OUTPUT_SLIP: *value = m->res[j].slipping; break;
+    case MD_OUTPUT_N: case MD_OUTPUT_N2: {
+        double n1, n2;
+        ml_normal_forces(&m->d.p[j], m->w_new[j], ml_slip_force(&m->d.p[j],
+                         normal_force(m, j)), &n1, &n2);
+        *value = var->role == MD_OUTPUT_N ? n1 : n2;
+        break;
+    }
     default: *value = m->d.e[j] + m->res[j].dissipated; break;  /* E_fr_<axis> */
     }
     return MD_OK;
@@ -440,7 +503,12 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: m->d.u[j] = value; break;
     case MD_INPUT_V: m->d.v[j] = value; break;
     case MD_INPUT_N: m->d.n[j] = value; m->d.n_set[j] = 1; break;
-    default: put_sliders(&m->d, j, value); break;
+    default:  /* w_<axis>: FrictionMount._set_sliders */
+        if (m->params_ok)
+            initial_state(&m->d, j, value);
+        else
+            put_sliders(&m->d, j, value);
+        break;
     }
     m->valid[j] = 0;
     return MD_OK;
