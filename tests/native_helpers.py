@@ -125,11 +125,16 @@ def worst_relative(ref: Outputs, got: Outputs) -> dict[str, float]:
 
 
 def parameter_values(axes: tuple[AxisParameters, ...]) -> dict[str, object]:
-    """FMU parameter values ``<axis>_<field>`` of three axes."""
+    """FMU parameter values ``<axis>_<field>`` of three axes (integer codes for the
+    law and, where the law has friction kinds, the friction kind)."""
+    from fmu_src import mount_law
+
+    codes = {"law": law_code,
+             "friction_kind": getattr(mount_law, "friction_kind_code", None)}
     out = {}
     for axis, p in zip(AXES, axes, strict=True):
         for name, value in p.to_dict().items():
-            out[f"{axis}_{name}"] = law_code(p.law) if name == "law" else value
+            out[f"{axis}_{name}"] = codes[name](value) if name in codes else value
     return out
 
 

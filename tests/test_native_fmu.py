@@ -34,7 +34,7 @@ from native_helpers import (
     worst_relative,
 )
 
-from fmu_src import interface
+from fmu_src import interface, mount_law
 from fmu_src.mount_law import AXES, axis_force, initial_sliders
 
 fmpy = pytest.importorskip("fmpy", reason="pip install -e .[fmu] installs fmpy")
@@ -647,6 +647,153 @@ def test_state_with_sliders_restores_mid_trajectory(native):
         f.setFMUstate(state) if fmi == 2 else f.setFMUState(state)
         assert np.array_equal(_run_all_axes(d, 200, 400, traj), second)
         g = other.fmu
+        restored = (g.deSerializeFMUstate(blob) if fmi == 2
+                    else g.deserializeFMUState(blob))
+        g.setFMUstate(restored) if fmi == 2 else g.setFMUState(restored)
+        assert np.array_equal(_run_all_axes(other, 200, 400, traj), second)
+        f.freeFMUstate(state) if fmi == 2 else f.freeFMUState(state)
+        g.freeFMUstate(restored) if fmi == 2 else g.freeFMUState(restored)
+    finally:
+        d.close()
+        other.close()
+
+
+# ---------------------------------------------------------------------- inclined
+
+
+_KINDS = getattr(mount_law, "FRICTION_KINDS", ())
+needs_inclined = pytest.mark.skipif(
+    "inclined" not in _KINDS, reason="fmu_src/mount_law.py has no inclined friction "
+    "kind yet (issue 14): nothing to wire")
+
+
+def _inclined_instance(rng):
+    """Axial: the inclined element at 60 degrees; radial1: micro-slip with fs_ratio;
+    radial2: the inclined element at 90 degrees with a bonded flat surface."""
+    from dataclasses import replace
+
+    from native_helpers import random_axis
+
+    return (replace(random_axis(rng, "piecewise", True), friction_kind="inclined",
+                    theta_deg=60.0, k=2e4, kf2=5e4, mu1=0.3, mu2=0.25, preload=300.0),
+            replace(random_axis(rng, "cubic", True), sliders=8, spread=0.5,
+                    fs_ratio=0.7),
+            replace(random_axis(rng, "linear", True), friction_kind="inclined",
+                    theta_deg=90.0, mu1=0.4, mu2=math.inf, preload=250.0, k=3e4))
+
+
+def _compressed_trajectory(rng, steps):
+    """random_trajectory with 1 cm amplitude around 4 mm of compression (the wedge
+    stays in contact)."""
+    from native_helpers import Trajectory
+
+    t = random_trajectory(rng, steps, amplitude=0.01)
+    return Trajectory(t.u - 0.004, t.v, t.n)
+
+
+def _reference_normal_forces(axes, traj) -> np.ndarray:
+    """(N, N2) per step and axis of the trial state (mount_law.normal_forces), as
+    the PythonFMU build's N_/N2_<axis>: shape (steps, 6)."""
+    out = np.zeros((traj.u.shape[0], 6))
+    for j, p in enumerate(axes):
+        w = initial_sliders(p)
+        for k in range(traj.u.shape[0]):
+            u, v, n = (float(x[k, j]) for x in (traj.u, traj.v, traj.n))
+            fs = p.mu * n if n > 0.0 else 0.0
+            r = axis_force(u, v, w, p, fs)
+            out[k, 2 * j:2 * j + 2] = mount_law.normal_forces(p, r.w_new, fs)
+            w = r.w_new
+    return out
+
+
+@needs_inclined
+def test_fmpy_inclined_axes_equal_python_law(native):
+    """Two inclined axes (60 and 90 degrees) and a micro-slip one, 4000 steps with
+    reversals inside steps: every output, w_<axis> (uc of the inclined element) and
+    the normal forces N_/N2_<axis> equal the Python law (measured 0)."""
+    fmi, path = native
+    rng = np.random.default_rng(500)
+    axes = _inclined_instance(rng)
+    traj = _compressed_trajectory(rng, FMPY_STEPS)
+    ref = reference_run(axes, traj)
+    got = _drive_fmpy(path, fmi, axes, traj)
+    errors = worst_relative(ref, got)
+    assert max(errors.values()) <= TOL_REL, errors
+    assert np.abs(got.w - ref.w).max() <= TOL_REL * np.abs(ref.w).max()
+    assert (ref.slip.mean(axis=0) > 0.1).all() and ref.E_total[-1] > 0
+    normal = _reference_normal_forces(axes, traj)
+    d = Driver(path, fmi)
+    try:
+        d.set(parameter_values(axes))
+        d.init()
+        names = [f"{q}_{a}" for a in AXES for q in ("N", "N2")]
+        rows = []
+        for k in range(FMPY_STEPS):
+            d.set({f"{q}_{a}": float(x[k, j]) for j, a in enumerate(AXES)
+                   for q, x in (("u", traj.u), ("v", traj.v), ("n", traj.n))})
+            rows.append(d.get(names))
+            d.step(k * H)
+    finally:
+        d.close()
+    scale = np.abs(normal).max()
+    assert np.abs(np.array(rows) - normal).max() <= TOL_REL * scale
+    assert normal[:, 0].min() > 0 and np.ptp(normal[:, 0]) > 0.1 * scale  # N varies
+
+
+@needs_inclined
+def test_inclined_contact_lost_is_an_error_with_the_python_message(native):
+    """Pulling the wedge out: reading an output and the step are refused
+    (fmi2Error / fmi3Error) with the PythonFMU build's message; nothing is
+    committed and the instance steps on once the motion is corrected."""
+    from fmu_src.inclined import ContactLost
+
+    fmi, path = native
+    axes = _inclined_instance(np.random.default_rng(501))
+    u_out = 0.05
+    try:
+        axis_force(u_out, 0.0, initial_sliders(axes[0]), axes[0])
+    except ContactLost as exc:
+        why = f"FrictionMount: axis axial at u_axial={u_out!r}: {exc}"
+    else:
+        raise AssertionError("the wedge should lose contact")
+    d = Driver(path, fmi)
+    try:
+        d.set(parameter_values(axes))
+        d.init()
+        d.set({"u_axial": u_out})
+        get = "GetReal" if fmi == 2 else "GetFloat64"
+        status, msg = _call(d, d.get, ["F_axial"])
+        assert (status, msg) == (3, f"{why} (in fmi{fmi}{get})")
+        status, msg = _call(d, d.step, 0.0)
+        assert (status, msg) == (3, f"{why} (in fmi{fmi}DoStep)")
+        d.set({"u_axial": -0.001})
+        d.step(0.0)
+        assert d.get(["w_axial"]) == [-0.001]
+    finally:
+        d.close()
+
+
+@needs_inclined
+def test_state_with_inclined_axes_restores_mid_trajectory(native):
+    """The FMU state at step 200 of 400 holds the inclined elements' (w1, w2, uc):
+    restored in a fresh instance, the second half equals the first run's."""
+    fmi, path = native
+    rng = np.random.default_rng(502)
+    axes = _inclined_instance(rng)
+    traj = _compressed_trajectory(rng, 400)
+    ref = reference_run(axes, traj)
+    expect = np.column_stack([ref.F, ref.Ffr, ref.kt, ref.E_fr, ref.E_total, ref.w])
+    d, other = Driver(path, fmi), Driver(path, fmi, name="other")
+    try:
+        d.set(parameter_values(axes))
+        d.init()
+        f, g = d.fmu, other.fmu
+        first = _run_all_axes(d, 0, 200, traj)
+        state = f.getFMUstate() if fmi == 2 else f.getFMUState()
+        blob = f.serializeFMUstate(state) if fmi == 2 else f.serializeFMUState(state)
+        second = _run_all_axes(d, 200, 400, traj)
+        got = np.vstack([first, second])
+        assert np.abs(got - expect).max() <= TOL_REL * np.abs(expect).max()
         restored = (g.deSerializeFMUstate(blob) if fmi == 2
                     else g.deserializeFMUState(blob))
         g.setFMUstate(restored) if fmi == 2 else g.setFMUState(restored)
