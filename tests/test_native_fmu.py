@@ -2,14 +2,16 @@
 
 * equivalence with ``fmu_src/mount_law.py`` on the same random trajectories: 4 x 1e5
   steps through the FMI 2.0 binary in a plain C host started with an empty environment
-  (two instances side by side), 2 x 4000 steps through fmpy for each FMI version;
+  (two instances side by side; 2 x 2e4 steps with micro-slip and non-symmetric axes),
+  4 x 4000 steps through fmpy for each FMI version (2 of them micro-slip and
+  non-symmetric; inclined axes where the law has that friction kind);
 * ``fmpy validate`` and ``fmpy simulate``; the model description is the interface table;
 * the FMI state machine: calls out of order, bad step sizes, time jumps, non-finite
   inputs (discard), invalid parameters (the PythonFMU's message), state get/set/
-  serialize, reset;
+  serialize (also with micro-slip sliders and inclined elements), reset;
 * the binary needs no Python: no libpython, no Py* symbol, only libc and libm.
 
-Runtime about 20 s on 2 cores (most of it the Python reference of 4e5 steps).
+Runtime about 30 s on 2 cores (most of it the Python reference of 4.4e5 steps).
 """
 
 from __future__ import annotations
