@@ -210,8 +210,11 @@ def _choose(x, w1, w2, d, p, s, c):
     f1, f2, n1, n2 = vals
     lim = (p.mu1 * n1, p.mu2 * n2)
     at_limit = []
+    # within rounding of the element's force scale (the friction forces are computed
+    # from spring forces of that size: a normal force near 0 makes L tiny, not exact)
+    scale = abs(f1) + abs(f2) + p.preload
     for f, L in zip((f1, f2), lim):
-        tol = _REL_TOL * max(abs(f), abs(L), 1e-9)
+        tol = _REL_TOL * max(abs(f), abs(L), scale, 1e-9)
         at_limit.append(not math.isinf(L) and abs(f) >= L - tol)
     options = [(0,), (0,)]
     for i, f in enumerate((f1, f2)):

@@ -210,14 +210,16 @@ static int consistent(const double vals[4], const double slopes[4], const int re
     return 1;
 }
 
-/* Python's max(a, b, c): the first largest (a NaN after the first is skipped). */
-static double py_max3(double a, double b, double c)
+/* Python's max(a, b, c, e): the first largest (a NaN after the first is skipped). */
+static double py_max4(double a, double b, double c, double e)
 {
     double m = a;
     if (b > m)
         m = b;
     if (c > m)
         m = c;
+    if (e > m)
+        m = e;
     return m;
 }
 
@@ -225,15 +227,18 @@ static double py_max3(double a, double b, double c)
 static int choose(double x, double w1, double w2, double d, const in_params *p,
                   double s, double c, int reg[2], char *msg, size_t size)
 {
-    double vals[4], slopes[4], lim[2], dummy[4];
+    double vals[4], slopes[4], lim[2], dummy[4], scale;
     int at_limit[2], options[2][2], n_opt[2], i, a, b;
     char sx[40], sn1[40], sn2[40];
     solve(x, w1, w2, 0, 0, p, s, c, vals);
     lim[0] = p->mu1 * vals[2];
     lim[1] = p->mu2 * vals[3];
+    /* within rounding of the element's force scale (a normal force near 0 makes the
+     * limit tiny, not exact) */
+    scale = fabs(vals[0]) + fabs(vals[1]) + p->preload;
     for (i = 0; i < 2; ++i) {
         double f = vals[i], L = lim[i];
-        double tol = IN_REL_TOL * py_max3(fabs(f), fabs(L), 1e-9);
+        double tol = IN_REL_TOL * py_max4(fabs(f), fabs(L), scale, 1e-9);
         at_limit[i] = !isinf(L) && fabs(f) >= L - tol;
         options[i][0] = 0;
         options[i][1] = f >= 0 ? 1 : -1;
