@@ -6,9 +6,10 @@
   4 x 4000 steps through fmpy for each FMI version (2 of them micro-slip and
   non-symmetric; inclined axes where the law has that friction kind);
 * ``fmpy validate`` and ``fmpy simulate``; the model description is the interface table;
-* the FMI state machine: calls out of order, bad step sizes, time jumps, non-finite
-  inputs (discard), invalid parameters (the PythonFMU's message), state get/set/
-  serialize (also with micro-slip sliders and inclined elements), reset;
+* the FMI state machine (docs/fmu.md 4a): calls out of order, bad step sizes, time
+  jumps, non-finite values (refused at the set), invalid parameters (the PythonFMU's
+  message; outputs 0 with a warning before), state get/set/serialize (also with
+  micro-slip sliders and inclined elements), reset;
 * the binary needs no Python: no libpython, no Py* symbol, only libc and libm.
 
 Runtime about 30 s on 2 cores (most of it the Python reference of 4.4e5 steps).
@@ -17,6 +18,7 @@ Runtime about 30 s on 2 cores (most of it the Python reference of 4.4e5 steps).
 from __future__ import annotations
 
 import math
+import re
 import zipfile
 
 import numpy as np
@@ -428,8 +430,7 @@ def test_calls_out_of_order_are_refused_with_a_message(driver):
     d, p = driver, f"fmi{driver.fmi}"
     status, msg = _call(d, d.step, 0.0)
     assert status == 3 and f"{p}DoStep is not allowed in state Instantiated" in msg
-    status, msg = _call(d, d.get, ["F_axial"])
-    assert status == 3 and "is not allowed in state Instantiated" in msg
+    assert d.get(["F_axial"]) == [0.0]  # getters: every state (docs/fmu.md 4a)
     status, msg = _call(d, d.fmu.exitInitializationMode)
     assert status == 3 and "not allowed in state Instantiated" in msg
     d.init()
@@ -450,12 +451,48 @@ def test_calls_out_of_order_are_refused_with_a_message(driver):
     assert status == 3 and "not allowed in state Terminated" in msg
 
 
-@pytest.mark.parametrize("h", [0.0, -1e-4, math.nan, math.inf])
-def test_step_size_must_be_finite_and_positive(driver, h):
-    driver.init()
-    status, msg = _call(driver, driver.step, 0.0, h)
-    assert status == 3 and "communicationStepSize must be finite and > 0" in msg
-    driver.step(0.0)  # still usable
+@pytest.mark.parametrize("t, h, needle", [
+    (0.0, 0.0, "communicationStepSize must be finite and > 0, got 0.0"),
+    (0.0, -1e-4, "communicationStepSize must be finite and > 0, got -0.0001"),
+    (0.0, math.nan, "communicationStepSize must be finite and > 0, got nan"),
+    (0.0, math.inf, "communicationStepSize must be finite and > 0, got inf"),
+    (0.0, 1.5e6, "communicationStepSize must be <= 1e+06 s, got 1500000.0"),
+    (math.nan, 1e-4, "currentCommunicationPoint must be finite, got nan"),
+    (1e300, 1e-4, "communicationStepSize = 0.0001 does not advance "
+                  "currentCommunicationPoint = 1e+300"),
+])
+def test_bad_step_is_refused_and_the_next_good_one_works(driver, t, h, needle):
+    """docs/fmu.md 4a: 0 < h <= 1e6 s, t finite, t + h > t."""
+    d = driver
+    d.init()
+    status, msg = _call(d, d.step, t, h)
+    assert status == 3 and needle in msg, msg
+    d.step(0.0, 1e6)  # still usable; 1e6 s is allowed
+
+
+def test_without_setup_experiment_the_first_step_starts_anywhere(native2):
+    """FMI 2.0 without fmi2SetupExperiment (docs/fmu.md 4a): no start time, the first
+    step may start at any t; then time continues from it."""
+    d = Driver(native2, 2)
+    try:
+        d.fmu.enterInitializationMode()
+        d.fmu.exitInitializationMode()
+        d.step(-7.25)
+        d.step(-7.25 + H)
+        status, msg = _call(d, d.step, 0.0)
+        assert status == 3 and f"the last step, {(-7.25 + H) + H!r}, got 0.0" in msg
+    finally:
+        d.close()
+
+
+def test_step_size_limit_is_fmi_state_s():
+    """The native limits are the PythonFMU's (fmu_src/fmi_state.py)."""
+    from fmu_src import fmi_state
+
+    source = (ROOT / "fmu_src" / "native" / "model.c").read_text()
+    defines = dict(re.findall(r"^#define (MD_\w+) (\S+)$", source, re.M))
+    assert float(defines["MD_MAX_STEP_SIZE"]) == fmi_state.MAX_STEP_SIZE
+    assert float(defines["MD_TIME_RTOL"]) == fmi_state.TIME_RTOL
 
 
 def test_time_continues_from_the_last_step(driver):
@@ -464,10 +501,16 @@ def test_time_continues_from_the_last_step(driver):
     assert status == 3 and "must continue from the end of the last step, 0.5" in msg
     driver.step(0.5)
     status, msg = _call(driver, driver.step, 0.5)  # the same step again
-    assert status == 3 and "0.50009999999999999" in msg
+    assert status == 3 and "the last step, 0.5001, got 0.5" in msg
     driver.step(0.5 + H)
     status, msg = _call(driver, driver.step, 0.5 + 3 * H)  # a step skipped
     assert status == 3
+    # tolerance 1e-9 max(1, |t_end|, h) (docs/fmu.md 4a): at t_end = 0.5002 it is
+    # 1e-9, not 1e-9 (|t| + h) = 5e-13
+    t_end = 0.5 + 2 * H
+    driver.step(t_end + 0.9e-9)
+    status, msg = _call(driver, driver.step, t_end + H + 0.9e-9 + 1.1e-9)
+    assert status == 3 and "must continue from the end of the last step" in msg
 
 
 def test_unknown_value_reference_and_wrong_type(driver):
@@ -481,23 +524,46 @@ def test_unknown_value_reference_and_wrong_type(driver):
     assert status == 3 and "(axial_law) is a Integer variable, not Real" in msg
 
 
-def test_non_finite_input_discards_and_commits_nothing(driver):
+def test_non_finite_value_is_refused_at_the_set_and_changes_nothing(driver):
+    """docs/fmu.md 4a: a Real value must be finite; every value of a set call is
+    checked before any is set."""
     d = driver
     d.set({"axial_friction": True, "axial_n0": 100.0})
+    status, msg = _call(d, d.set, {"axial_k1": math.inf})  # a parameter, too
+    assert status == 3 and "`axial_k1` must be finite, got inf" in msg
     d.init()
     d.set({"u_axial": 0.01})
     d.step(0.0)
-    w = d.get(["w_axial"])[0]
-    d.set({"u_axial": math.nan})
-    status, msg = _call(d, d.get, ["F_axial"])
-    assert status == 2
-    assert msg.startswith("FrictionMount: inputs of axis axial must be finite, got "
-                          "u_axial=nan, v_axial=0.0, n_axial=100.0")
-    status, msg = _call(d, d.step, H)
-    assert status == 2 and d.get(["w_axial"]) == [w]
-    d.set({"u_axial": -0.01})  # corrected: the same step is repeated
+    w, f = d.get(["w_axial"])[0], d.get(["F_axial"])[0]
+    set_real = d.fmu.setReal if d.fmi == 2 else d.fmu.setFloat64
+    status, msg = _call(d, set_real, d.vr(["u_axial", "v_axial"]), [0.02, math.nan])
+    assert status == 3 and "`v_axial` must be finite, got nan" in msg
+    assert d.get(["u_axial", "F_axial"]) == [0.01, f]  # u_axial was not set either
     d.step(H)
-    assert d.get(["w_axial"])[0] != w
+    assert d.get(["w_axial"]) == [w]  # u unchanged: the slider stays
+
+
+def test_outputs_read_zero_with_a_warning_until_parameters_are_valid(driver):
+    """docs/fmu.md 4a: before the end of initialization an output read with an invalid
+    parameter is 0 and logs a warning once; fmi2ExitInitializationMode refuses."""
+    d = driver
+    d.set({"axial_friction": True, "axial_kf": -5.0})
+    assert d.get(["F_axial", "E_fr"]) == [0.0, 0.0]
+    warnings = [m for s, m in d.messages if s == 1]
+    assert len(warnings) == 1 and "outputs are 0 until the parameters are valid " \
+        "(invalid parameters: `axial_kf` must be finite and > 0 when friction is on, " \
+        "got -5.0)" in warnings[0]
+    if d.fmi == 2:
+        d.fmu.setupExperiment(startTime=0.0)
+        d.fmu.enterInitializationMode()
+    else:
+        d.fmu.enterInitializationMode(startTime=0.0)
+    assert d.get(["F_axial"]) == [0.0]
+    status, msg = _call(d, d.fmu.exitInitializationMode)
+    assert status == 3 and "`axial_kf` must be finite and > 0" in msg
+    d.set({"axial_kf": 60000.0, "u_axial": 0.001})
+    assert d.get(["F_axial"])[0] > 0.0
+    d.fmu.exitInitializationMode()
 
 
 def test_invalid_parameters_give_the_pythonfmu_message(driver):

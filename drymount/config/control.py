@@ -2,7 +2,7 @@
 
     [control]
     kind = "scheduled"            # or "onoff"
-    axes = ["mount.axial"]        # optional: "<mount>.<axis>"; default every friction axis
+    axes = ["mount.axial"]   # optional: "<mount>.<axis>"; default every friction axis
     n_min = 0.0                   # N
     n_max = 400.0                 # N (default: no upper limit)
     rate_max = 20000.0            # N/s (default: no rate limit)

@@ -15,6 +15,12 @@ static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
 static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '2'};
 
+/* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
+ * (tests/test_native_fmu.py checks that the numbers agree): the largest
+ * communication step [s] and the relative tolerance of a step's start time. */
+#define MD_MAX_STEP_SIZE 1e6
+#define MD_TIME_RTOL 1e-9
+
 size_t md_n_variables(void) { return MD_N_VARIABLES; }
 
 const char *md_instantiation_token(void) { return MD_INSTANTIATION_TOKEN; }
@@ -57,6 +63,27 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed)
     md_log(m, MD_ERROR, "%s is not allowed in state %s (allowed in: %s)", call,
            MODE_NAMES[m->d.mode], list);
     return MD_ERROR;
+}
+
+/* FNV-1a of a message: which "outputs are 0" warning was logged last. */
+static unsigned long text_hash(const char *text)
+{
+    unsigned long h = 2166136261UL;
+    for (; *text; ++text)
+        h = (h ^ (unsigned char)*text) * 16777619UL;
+    return h ? h : 1UL;
+}
+
+/* 1 if variables of this role are outputs (everything not settable nor the time) */
+static int is_output(md_role role)
+{
+    switch (role) {
+    case MD_PARAMETER: case MD_INPUT_U: case MD_INPUT_V: case MD_INPUT_N:
+    case MD_LOCAL_W: case MD_TIME:
+        return 0;
+    default:
+        return 1;
+    }
 }
 
 /* ------------------------------------------------------------------ life cycle */
@@ -192,7 +219,8 @@ void md_reset(md_instance *m)
     }
     m->d.mode = MD_INSTANTIATED;
     m->params_ok = 0;
-    m->start_time = 0.0;
+    m->start_time = NAN;  /* no fmi2SetupExperiment yet: the first step starts anywhere */
+    m->d.time = NAN;      /* (in the FMU state, as the PythonFMU build's _t_next) */
     m->last_time_ok = 0.0;
     invalidate(m);
 }
@@ -239,8 +267,10 @@ void md_delete(md_instance *m)
 /* ------------------------------------------------------------------ the law */
 
 /* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
-static md_status check_parameters(md_instance *m, const char *call)
+static md_status check_parameters(md_instance *m, const char *call, md_status level)
 {
+    /* logged at `level`: MD_ERROR (the call fails) or MD_WARNING (an output read before
+     * the end of initialization reads 0; one warning per distinct problem) */
     char all[2048] = "", one[1024], prefix[16];
     int j, count = 0;
     if (m->params_ok)
@@ -254,7 +284,14 @@ static md_status check_parameters(md_instance *m, const char *call)
         strncat(all, one, sizeof all - strlen(all) - 1);
     }
     if (count) {
-        md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all, call);
+        if (level == MD_ERROR)
+            md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all,
+                   call);
+        else if (text_hash(all) != m->warned) {
+            m->warned = text_hash(all);
+            md_log(m, MD_WARNING, "FrictionMount: outputs are 0 until the parameters "
+                   "are valid (invalid parameters: %s)", all);
+        }
         return MD_ERROR;
     }
     /* a micro-slip axis keeps one position per slider, an inclined one its (w1, w2,
@@ -278,7 +315,7 @@ static md_status evaluate(md_instance *m, const char *call, int j)
     md_status status;
     if (m->valid[j])
         return MD_OK;
-    status = check_parameters(m, call);
+    status = check_parameters(m, call, MD_ERROR);
     if (status != MD_OK)
         return status;
     if (!(isfinite(u) && isfinite(v) && isfinite(n))) {
@@ -286,9 +323,10 @@ static md_status evaluate(md_instance *m, const char *call, int j)
         ml_repr_double(u, su, sizeof su);
         ml_repr_double(v, sv, sizeof sv);
         ml_repr_double(n, sn, sizeof sn);
-        md_log(m, MD_DISCARD, "FrictionMount: inputs of axis %s must be finite, got "
+        /* a guard: md_check_set refuses non-finite values (docs/fmu.md 4a) */
+        md_log(m, MD_ERROR, "FrictionMount: inputs of axis %s must be finite, got "
                "u_%s=%s, v_%s=%s, n_%s=%s (in %s)", a, a, su, a, sv, a, sn, call);
-        return MD_DISCARD;
+        return MD_ERROR;
     }
 #ifdef DRYMOUNT_NULL_MODEL
     /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
@@ -336,17 +374,18 @@ static md_status energy_total(md_instance *m, const char *call, double *value)
 
 /* ------------------------------------------------------------------ modes */
 
-md_status md_enter_initialization(md_instance *m, const char *call, double start)
+md_status md_enter_initialization(md_instance *m, const char *call, double start,
+                                  int start_defined)
 {
     if (md_check_mode(m, call, MD_IN(MD_INSTANTIATED)) != MD_OK)
         return MD_ERROR;
-    if (!isfinite(start)) {
+    if (start_defined && !isfinite(start)) {
         md_log(m, MD_ERROR, "%s: startTime must be finite, got %g", call, start);
         return MD_ERROR;
     }
     m->start_time = start;
-    m->d.time = start;
-    m->last_time_ok = start;
+    m->d.time = start_defined ? start : NAN;  /* NAN: the first step starts anywhere */
+    m->last_time_ok = start_defined ? start : 0.0;
     m->d.started = 0;
     m->d.mode = MD_INIT;
     return MD_OK;
@@ -356,7 +395,7 @@ md_status md_exit_initialization(md_instance *m, const char *call)
 {
     if (md_check_mode(m, call, MD_IN(MD_INIT)) != MD_OK)
         return MD_ERROR;
-    if (check_parameters(m, call) != MD_OK)
+    if (check_parameters(m, call, MD_ERROR) != MD_OK)
         return MD_ERROR;
     m->d.mode = MD_STEP;
     return MD_OK;
@@ -370,28 +409,48 @@ md_status md_terminate(md_instance *m, const char *call)
     return MD_OK;
 }
 
+/* The step checks of docs/fmu.md 4a in fmu_src/fmi_state.step_error's order: 1 (and
+ * logged) if doStep(t, h) is refused. */
+static int step_refused(md_instance *m, const char *call, double t, double h)
+{
+    double expected = m->d.time;  /* NAN: no start time, the first step starts anywhere */
+    char st[40], sh[40], se[40];
+    ml_repr_double(t, st, sizeof st);
+    ml_repr_double(h, sh, sizeof sh);
+    ml_repr_double(expected, se, sizeof se);
+    if (!(isfinite(h) && h > 0.0))
+        md_log(m, MD_ERROR, "%s: communicationStepSize must be finite and > 0, got %s",
+               call, sh);
+    else if (h > MD_MAX_STEP_SIZE)
+        md_log(m, MD_ERROR, "%s: communicationStepSize must be <= %g s, got %s", call,
+               MD_MAX_STEP_SIZE, sh);
+    else if (!isfinite(t))
+        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must be finite, got %s",
+               call, st);
+    else if (!(t + h > t))
+        md_log(m, MD_ERROR, "%s: communicationStepSize = %s does not advance "
+               "currentCommunicationPoint = %s (below its resolution)", call, sh, st);
+    else if (!isnan(expected) && fabs(t - expected)
+             > MD_TIME_RTOL * fmax(1.0, fmax(fabs(expected), h)))
+        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must continue from the end "
+               "of the last step, %s, got %s", call, se, st);
+    else
+        return 0;
+    return 1;
+}
+
 md_status md_do_step(md_instance *m, const char *call, double t, double h)
 {
     int j;
     md_status status;
     if (md_check_mode(m, call, MD_IN(MD_STEP)) != MD_OK)
         return MD_ERROR;
-    if (!(isfinite(h) && h > 0.0)) {
-        md_log(m, MD_ERROR, "%s: communicationStepSize must be finite and > 0, got %g",
-               call, h);
+    if (step_refused(m, call, t, h))
         return MD_ERROR;
-    }
-    /* time continues from the end of the last step (rounding of t_n = t0 + n h
-     * allowed: 1e-9 of |t| + h) */
-    if (!isfinite(t) || fabs(t - m->d.time) > 1e-9 * (fabs(m->d.time) + h)) {
-        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must continue from the end "
-               "of the last step, %.17g, got %.17g", call, m->d.time, t);
-        return MD_ERROR;
-    }
     for (j = 0; j < 3; ++j) {
         status = evaluate(m, call, j);
         if (status != MD_OK)
-            return status;  /* discard or error: nothing committed */
+            return status;  /* error: nothing committed */
     }
     for (j = 0; j < 3; ++j) {
         memcpy(m->d.w[j], m->w_new[j], ml_state_size(&m->d.p[j]) * sizeof(double));
@@ -429,10 +488,18 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     const md_variable *var;
     md_status status;
     int j;
-    if (md_check_mode(m, call, MD_IN(MD_INIT) | MD_IN(MD_STEP) | MD_IN(MD_TERMINATED))
-        != MD_OK || lookup(m, call, type, vr, &var) != MD_OK)
-        return MD_ERROR;
+    if (lookup(m, call, type, vr, &var) != MD_OK)
+        return MD_ERROR;  /* getters are allowed in every state (docs/fmu.md 4a) */
     j = var->axis;
+    if (is_output(var->role) && m->d.mode <= MD_INIT
+            && check_parameters(m, call, MD_WARNING) != MD_OK) {
+        *value = 0.0;  /* the error comes from ExitInitializationMode */
+        return MD_OK;
+    }
+    if (var->role == MD_TIME && isnan(m->d.time)) {
+        *value = 0.0;  /* no start time yet (FMI 2.0 without fmi2SetupExperiment) */
+        return MD_OK;
+    }
     switch (var->role) {
     case MD_PARAMETER: *value = get_field(&m->d.p[j], var->field); return MD_OK;
     case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
@@ -465,15 +532,14 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     return MD_OK;
 }
 
-md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
-                 double value)
+md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                       double value)
 {
     const md_variable *var;
     unsigned allowed;
-    int j;
+    char sv[40];
     if (lookup(m, call, type, vr, &var) != MD_OK)
         return MD_ERROR;
-    j = var->axis;
     switch (var->role) {
     case MD_PARAMETER:  /* fixed parameters: before the end of initialization */
         allowed = MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT);
@@ -492,6 +558,23 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
         snprintf(what, sizeof what, "%s of %s", call, var->name);
         return md_check_mode(m, what, allowed);
     }
+    if (type == MD_REAL && !isfinite(value)) {
+        ml_repr_double(value, sv, sizeof sv);
+        md_log(m, MD_ERROR, "%s: `%s` must be finite, got %s", call, var->name, sv);
+        return MD_ERROR;
+    }
+    return MD_OK;
+}
+
+md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                 double value)
+{
+    const md_variable *var;
+    int j;
+    if (md_check_set(m, call, type, vr, value) != MD_OK)
+        return MD_ERROR;
+    var = &MD_VARIABLES[vr];
+    j = var->axis;
     switch (var->role) {
     case MD_PARAMETER:
         if (var->field == MD_P_LAW && value != floor(value))
@@ -544,7 +627,7 @@ md_status md_set_state(md_instance *m, const char *call, const void *state)
     }
     m->d = *(const md_data *)state;
     m->params_ok = 0;
-    m->last_time_ok = m->d.time;
+    m->last_time_ok = isnan(m->d.time) ? 0.0 : m->d.time;
     invalidate(m);
     return MD_OK;
 }

@@ -8,10 +8,10 @@
  * the sliders and adds the dissipated energy. Statuses use the FMI numbering (OK 0,
  * Warning 1, Discard 2, Error 3, Fatal 4) of both standards.
  *
- * A refused call (out of order, unknown value reference, invalid parameters, non-finite
- * step size) returns MD_ERROR, logs a message naming the call and the state, and changes
- * nothing. Non-finite inputs make the outputs and md_do_step return MD_DISCARD (nothing
- * committed; the master may correct the inputs and repeat the step).
+ * The call-order rules of docs/fmu.md 4a: a refused call (out of order, unknown value
+ * reference, a non-finite value, invalid parameters, a step size not in (0, 1e6] s, a
+ * time that does not continue) returns MD_ERROR, logs a message naming the call and the
+ * state or the value, and changes nothing.
  */
 #ifndef DRYMOUNT_MODEL_H
 #define DRYMOUNT_MODEL_H
@@ -90,6 +90,7 @@ typedef struct {
     char lost[512];                   /* message of the inclined element's ContactLost */
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */
+    unsigned long warned;  /* hash of the last "outputs are 0" warning's problems */
 } md_instance;
 
 /* Number of variables, the variable table and the instantiation token (GUID), all
@@ -116,7 +117,10 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
 #define MD_IN(mode) (1u << (mode))
 
 void md_reset(md_instance *m);
-md_status md_enter_initialization(md_instance *m, const char *call, double start);
+/* start_defined 0: FMI 2.0 without fmi2SetupExperiment, the first step starts anywhere
+ * (md_data.time is NAN until the first step) */
+md_status md_enter_initialization(md_instance *m, const char *call, double start,
+                                  int start_defined);
 md_status md_exit_initialization(md_instance *m, const char *call);
 md_status md_terminate(md_instance *m, const char *call);
 md_status md_do_step(md_instance *m, const char *call, double t, double h);
@@ -126,6 +130,10 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
                  double *value);
 md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
                  double value);
+/* MD_OK if md_set would accept the value (nothing changed; refusals are logged): the
+ * glue checks every value of a call before setting any (docs/fmu.md 4a). */
+md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                       double value);
 
 /* FMU state: a heap copy of md_data, serialized as magic + size + bytes. */
 md_status md_get_state(md_instance *m, const char *call, void **state);
