@@ -737,7 +737,10 @@ needs_inclined = pytest.mark.skipif(
 
 def _inclined_instance(rng):
     """Axial: the inclined element at 60 degrees; radial1: micro-slip with fs_ratio;
-    radial2: the inclined element at 90 degrees with a bonded flat surface."""
+    radial2: the inclined element at 45 degrees. (Steep angles lift the flat surface
+    off on this motion, and a bonded surface, mu = inf, cannot be set through FMI,
+    whose setters refuse non-finite values: the ctypes test of inclined.c covers both.)
+    """
     from dataclasses import replace
 
     from native_helpers import random_axis
@@ -747,7 +750,7 @@ def _inclined_instance(rng):
             replace(random_axis(rng, "cubic", True), sliders=8, spread=0.5,
                     fs_ratio=0.7),
             replace(random_axis(rng, "linear", True), friction_kind="inclined",
-                    theta_deg=90.0, mu1=0.4, mu2=math.inf, preload=250.0, k=3e4))
+                    theta_deg=45.0, mu1=0.2, mu2=0.3, preload=400.0, k=3e4))
 
 
 def _compressed_trajectory(rng, steps):
@@ -776,7 +779,7 @@ def _reference_normal_forces(axes, traj) -> np.ndarray:
 
 @needs_inclined
 def test_fmpy_inclined_axes_equal_python_law(native):
-    """Two inclined axes (60 and 90 degrees) and a micro-slip one, 4000 steps with
+    """Two inclined axes (60 and 45 degrees) and a micro-slip one, 4000 steps with
     reversals inside steps: every output, w_<axis> (uc of the inclined element) and
     the normal forces N_/N2_<axis> equal the Python law (measured 0)."""
     fmi, path = native
