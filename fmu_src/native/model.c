@@ -13,7 +13,7 @@ static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '1'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '2'};
 
 /* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
  * (tests/test_native_fmu.py checks that the numbers agree): the largest
@@ -105,6 +105,13 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_SLIDERS: p->sliders = (int)value; break;
     case MD_P_SPREAD: p->spread = value; break;
     case MD_P_FS_RATIO: p->fs_ratio = value; break;
+    case MD_P_FRICTION_KIND: p->friction_kind = (int)value; break;
+    case MD_P_THETA_DEG: p->theta_deg = value; break;
+    case MD_P_K: p->k = value; break;
+    case MD_P_KF2: p->kf2 = value; break;
+    case MD_P_MU1: p->mu1 = value; break;
+    case MD_P_MU2: p->mu2 = value; break;
+    case MD_P_PRELOAD: p->preload = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -126,9 +133,66 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_SLIDERS: return p->sliders;
     case MD_P_SPREAD: return p->spread;
     case MD_P_FS_RATIO: return p->fs_ratio;
+    case MD_P_FRICTION_KIND: return p->friction_kind;
+    case MD_P_THETA_DEG: return p->theta_deg;
+    case MD_P_K: return p->k;
+    case MD_P_KF2: return p->kf2;
+    case MD_P_MU1: return p->mu1;
+    case MD_P_MU2: return p->mu2;
+    case MD_P_PRELOAD: return p->preload;
     case MD_P_NONE: break;
     }
     return 0.0;
+}
+
+/* Every slider of axis j at value, as many as the current <axis>_sliders says (one if
+ * that is not > 1). */
+static void put_sliders(md_data *d, int j, double value)
+{
+    int i, n = d->p[j].sliders;
+    for (i = 0; i < ML_MAX_SLIDERS; ++i)
+        d->w[j][i] = value;
+    d->nw[j] = n > 1 ? (n < ML_MAX_SLIDERS ? n : ML_MAX_SLIDERS) : 1;
+    d->wkind[j] = 0;
+}
+
+/* mount_law.initial_sliders of the checked axis j at value: the inclined element
+ * relaxed there, or n = ml_state_size sliders there. */
+static void initial_state(md_data *d, int j, double value)
+{
+    if (ml_is_inclined(&d->p[j])) {
+        ml_relaxed_state(&d->p[j], value, d->w[j]);
+        d->nw[j] = 3;
+        d->wkind[j] = 1;
+        return;
+    }
+    put_sliders(d, j, value);
+    d->nw[j] = ml_state_size(&d->p[j]);
+}
+
+/* mount_law.mean_slider of axis j's committed state (uc of the inclined element). */
+static double mean_state(const md_data *d, int j)
+{
+    return d->wkind[j] ? d->w[j][2] : ml_mean_slider(d->w[j], d->nw[j]);
+}
+
+/* mount_law.conform_state once the parameters are checked: the state of the axis's
+ * kind, kept if it is one already. */
+static void conform_state(md_data *d, int j)
+{
+    const ml_axis_params *p = &d->p[j];
+    if (ml_is_inclined(p)) {
+        if (d->wkind[j])
+            return;
+        if (d->nw[j] == 3) {  /* a 3-sequence reads as (w1, w2, uc) */
+            d->wkind[j] = 1;
+            return;
+        }
+        initial_state(d, j, mean_state(d, j));
+        return;
+    }
+    if (d->wkind[j] || d->nw[j] != ml_state_size(p))
+        initial_state(d, j, mean_state(d, j));
 }
 
 static void invalidate(md_instance *m)
@@ -149,7 +213,7 @@ void md_reset(md_instance *m)
         case MD_PARAMETER: set_field(&m->d.p[var->axis], var->field, var->start); break;
         case MD_INPUT_U: m->d.u[var->axis] = var->start; break;
         case MD_INPUT_V: m->d.v[var->axis] = var->start; break;
-        case MD_LOCAL_W: m->d.w[var->axis] = var->start; break;
+        case MD_LOCAL_W: put_sliders(&m->d, var->axis, var->start); break;
         default: break;  /* n follows <axis>_n0 until set; outputs are computed */
         }
     }
@@ -202,20 +266,6 @@ void md_delete(md_instance *m)
 
 /* ------------------------------------------------------------------ the law */
 
-/* The micro-slip and non-symmetric friction elements are not ported to C: a clear
- * message (1) instead of the macro-slip result, 0 if the axis uses neither. */
-static int unported(const ml_axis_params *p, const char *prefix, char *buf,
-                    size_t size)
-{
-    if (!p->friction || (p->sliders == 1 && p->fs_ratio == 1.0))
-        return 0;
-    snprintf(buf, size, "`%ssliders` = %d, `%sfs_ratio` = %g: the native FMU ports "
-             "only the macro-slip element (sliders = 1, fs_ratio = 1); build the "
-             "PythonFMU FrictionMount.fmu for micro-slip or non-symmetric friction",
-             prefix, p->sliders, prefix, p->fs_ratio);
-    return 1;
-}
-
 /* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
 static md_status check_parameters(md_instance *m, const char *call, md_status level)
 {
@@ -227,8 +277,7 @@ static md_status check_parameters(md_instance *m, const char *call, md_status le
         return MD_OK;
     for (j = 0; j < 3; ++j) {
         snprintf(prefix, sizeof prefix, "%s_", AXIS_NAMES[j]);
-        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0
-                && !unported(&m->d.p[j], prefix, one, sizeof one))
+        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0)
             continue;
         if (count++)
             strncat(all, "; ", sizeof all - strlen(all) - 1);
@@ -245,6 +294,10 @@ static md_status check_parameters(md_instance *m, const char *call, md_status le
         }
         return MD_ERROR;
     }
+    /* a micro-slip axis keeps one position per slider, an inclined one its (w1, w2,
+     * uc) (FrictionMount._prepare) */
+    for (j = 0; j < 3; ++j)
+        conform_state(&m->d, j);
     m->params_ok = 1;
     return MD_OK;
 }
@@ -278,9 +331,17 @@ static md_status evaluate(md_instance *m, const char *call, int j)
 #ifdef DRYMOUNT_NULL_MODEL
     /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
     memset(&m->res[j], 0, sizeof m->res[j]);
-    m->res[j].w_new = m->d.w[j];
+    m->res[j].w_new = m->d.w[j][0];
+    memcpy(m->w_new[j], m->d.w[j], ml_state_size(&m->d.p[j]) * sizeof(double));
 #else
-    m->res[j] = ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n);
+    if (ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n, m->w_new[j], &m->res[j],
+                        m->lost, sizeof m->lost)) {  /* inclined: ContactLost */
+        const char *a = AXIS_NAMES[j];
+        ml_repr_double(u, su, sizeof su);
+        md_log(m, MD_ERROR, "FrictionMount: axis %s at u_%s=%s: %s (in %s)", a, a, su,
+               m->lost, call);
+        return MD_ERROR;
+    }
     if (!(isfinite(m->res[j].force) && isfinite(m->res[j].tangent))) {
         const char *a = AXIS_NAMES[j];
         char sf[40];
@@ -392,7 +453,7 @@ md_status md_do_step(md_instance *m, const char *call, double t, double h)
             return status;  /* error: nothing committed */
     }
     for (j = 0; j < 3; ++j) {
-        m->d.w[j] = m->res[j].w_new;
+        memcpy(m->d.w[j], m->w_new[j], ml_state_size(&m->d.p[j]) * sizeof(double));
         m->d.e[j] += m->res[j].dissipated;
     }
     m->d.time = t + h;
@@ -444,7 +505,7 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
     case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
     case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
-    case MD_LOCAL_W: *value = m->d.w[j]; return MD_OK;
+    case MD_LOCAL_W: *value = mean_state(&m->d, j); return MD_OK;
     case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
     default: break;
@@ -459,6 +520,13 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_OUTPUT_FFR: *value = m->res[j].friction; break;
     case MD_OUTPUT_KT: *value = m->res[j].tangent; break;
     case MD_OUTPUT_SLIP: *value = m->res[j].slipping; break;
+    case MD_OUTPUT_N: case MD_OUTPUT_N2: {
+        double n1, n2;
+        ml_normal_forces(&m->d.p[j], m->w_new[j], ml_slip_force(&m->d.p[j],
+                         normal_force(m, j)), &n1, &n2);
+        *value = var->role == MD_OUTPUT_N ? n1 : n2;
+        break;
+    }
     default: *value = m->d.e[j] + m->res[j].dissipated; break;  /* E_fr_<axis> */
     }
     return MD_OK;
@@ -518,7 +586,12 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: m->d.u[j] = value; break;
     case MD_INPUT_V: m->d.v[j] = value; break;
     case MD_INPUT_N: m->d.n[j] = value; m->d.n_set[j] = 1; break;
-    default: m->d.w[j] = value; break;
+    default:  /* w_<axis>: FrictionMount._set_sliders */
+        if (m->params_ok)
+            initial_state(&m->d, j, value);
+        else
+            put_sliders(&m->d, j, value);
+        break;
     }
     m->valid[j] = 0;
     return MD_OK;

@@ -33,14 +33,15 @@ typedef enum { MD_REAL = 0, MD_INTEGER = 1, MD_BOOLEAN = 2 } md_type;
 typedef enum {
     MD_PARAMETER = 0, MD_INPUT_U, MD_INPUT_V, MD_INPUT_N, MD_OUTPUT_F,
     MD_OUTPUT_FFR, MD_OUTPUT_KT, MD_OUTPUT_SLIP, MD_OUTPUT_E_AXIS, MD_OUTPUT_E_TOTAL,
-    MD_LOCAL_W, MD_TIME
+    MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2
 } md_role;
 
 /* Fields of a parameter variable, in mount_law.AxisParameters' order. */
 typedef enum {
     MD_P_LAW = 0, MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA, MD_P_DELTA_NEG, MD_P_C,
     MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SLIDERS, MD_P_SPREAD,
-    MD_P_FS_RATIO, MD_P_NONE
+    MD_P_FS_RATIO, MD_P_NONE, MD_P_FRICTION_KIND, MD_P_THETA_DEG, MD_P_K, MD_P_KF2,
+    MD_P_MU1, MD_P_MU2, MD_P_PRELOAD
 } md_field;
 
 typedef struct {
@@ -63,7 +64,12 @@ typedef struct {
     ml_axis_params p[3];
     double u[3], v[3], n[3];
     int n_set[3];
-    double w[3], e[3];
+    /* committed friction state per axis: wkind[j] 0: nw[j] slider positions (1, or
+     * the sliders of a micro-slip axis; all equal to the last w_<axis> set); 1: the
+     * inclined element's (w1, w2, uc) in w[j][0..2] */
+    double w[3][ML_MAX_SLIDERS];
+    int nw[3], wkind[3];
+    double e[3];
     double time;      /* end of the last step (= start time before the first) */
     int started;      /* a step was done since initialization */
 } md_data;
@@ -80,6 +86,8 @@ typedef struct {
     int params_ok;         /* parameters checked since the last parameter change */
     int valid[3];          /* cached trial results per axis */
     ml_axis_result res[3];
+    double w_new[3][ML_MAX_SLIDERS];  /* slider positions of the cached results */
+    char lost[512];                   /* message of the inclined element's ContactLost */
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */
     unsigned long warned;  /* hash of the last "outputs are 0" warning's problems */
