@@ -27,13 +27,13 @@ presets (docs/performance.md, tests/test_hbm_stability_fast.py).
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse.linalg as sla
+from scipy.linalg import lapack
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence
 
 from hbm.residual import HarmonicBalance
 
-__all__ = ["central_eigenvalues", "MIN_SIZE"]
+__all__ = ["central_eigenvalues", "lu_factors", "MIN_SIZE"]
 
 #: Below this size of Hill's matrix the dense eigenvalue problem is cheaper.
 MIN_SIZE = 120
@@ -46,15 +46,24 @@ RHO_MIN = 0.25
 TOL = 1e-10
 
 
+def lu_factors(J: np.ndarray):
+    """LAPACK's ``getrf`` of J: ``(lu, piv)`` with 0-based pivots, or None when J is
+    not finite or exactly singular."""
+    lu, piv, info = lapack.dgetrf(J)
+    if info != 0 or not np.all(np.isfinite(lu)):
+        return None
+    return lu, piv
+
+
 def _operator(hb: HarmonicBalance, lu, omega: float) -> sla.LinearOperator:
-    """``A^-1`` through the LU of J."""
+    """``A^-1`` through the LU of J (:func:`lu_factors`)."""
     m, size = hb.m, hb.m * hb.n
     Delta1 = np.kron(np.eye(m), hb.C0) + 2.0 * omega * np.kron(hb.basis.D, hb.M)
     B = np.hstack([Delta1, np.kron(np.eye(m), hb.M)])  # [u; v] -> Delta1 u + Delta2 v
 
     def matvec(v):
         v = np.ravel(v)
-        x = scipy.linalg.lu_solve(lu, B @ v, check_finite=False)
+        x = lapack.dgetrs(lu[0], lu[1], B @ v)[0]  # lu_solve without its checks
         return np.concatenate([-x, v[:size]])
 
     return sla.LinearOperator((2 * size, 2 * size), matvec=matvec, dtype=float)
@@ -90,14 +99,14 @@ def central_eigenvalues(hb: HarmonicBalance, J: np.ndarray, omega: float,
     omega : float
         rad/s.
     lu : tuple, optional
-        ``scipy.linalg.lu_factor(J)`` if already computed.
+        :func:`lu_factors` of J if already computed.
     """
     size = 2 * hb.m * hb.n
     if size < MIN_SIZE:
         return None
     if lu is None:
-        lu = scipy.linalg.lu_factor(J, check_finite=False)
-    if not np.all(np.isfinite(lu[0])) or np.any(np.diag(lu[0]) == 0):
+        lu = lu_factors(J)
+    if lu is None:
         return None
     op = _operator(hb, lu, omega)
     v0 = np.cos(0.7 * np.arange(1, size + 1))  # fixed: reproducible results

@@ -9,9 +9,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from hbm.continuation import Branch
+from hbm.hill_arnoldi import lu_factors
 from hbm.problem import _Problem
 from hbm.stability import RTOL, hill_verdict, is_stable
 
@@ -88,8 +88,11 @@ def schedule_verdicts(det_sign: np.ndarray, evaluate: Callable[[int], tuple],
     return Schedule(stable, max_real, done)
 
 
-def _det_sign(lu) -> float:
-    """Sign of det J from ``scipy.linalg.lu_factor``'s factors."""
+def _det_sign(J: np.ndarray) -> float:
+    """Sign of det J (0 if singular, NaN if not finite) from its LU factors."""
+    lu = lu_factors(J)
+    if lu is None:
+        return 0.0 if np.all(np.isfinite(J)) else np.nan
     lu_, piv = lu
     swaps = np.count_nonzero(piv != np.arange(len(piv)))
     return float((-1) ** swaps * np.prod(np.sign(np.diag(lu_))))
@@ -113,13 +116,11 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int, dense: bool = False)
             computed[i] = hb.residual(X, w)[1]
         return computed[i], w
 
-    sign = np.empty(npts)
-    for i in range(npts):
-        J, _ = jac(i)
-        try:
-            sign[i] = _det_sign(scipy.linalg.lu_factor(J, check_finite=False))
-        except (np.linalg.LinAlgError, ValueError):
-            sign[i] = np.nan
+    # det J from the stored Jacobian without its column scaling (a constant factor)
+    scale = float(np.prod(np.sign(prob.rs / prob.xs)))
+    sign = np.array([_det_sign(br.jacobian[i][:, :-1]) * scale
+                     if i < len(br.jacobian) else _det_sign(jac(i)[0])
+                     for i in range(npts)])
 
     def evaluate(i):
         J, w = jac(i)
