@@ -83,12 +83,13 @@ def _reference(last):
     return stable, time.process_time() - t0
 
 
-def bench_share(args, np):
+def bench_share(args, np, prefix=""):
     import hbm
     from drymount.config import resolve_config
 
     cfg = resolve_config("six_dof_halved")
-    print(f"\nStability share of a 6-DOF H = 7 curve (six_dof_halved, 2-25 Hz); {_load()}")
+    print(f"\n{prefix}Stability share of a 6-DOF H = 7 curve (six_dof_halved, "
+          f"2-25 Hz); {_load()}")
     worst = 0.0
     for label, opts in (("default options (tol 1e-3)", hbm.HBMOptions()),
                         ("fixed H = 7, N = 64 (tol=None)", hbm.HBMOptions(tol=None))):
@@ -103,7 +104,8 @@ def bench_share(args, np):
                     tot = time.process_time() - t0
             finally:
                 restore()
-            runs.append((hook.t / tot, hook.t, tot, dict(counts), hook.calls, hook.last))
+            runs.append((hook.t / tot, hook.t, tot, dict(counts), hook.calls,
+                         hook.last))
         share, st, tot, counts, ncalls, last = min(runs, key=lambda r: r[0])
         ref, t_ref = _reference(last)
         diff = int(np.sum(ref != np.asarray(fr.stable)[:len(ref)]))
@@ -211,12 +213,13 @@ def bench_scaling(args, np):
     from hbm.hill_arnoldi import central_eigenvalues
     from hbm.stability import hill_eigenvalues
 
-    print(f"\nOne Hill problem, ms (CPU, best of 3 over 8 points of the curve); {_load()}")
+    print(f"\nOne Hill problem, ms (CPU, best of 3 over 8 points of the curve); "
+          f"{_load()}")
     print(f"   {'preset':20s} {'n':>2s} {'H':>3s} {'size':>5s} {'dense':>8s} "
           f"{'Arnoldi':>8s} {'ratio':>6s} {'fallbacks':>9s}")
-    for name, H in (("sdof_halved", 7), ("quarter_car_halved", 7), ("six_dof_halved", 3),
-                    ("six_dof_halved", 5), ("six_dof_halved", 7),
-                    ("six_dof_halved", 10)):
+    for name, H in (("sdof_halved", 7), ("quarter_car_halved", 7),
+                    ("six_dof_halved", 3), ("six_dof_halved", 5),
+                    ("six_dof_halved", 7), ("six_dof_halved", 10)):
         cfg = resolve_config(name)
         with _Hook() as hook:
             hbm.frequency_response(cfg.system, cfg.sweep.fmin_hz, cfg.sweep.fmax_hz,
