@@ -4,9 +4,9 @@ pythonfmu runs the FMU's Python code inside the importing process, where module 
 are global: a bundled module whose name the host (or a second FMU) already imported is
 silently replaced by that copy (PythonFMU issue 228). The builder therefore never ships
 ``fmu_src`` under its own name. It copies ``fmu_src/mount_law.py``,
-``fmu_src/inclined.py``, ``fmu_src/interface.py``, ``fmu_src/fmi_state.py`` and
-``fmu_src/friction_mount.py`` (``FMU_SOURCES``) byte for
-byte into a package named
+``fmu_src/elastic_laws.py``, ``fmu_src/inclined.py``, ``fmu_src/interface.py``,
+``fmu_src/fmi_state.py`` and ``fmu_src/friction_mount.py`` (``FMU_SOURCES``) byte
+for byte into a package named
 
     drymount_mount_<version>_<hash8>/      hash8 = first 8 hex digits of the SHA-256
                                            of the version and the source bytes
@@ -50,8 +50,8 @@ __all__ = [
 ]
 
 #: Files of ``fmu_src`` copied into the FMU, byte for byte.
-FMU_SOURCES = ("mount_law.py", "inclined.py", "interface.py", "fmi_state.py",
-               "friction_mount.py")
+FMU_SOURCES = ("mount_law.py", "elastic_laws.py", "inclined.py", "interface.py",
+               "fmi_state.py", "friction_mount.py")
 #: C source of the linux64 loader in front of pythonfmu's binary (see
 #: :func:`compile_loader`).
 LOADER_SOURCE = "fmu_loader.c"

@@ -57,10 +57,11 @@ References: thesis eq. 2.10-2.13 (Jenkins element), 2.15-2.20 (elastic laws), 4.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from typing import NamedTuple
 
+from .elastic_laws import (ELASTIC_LAWS, LAWS, ElasticLaw, law_code, law_name,
+                           register_law)
 from .inclined import (INCLINED_FIELDS, InclinedParameters, InclinedState,
                        axis_normal_forces, axis_step, relaxed_force, relaxed_state,
                        stuck_stiffness)
@@ -117,138 +118,6 @@ MAX_SLIDERS = 64
 
 #: Names of the three local axes of a mount, in the order used everywhere.
 AXES = ("axial", "radial1", "radial2")
-
-
-# --------------------------------------------------------------------------------------
-# The law registry: each elastic law once. The FMU's integer parameter ``<axis>_law``
-# is the position of the law in this registry (law_code / law_name below are the one
-# place that maps the two); append new laws at the end.
-# --------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class ElasticLaw:
-    """One elastic law of a mount axis (thesis eq. 2.15-2.20).
-
-    Attributes
-    ----------
-    name : str
-        The value of ``AxisParameters.law``.
-    summary : str
-        One line for documentation and error messages.
-    uses : tuple of str
-        ``AxisParameters`` fields the law reads besides ``k1`` and ``c`` (a
-        configuration must give them).
-    force : callable
-        ``force(u, p) -> (F_el, dF_el/du)`` for a deflection ``u`` (m) and the axis
-        parameters ``p``.
-    knees : callable
-        ``knees(p) -> tuple of deflections (m)`` where the law has a kink (events
-        of an event-exact integrator); empty for smooth laws.
-    nonlinear : callable
-        ``nonlinear(p) -> bool``: whether ``F_el - k1 u`` is not identically zero.
-    stiffest : callable
-        ``stiffest(p) -> float``: the largest tangent stiffness of the piecewise-
-        linear part, N/m (``k1`` for smooth laws; a step-size bound, not a bound of
-        the cubic's growing tangent).
-    """
-
-    name: str
-    summary: str
-    uses: tuple[str, ...]
-    force: Callable[[float, AxisParameters], tuple[float, float]]
-    knees: Callable[[AxisParameters], tuple[float, ...]]
-    nonlinear: Callable[[AxisParameters], bool]
-    stiffest: Callable[[AxisParameters], float]
-
-
-#: The registered elastic laws by name, in FMU code order.
-ELASTIC_LAWS: dict[str, ElasticLaw] = {}
-#: Names of the elastic laws, in FMU code order.
-LAWS: tuple[str, ...] = ()
-
-
-def register_law(law: ElasticLaw) -> ElasticLaw:
-    """Add ``law`` to :data:`ELASTIC_LAWS` (its FMU code is the next integer)."""
-    global LAWS
-    if law.name in ELASTIC_LAWS:
-        raise ValueError(f"elastic law {law.name!r} is registered already")
-    ELASTIC_LAWS[law.name] = law
-    LAWS = tuple(ELASTIC_LAWS)
-    return law
-
-
-def law_code(name: str) -> int:
-    """The FMU's integer ``<axis>_law`` of the law ``name``."""
-    return LAWS.index(name)
-
-
-def law_name(code) -> str | None:
-    """The law of the FMU's integer ``<axis>_law`` = ``code``; None if invalid."""
-    if isinstance(code, int) and not isinstance(code, bool) and 0 <= code < len(LAWS):
-        return LAWS[code]
-    return None
-
-
-def _linear(u: float, p: AxisParameters) -> tuple[float, float]:
-    k1 = p.k1
-    return k1 * u, k1
-
-
-def _cubic(u: float, p: AxisParameters) -> tuple[float, float]:
-    k1, kc = p.k1, p.kc
-    return k1 * u + kc * u * u * u, k1 + 3.0 * kc * u * u
-
-
-def _piecewise(u: float, p: AxisParameters) -> tuple[float, float]:
-    """A linear spring plus a spring (k2 - k1) behind gaps at +-delta (eq. 3.30)."""
-    return _knee_spring(u, p, p.delta)
-
-
-def _piecewise_asym(u: float, p: AxisParameters) -> tuple[float, float]:
-    """As :func:`_piecewise` with the negative gap at -delta_neg."""
-    return _knee_spring(u, p, p.delta_neg)
-
-
-def _knee_spring(u: float, p: AxisParameters, dneg: float) -> tuple[float, float]:
-    k1 = p.k1
-    if u > p.delta:
-        k2 = p.k2
-        return k1 * u + (k2 - k1) * (u - p.delta), k2
-    if u < -dneg:
-        k2 = p.k2
-        return k1 * u + (k2 - k1) * (u + dneg), k2
-    return k1 * u, k1
-
-
-def _no_knees(p: AxisParameters) -> tuple[float, ...]:
-    return ()
-
-
-def _k1(p: AxisParameters) -> float:
-    return p.k1
-
-
-def _stiffer(p: AxisParameters) -> float:
-    return max(p.k1, p.k2)
-
-
-def _gap(p: AxisParameters) -> bool:
-    return p.k2 != p.k1
-
-
-register_law(ElasticLaw(
-    "linear", "k1 u", (), _linear, _no_knees, lambda p: False, _k1))
-register_law(ElasticLaw(
-    "cubic", "k1 u + kc u^3 (eq. 2.15)", ("kc",), _cubic, _no_knees,
-    lambda p: p.kc != 0.0, _k1))
-register_law(ElasticLaw(
-    "piecewise", "k1 u, k2 beyond |u| > delta (symmetric, eq. 3.30)",
-    ("k2", "delta"), _piecewise, lambda p: (p.delta, -p.delta), _gap, _stiffer))
-register_law(ElasticLaw(
-    "piecewise_asym", "as piecewise, knee at +delta for u > 0, -delta_neg for u < 0",
-    ("k2", "delta", "delta_neg"), _piecewise_asym,
-    lambda p: (p.delta, -p.delta_neg), _gap, _stiffer))
 
 
 class ParameterError(ValueError):
