@@ -14,12 +14,15 @@ a ratio measured in the same run.
    per call (the intercept at N = 0 of the line through the three timings) under
    15 us, for the default backend.
 2. ``python -m drymount.cli hbm six_dof_halved`` with the defaults against
-   ``DRYMOUNT_THREADS=1`` (target: within 1.2x, wall and CPU); with
-   ``--library-threads`` also the libraries' own threading
+   ``DRYMOUNT_THREADS=1`` (target: within 1.2x, wall and CPU; medians of
+   ``min(--repeat, 3)`` runs, the two settings alternating); ``--cli-args`` adds
+   arguments (e.g. ``"--harmonics 5 --n-samples 64"``: fixed H and N, no ``--tol``
+   adaptation); with ``--library-threads`` also the libraries' own threading
    (``DRYMOUNT_THREADS=default``, the old behaviour; slow on a busy machine). The
    load average is printed before and after: the machine may be shared.
-3. Share of the Hill stability in a 6-DOF H = 7 curve (six_dof_halved, 2-25 Hz),
-   process time inside ``hbm.stability.is_stable``. Target < 5 %.
+3. Share of the Hill stability stage in a 6-DOF H = 7 curve (six_dof_halved,
+   2-25 Hz): ``bench/bench_stability.py`` (process time inside
+   ``hbm.postprocess._stability`` over the whole curve). Target < 5 %.
 
 Timings are process (CPU) time, best of ``--repeat`` batches, so that other processes
 on a shared machine disturb them less; wall times are printed for the CLI runs.
@@ -47,7 +50,6 @@ ROOT = Path(__file__).resolve().parents[1]
 TARGET_FLOOR_RATIO = 3.0
 TARGET_OVERHEAD_US = 15.0
 TARGET_THREADS_RATIO = 1.2
-TARGET_STABILITY_SHARE = 0.05
 
 C_KERNEL = r"""
 #include <stddef.h>
@@ -120,6 +122,8 @@ def _parse():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--skip-cli", action="store_true", help="skip item 2")
+    ap.add_argument("--cli-args", default="",
+                    help="extra arguments of the timed `drymount hbm six_dof_halved`")
     ap.add_argument("--library-threads", action="store_true",
                     help="also time the CLI with the libraries' own threading")
     ap.add_argument("--scaling", action="store_true",
@@ -283,7 +287,7 @@ def _print_aft(np, rows, default):
           f"({'met' if icpt < TARGET_OVERHEAD_US else 'NOT met'})")
 
 
-def _run_cli(extra_env, tmp):
+def _run_cli(extra_env, tmp, cli_args=()):
     env = {k: v for k, v in os.environ.items()
            if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
                         "DRYMOUNT_THREADS")}
@@ -292,7 +296,7 @@ def _run_cli(extra_env, tmp):
     before = os.times()
     t0 = time.perf_counter()
     run = subprocess.run([sys.executable, "-m", "drymount.cli", "hbm",
-                          "six_dof_halved", "--quiet", "--out",
+                          "six_dof_halved", "--quiet", *cli_args, "--out",
                           str(Path(tmp) / "six.csv")], cwd=ROOT, env=env,
                          capture_output=True, text=True)
     if run.returncode != 0:
@@ -305,19 +309,24 @@ def _run_cli(extra_env, tmp):
 
 
 def bench_cli(args):
-    print(f"\n2. drymount hbm six_dof_halved (CLI, fresh process each run); {_load()}")
+    cli_args = args.cli_args.split()
+    print(f"\n2. drymount hbm six_dof_halved {' '.join(cli_args)} (CLI, fresh process "
+          f"each run, medians); {_load()}")
     configs = [("defaults", {}), ("DRYMOUNT_THREADS=1", {"DRYMOUNT_THREADS": "1"})]
     if args.library_threads:
         configs.append(("DRYMOUNT_THREADS=default", {"DRYMOUNT_THREADS": "default"}))
-    res = {}
+    runs = {name: [] for name, _ in configs}
     with tempfile.TemporaryDirectory() as tmp:
         for _ in range(max(1, min(args.repeat, 3))):
             for name, env in configs:
-                w, c = _run_cli(env, tmp)
-                old = res.get(name, (float("inf"), float("inf")))
-                res[name] = (min(old[0], w), min(old[1], c))
-    for name, (w, c) in res.items():
-        print(f"   {name:26s} wall {w:7.2f} s  CPU {c:7.2f} s")
+                runs[name].append(_run_cli(env, tmp, cli_args))
+    res = {}
+    for name, rr in runs.items():
+        w, c = (float(sorted(x)[len(x) // 2]) for x in zip(*rr, strict=True))
+        res[name] = (w, c)
+        print(f"   {name:26s} wall {w:7.2f} s  CPU {c:7.2f} s   (runs: wall "
+              + ", ".join(f"{r[0]:.2f}" for r in rr) + "; CPU "
+              + ", ".join(f"{r[1]:.2f}" for r in rr) + ")")
     d, one = res["defaults"], res["DRYMOUNT_THREADS=1"]
     for what, i in (("wall", 0), ("CPU", 1)):
         r = d[i] / one[i]
@@ -332,54 +341,12 @@ def bench_cli(args):
 
 
 def bench_stability(args, np):
-    import hbm
-    import hbm.analysis as an
-    from drymount.config import resolve_config
+    """Item 3: bench/bench_stability.py's share of the stability stage."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import bench_stability
 
-    cfg = resolve_config("six_dof_halved")
-    acc = {"t": 0.0, "n": 0}
-    orig = an.is_stable
-
-    def timed(*a, **k):
-        t0 = time.process_time()
-        try:
-            return orig(*a, **k)
-        finally:
-            acc["t"] += time.process_time() - t0
-            acc["n"] += 1
-
-    print(f"\n3. Stability share of a 6-DOF H = 7 curve (six_dof_halved, 2-25 Hz); "
-          f"{_load()}")
-    an.is_stable = timed
-    try:
-        best = None
-        for stride, label in ((None, "default schedule"), (1, "every point")):
-            opts = (hbm.HBMOptions() if stride is None
-                    else hbm.HBMOptions(stability_stride=stride))
-            runs = []
-            for _ in range(max(1, min(args.repeat, 3))):
-                acc.update(t=0.0, n=0)
-                t0 = time.process_time()
-                fr = hbm.frequency_response(cfg.system, 2.0, 25.0, harmonics=7,
-                                            options=opts)
-                runs.append((time.process_time() - t0, acc["t"], acc["n"]))
-            tot, st, n = min(runs)
-            print(f"   {label:17s}: {len(fr.freq_hz)} points, {n} Hill problems, "
-                  f"stability {st:.2f} s of {tot:.2f} s CPU = {100 * st / tot:.1f} %, "
-                  f"{int(np.sum(~np.asarray(fr.stable)))} unstable")
-            if best is None:
-                best = (st / tot, np.asarray(fr.stable))
-            else:
-                same = np.array_equal(best[1], np.asarray(fr.stable))
-                print(f"   verdicts of the default schedule equal every "
-                      f"point's: {same}")
-    finally:
-        an.is_stable = orig
-    share = best[0]
-    print(f"   target: stability < {100 * TARGET_STABILITY_SHARE:g} % of the curve: "
-          f"{100 * share:.1f} % -> ratio to target "
-          f"{share / TARGET_STABILITY_SHARE:.2f} "
-          f"({'met' if share < TARGET_STABILITY_SHARE else 'NOT met'})")
+    bench_stability.bench_share(argparse.Namespace(repeat=max(1, min(args.repeat, 3))),
+                                np, prefix="3. ")
 
 
 def bench_scaling(args, np):

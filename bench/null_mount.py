@@ -36,7 +36,10 @@ from pythonfmu.variables import Boolean, Integer, Real  # noqa: E402
 _AXES = ("axial", "radial1", "radial2")
 _REAL_PARAMS = (("k1", 91870.0), ("kc", 0.0), ("k2", 513800.0), ("delta", 0.01225),
                 ("delta_neg", 0.01225), ("c", 150.0), ("kf", 60000.0), ("mu", 1.0),
-                ("n0", 0.0), ("spread", 0.0), ("fs_ratio", 1.0))
+                ("n0", 0.0), ("spread", 0.0), ("fs_ratio", 1.0),
+                # the inclined friction element (friction_kind 1)
+                ("theta_deg", 60.0), ("k", 20000.0), ("kf2", 60000.0), ("mu1", 0.3),
+                ("mu2", 0.3), ("preload", 200.0))
 
 
 class NullMount(Fmi2Slave):
@@ -64,7 +67,9 @@ class NullMount(Fmi2Slave):
                     description=descr))
             for name, descr in (("F", "total force [N]"), ("Ffr", "friction force [N]"),
                                 ("kt", "tangent stiffness [N/m]"),
-                                ("E_fr", "energy dissipated on this axis [J]")):
+                                ("E_fr", "energy dissipated on this axis [J]"),
+                                ("N", "normal force [N]"),
+                                ("N2", "second normal force [N]")):
                 setattr(self, f"{name}_{a}", 0.0)
                 self.register_variable(Real(f"{name}_{a}", start=0.0,
                                             description=descr, **out))
@@ -77,6 +82,11 @@ class NullMount(Fmi2Slave):
             self.register_variable(Integer(
                 f"{a}_law", causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed, start=0, description="law code"))
+            setattr(self, f"{a}_friction_kind", 0)
+            self.register_variable(Integer(
+                f"{a}_friction_kind", causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed, start=0,
+                description="friction kind code"))
             setattr(self, f"{a}_sliders", 1)
             self.register_variable(Integer(
                 f"{a}_sliders", causality=Fmi2Causality.parameter,

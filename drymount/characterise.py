@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import save_figure, write_csv
-from fmu_src.mount_law import AXES, AxisParameters, law_code
+from fmu_src.mount_law import AXES, AxisParameters, MountParameters
 from hbm.characterise import (
     DynamicStiffnessMap,
     dynamic_stiffness,
@@ -100,6 +100,26 @@ def _fmu_names(md_vars, axis: str, field: str) -> str:
     raise ValueError(f"the FMU has no parameter for {field!r} of axis {axis!r}")
 
 
+def _axial_parameters(md_vars, axis: AxisParameters) -> dict[str, dict]:
+    """``{FMI type: {FMU name: value}}`` of ``axis`` as the FMU's axial axis; a field
+    the FMU lacks is skipped only while it has its interface default."""
+    from fmu_src.interface import variable
+    from vehicle.backends import fmu_parameter_values
+
+    out = {}
+    for typ, values in fmu_parameter_values(MountParameters(axis, axis, axis)).items():
+        for name, value in values.items():
+            axis_name, _, field = name.partition("_")
+            if axis_name != "axial":
+                continue
+            try:
+                out.setdefault(typ, {})[_fmu_names(md_vars, "axial", field)] = value
+            except ValueError:
+                if value != variable(name).start:
+                    raise
+    return out
+
+
 def fmu_stiffness(fmu_path, axis: AxisParameters, freq_hz: float, X: float,
                   U0: float = 0.0, periods: int = CHECK_PERIODS,
                   steps_per_period: int = CHECK_STEPS) -> complex:
@@ -121,12 +141,12 @@ def fmu_stiffness(fmu_path, axis: AxisParameters, freq_hz: float, X: float,
     vr = {n: v.valueReference for n, v in names.items()}
     try:
         fmu.instantiate()
-        reals = {_fmu_names(names, "axial", f): float(getattr(axis, f))
-                 for f in ("k1", "kc", "k2", "delta", "delta_neg", "c", "kf", "mu",
-                           "n0")}
-        fmu.setReal([vr[n] for n in reals], list(reals.values()))
-        fmu.setInteger([vr[_fmu_names(names, "axial", "law")]], [law_code(axis.law)])
-        fmu.setBoolean([vr[_fmu_names(names, "axial", "friction")]], [axis.friction])
+        # every parameter of the axial axis in the interface table (micro-slip and
+        # the inclined element included)
+        for typ, values in _axial_parameters(names, axis).items():
+            setter = {"Real": fmu.setReal, "Integer": fmu.setInteger,
+                      "Boolean": fmu.setBoolean}[typ]
+            setter([vr[n] for n in values], list(values.values()))
         fmu.setupExperiment(startTime=0.0)
         fmu.enterInitializationMode()
         fmu.exitInitializationMode()

@@ -188,10 +188,38 @@ def _default_out(cfg, kind: str) -> Path:
     return Path(f"{name}_{kind}.csv")
 
 
+#: first-line prefixes of the files drymount writes (results and partial results)
+_OWN_PREFIXES = ("# drymount ", "# partial: ")
+
+
+def _written_by_drymount(path: Path) -> bool:
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(64).decode("utf-8", "replace")
+    except OSError:
+        return False
+    return head.startswith(_OWN_PREFIXES)
+
+
+def _check_default_out(path: Path) -> Path:
+    """The default output name was not chosen by the user: replace only an earlier
+    drymount result there (saying so), never a file of the user's."""
+    if path.exists() and not _written_by_drymount(path):
+        raise UsageError(f"--out not given: the default output {str(path)!r} exists "
+                         f"and was not written by drymount (its first line does not "
+                         f"start with '# drymount'); name the output with --out, or "
+                         f"move the file")
+    if path.exists():
+        _info(f"replacing {path} (an earlier drymount result)")
+    return path
+
+
 def outputs(args, cfg, kind: str) -> Path:
     """Check ``--out`` (or the default name) and ``--plot`` before any work."""
-    out = check_out(args.out if args.out is not None else _default_out(cfg, kind),
-                    "--out")
+    if args.out is not None:
+        out = check_out(args.out, "--out")
+    else:
+        out = _check_default_out(check_out(_default_out(cfg, kind), "--out"))
     _check_plot(args.plot)
     return out
 

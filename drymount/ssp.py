@@ -35,7 +35,7 @@ from xml.etree.ElementTree import (
 
 from fmu_build.native import write_zip
 from fmu_src import interface
-from fmu_src.mount_law import AXES, law_code
+from fmu_src.mount_law import AXES, friction_kind_code, law_code
 
 __all__ = ["SspExport", "export_ssp", "parameter_set", "system_structure",
            "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS"]
@@ -81,6 +81,8 @@ def _fmu_values(params) -> list[tuple[interface.Variable, str]]:
             var = interface.variable(f"{axis}_{name}")
             if name == "law":
                 text = str(law_code(value))
+            elif name == "friction_kind":
+                text = str(friction_kind_code(value))
             elif var.type == "Integer":
                 text = str(int(value))
             elif var.type == "Boolean":
@@ -88,7 +90,8 @@ def _fmu_values(params) -> list[tuple[interface.Variable, str]]:
             else:
                 text = repr(float(value))
             out.append((var, text))
-    return out
+    order = {v.name: i for i, v in enumerate(interface.VARIABLES)}
+    return sorted(out, key=lambda item: order[item[0].name])
 
 
 def parameter_set(element, set_name: str) -> bytes:

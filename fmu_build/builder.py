@@ -4,8 +4,9 @@ pythonfmu runs the FMU's Python code inside the importing process, where module 
 are global: a bundled module whose name the host (or a second FMU) already imported is
 silently replaced by that copy (PythonFMU issue 228). The builder therefore never ships
 ``fmu_src`` under its own name. It copies ``fmu_src/mount_law.py``,
-``fmu_src/interface.py`` and ``fmu_src/friction_mount.py`` (``FMU_SOURCES``) byte for
-byte into a package named
+``fmu_src/elastic_laws.py``, ``fmu_src/inclined.py``, ``fmu_src/interface.py``,
+``fmu_src/fmi_state.py`` and ``fmu_src/friction_mount.py`` (``FMU_SOURCES``) byte
+for byte into a package named
 
     drymount_mount_<version>_<hash8>/      hash8 = first 8 hex digits of the SHA-256
                                            of the version and the source bytes
@@ -37,7 +38,6 @@ from fmu_src.interface import CAPABILITIES, MODEL_NAME
 
 __all__ = [
     "FMU_SOURCES",
-    "INCLINED_SOURCES",
     "MODELS",
     "ModelSpec",
     "build_fmu",
@@ -50,12 +50,11 @@ __all__ = [
 ]
 
 #: Files of ``fmu_src`` copied into the FMU, byte for byte.
-FMU_SOURCES = ("mount_law.py", "interface.py", "fmi_state.py", "friction_mount.py")
+FMU_SOURCES = ("mount_law.py", "elastic_laws.py", "inclined.py", "interface.py",
+               "fmi_state.py", "friction_mount.py")
 #: C source of the linux64 loader in front of pythonfmu's binary (see
 #: :func:`compile_loader`).
 LOADER_SOURCE = "fmu_loader.c"
-#: Files of ``fmu_src`` copied into the InclinedMount FMU (the Ch. 5 element).
-INCLINED_SOURCES = (*FMU_SOURCES, "inclined.py", "inclined_mount.py")
 
 
 @dataclass(frozen=True)
@@ -74,8 +73,6 @@ class ModelSpec:
 #: The FMUs fmu_build makes, by model name.
 MODELS = {
     MODEL_NAME: ModelSpec(MODEL_NAME, FMU_SOURCES, "friction_mount", "mount", True),
-    "InclinedMount": ModelSpec("InclinedMount", INCLINED_SOURCES, "inclined_mount",
-                               "inclined", False),
 }
 #: Name of pythonfmu's own binary in the FMU once the loader takes its place.
 REAL_BINARY = f"{MODEL_NAME}.pythonfmu.so"
@@ -382,7 +379,8 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
         Version tag (see :func:`fmu_module_names`); a different tag gives different
         module names, so FMUs of two versions load side by side.
     model : str
-        A key of :data:`MODELS`: ``"FrictionMount"`` or ``"InclinedMount"``.
+        A key of :data:`MODELS`: ``"FrictionMount"`` (the inclined element of Ch. 5 is a
+        friction kind of its axes).
 
     Returns
     -------

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
-from fmu_src import interface
+from fmu_src import interface, mount_law
 from fmu_src.mount_law import AXES, LAWS
 
 __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget",
@@ -43,7 +43,8 @@ __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget
 
 SOURCE_DIR = Path(__file__).resolve().parent.parent / "fmu_src" / "native"
 #: Sources shared by both FMI versions, then the glue of each.
-COMMON_SOURCES = ("mount_law.h", "mount_law.c", "model.h", "model.c")
+COMMON_SOURCES = ("inclined.h", "inclined.c", "mount_law.h", "mount_law.c", "model.h",
+                  "model.c")
 GLUE = {2: ("fmi2_api.h", "fmi2_glue.c"), 3: ("fmi3_api.h", "fmi3_glue.c")}
 #: Compiler flags of every binary (the issue's warning set; -fPIC only on ELF).
 CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", "-shared",
@@ -73,15 +74,19 @@ DARWIN_FOLDER = {2: "darwin64", 3: "aarch64-darwin (or x86_64-darwin)"}
 
 _C_TYPE = {"Real": "MD_REAL", "Integer": "MD_INTEGER", "Boolean": "MD_BOOLEAN"}
 _FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
+#: The per-axis parameter fields model.c stores (md_field), the Jenkins/Iwan element's
+#: and the inclined element's (the interface table carries the latter once the axis
+#: has friction kinds).
 _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
-           "mu", "n0", "sliders", "spread", "fs_ratio")
+           "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind", "theta_deg",
+           "k", "kf2", "mu1", "mu2", "preload")
 _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",
-               "w": "MD_LOCAL_W"}
+               "w": "MD_LOCAL_W", "N": "MD_OUTPUT_N", "N2": "MD_OUTPUT_N2"}
 #: Inputs each output depends on (per axis; E_fr on those of every axis).
 _DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "n"), "kt": ("u", "n"),
-            "slip": ("u", "n"), "E_fr": ("u", "n")}
+            "slip": ("u", "n"), "E_fr": ("u", "n"), "N": ("u", "n"), "N2": ("u", "n")}
 _LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError",
                    "logStatusFatal", "logAll")
 
@@ -154,11 +159,28 @@ def is_native_fmu(path) -> bool:
 C_LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
 
 
+#: The friction elements fmu_src/native/mount_law.c implements, in FMU code order
+#: (``<axis>_friction_kind``).
+C_FRICTION_KINDS = ("jenkins", "inclined")
+
+
+def _friction_kinds() -> tuple[str, ...]:
+    """``mount_law.FRICTION_KINDS`` (only the Jenkins element where the law has no
+    friction kinds)."""
+    return tuple(getattr(mount_law, "FRICTION_KINDS", C_FRICTION_KINDS[:1]))
+
+
 def _check_laws() -> None:
     if LAWS != C_LAWS:
         raise NativeBuildError(
             f"the law registry of fmu_src/mount_law.py has {LAWS}, the C port "
             f"implements {C_LAWS}: port the new laws to fmu_src/native/mount_law.c "
+            f"(and its tests) before building the native FMU")
+    kinds = _friction_kinds()
+    if kinds != C_FRICTION_KINDS[:len(kinds)]:
+        raise NativeBuildError(
+            f"fmu_src/mount_law.py has the friction kinds {kinds}, the C port "
+            f"implements {C_FRICTION_KINDS}: port them to fmu_src/native/mount_law.c "
             f"(and its tests) before building the native FMU")
 
 
@@ -219,13 +241,18 @@ def variables_header(target: NativeTarget, token: str) -> str:
 
 
 def _bounds(var: interface.Variable) -> dict[str, str]:
-    """Declared ranges, as the PythonFMU build: Real parameters >= 0, law a code."""
+    """Declared ranges, as the PythonFMU build: Real parameters >= 0 (theta_deg also
+    <= 90), law and friction_kind codes."""
     if var.causality != "parameter":
         return {}
+    if var.name.endswith("_theta_deg"):
+        return {"min": "0", "max": "90"}
     if var.type == "Real":
         return {"min": "0"}
     if var.name.endswith("_law"):
         return {"min": "0", "max": str(len(LAWS) - 1)}
+    if var.name.endswith("_friction_kind"):
+        return {"min": "0", "max": str(len(_friction_kinds()) - 1)}
     return {}
 
 
@@ -415,9 +442,10 @@ def _documentation(target: NativeTarget, missing: list[str]) -> bytes:
 values and default experiment as the PythonFMU build (FrictionMount.fmu), the mount law
 ported to C99. It needs only the C standard library and libm: no Python.</p>
 <p>Variables per axis (axial, radial1, radial2): parameters &lt;axis&gt;_law, _k1, _kc,
-_k2, _delta, _delta_neg, _c, _friction, _kf, _mu, _n0; inputs u_, v_, n_; outputs F_,
-Ffr_, kt_, slip_, E_fr_; the output E_fr and the locals w_ (slider positions, settable
-also between steps, as in the PythonFMU build).</p>
+_k2, _delta, _delta_neg, _c, _friction, _kf, _mu, _n0, _sliders, _spread, _fs_ratio
+(micro-slip and non-symmetric friction); inputs u_, v_, n_; outputs F_, Ffr_, kt_,
+slip_, E_fr_; the output E_fr and the locals w_ (slider positions, settable also
+between steps, as in the PythonFMU build).</p>
 {missing_text}
 <h2>Compiling the sources for another platform</h2>
 <p>Run in the folder of the unzipped FMU, then put the library into

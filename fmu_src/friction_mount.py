@@ -51,15 +51,17 @@ from pythonfmu.enums import Fmi2Status
 
 from .fmi_state import Mode, call_error, set_error, setup_error, step_error
 from .interface import (
+    ALL_PARAMETER_FIELDS,
     BASE_UNITS,
     CAPABILITIES,
     DEFAULT_EXPERIMENT,
     MODEL_NAME,
-    PARAMETER_FIELDS,
     VARIABLES,
 )
-from .mount_law import (AXES, LAWS, AxisParameters, axis_force, initial_sliders,
-                        law_code, law_name, mean_slider)
+from .mount_law import (AXES, FRICTION_KINDS, LAWS, AxisParameters, axis_force,
+                        conform_state, friction_kind_code, friction_kind_name,
+                        initial_sliders, law_code, law_name, mean_slider,
+                        normal_forces)
 
 try:  # written by fmu_build into the FMU's package; absent in the repository
     from . import FMU_VERSION
@@ -72,13 +74,15 @@ _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean}
 _CAUSALITY = {c.name: c for c in Fmi2Causality}
 _VARIABILITY = {v.name: v for v in Fmi2Variability}
 _INITIAL = {i.name: i for i in Fmi2Initial}
-_PARAMETER_NAMES = tuple(name for name, *_ in PARAMETER_FIELDS)
+_PARAMETER_NAMES = tuple(name for name, *_ in ALL_PARAMETER_FIELDS)
 
 # Declared ranges of the parameters (strict bounds such as delta > 0 and the rule for
 # kf are in the descriptions and checked at initialization).
-_BOUNDS = {"law": {"min": "0", "max": str(len(LAWS) - 1)}}
-_BOUNDS.update({name: {"min": "0"} for name, typ, *_ in PARAMETER_FIELDS
+_BOUNDS = {"law": {"min": "0", "max": str(len(LAWS) - 1)},
+           "friction_kind": {"min": "0", "max": str(len(FRICTION_KINDS) - 1)}}
+_BOUNDS.update({name: {"min": "0"} for name, typ, *_ in ALL_PARAMETER_FIELDS
                 if typ == "Real"})
+_BOUNDS["theta_deg"] = {"min": "0", "max": "90"}
 
 # Indices into the AxisForce result (mount_law.axis_force).
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
@@ -254,6 +258,8 @@ class FrictionMount(Fmi2Slave):
                     (lambda value: self._set_normal_force(j, value)))
         if quantity == "E_fr":
             return (lambda: self._e[j] + self._axis(j)[_DISS]), None
+        if quantity in ("N", "N2"):
+            return (lambda: self._normal_output(j)[quantity == "N2"]), None
         idx = {"F": _F, "Ffr": _FFR, "kt": _KT, "slip": _SLIP}[quantity]
         return (lambda: self._axis(j)[idx]), None
 
@@ -277,11 +283,21 @@ class FrictionMount(Fmi2Slave):
         self._res[j] = None
 
     def _set_sliders(self, j: int, value: float) -> None:
-        """``w_<axis>`` = value: every slider of the axis at ``value`` (m)."""
+        """``w_<axis>`` = value: every slider of the axis at ``value`` (m); an
+        inclined element relaxed at the deflection ``value``."""
         n = getattr(self, f"{AXES[j]}_sliders")
         multi = isinstance(n, int) and not isinstance(n, bool) and n > 1
         self._w[j] = tuple([float(value)] * n) if multi else value
+        if self._axes is not None:  # checked parameters: the state of the axis's kind
+            self._w[j] = initial_sliders(self._axes[j], value)
         self._res[j] = None
+
+    def _normal_output(self, j: int) -> tuple[float, float]:
+        """``(N, N2)`` of axis ``j`` at the trial state (mount_law.normal_forces)."""
+        res = self._axis(j)
+        p = self._axes[j]
+        n = self._n[j]
+        return normal_forces(p, res[_W], p.mu * n if n > 0.0 else 0.0)
 
     def _set_normal_force(self, j: int, value: float) -> None:
         self._n[j] = value
@@ -323,6 +339,14 @@ class FrictionMount(Fmi2Slave):
                 allowed = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
                 problems.append(f"`{axis}_law` must be one of {allowed}, got {code!r}")
                 values["law"] = LAWS[0]
+            code = values["friction_kind"]
+            values["friction_kind"] = friction_kind_name(code)
+            if values["friction_kind"] is None:
+                allowed = ", ".join(f"{friction_kind_code(name)} = {name}"
+                                    for name in FRICTION_KINDS)
+                problems.append(f"`{axis}_friction_kind` must be one of {allowed}, "
+                                f"got {code!r}")
+                values["friction_kind"] = FRICTION_KINDS[0]
             # problems() only reads attributes: run it on the raw values so that every
             # problem of every axis is reported with the FMU variable name.
             problems += AxisParameters.problems(SimpleNamespace(**values), f"{axis}_")
@@ -334,11 +358,9 @@ class FrictionMount(Fmi2Slave):
         for j, axis in enumerate(AXES):
             if not self._n_set[j]:
                 self._n[j] = getattr(self, f"{axis}_n0")
-            # a micro-slip axis keeps one position per slider (float otherwise)
-            w, p = self._w[j], axes[j]
-            if len(w if isinstance(w, tuple) else (w,)) != (
-                    p.sliders if p.micro_slip else 1):
-                self._w[j] = initial_sliders(p, mean_slider(w))
+            # a micro-slip axis keeps one position per slider, an inclined one its
+            # InclinedState (a float otherwise)
+            self._w[j] = conform_state(axes[j], self._w[j])
         self._axes = axes
 
     # ------------------------------------------------------------------ the law
@@ -362,7 +384,10 @@ class FrictionMount(Fmi2Slave):
         p = self._axes[j]
         # A negative normal force means lost contact: Fs = mu * max(n, 0).
         fs = p.mu * n if n > 0.0 else 0.0
-        res = axis_force(u, v, self._w[j], p, fs)
+        try:
+            res = axis_force(u, v, self._w[j], p, fs)
+        except ValueError as exc:  # the inclined element lost contact (ContactLost)
+            raise self._fail(f"axis {AXES[j]} at u_{AXES[j]}={u!r}: {exc}") from None
         if not (math.isfinite(res[_F]) and math.isfinite(res[_KT])):
             axis = AXES[j]
             raise self._fail(f"the force of axis {axis} overflowed at "
@@ -418,6 +443,8 @@ class FrictionMount(Fmi2Slave):
                  if var.setter is not None}
         state["_E_committed"] = [float(x) for x in self._e]
         state["_n_set"] = list(self._n_set)
+        # tuples (micro-slip sliders, an inclined element's (w1, w2, uc)) as lists;
+        # _prepare reads them back as the axis's kind (mount_law.conform_state)
         state["_w"] = [list(w) if isinstance(w, tuple) else w for w in self._w]
         state["_mode"] = self._mode.value
         state["_t_next"] = self._t_next
@@ -563,15 +590,16 @@ class FrictionMount(Fmi2Slave):
         structure = SubElement(root, "ModelStructure")
         outputs = SubElement(structure, "Outputs")
         initial = SubElement(structure, "InitialUnknowns")
+        rows = []  # (index, dependencies) of every output, listed in index order
         for axis in AXES:
             deps = {"F": ("u", "v", "n")}
-            for name in ("F", "Ffr", "kt", "slip", "E_fr"):
-                refs = " ".join(index[f"{d}_{axis}"]
-                                for d in deps.get(name, ("u", "n")))
-                SubElement(outputs, "Unknown", index=index[f"{name}_{axis}"],
-                           dependencies=refs)
-        SubElement(outputs, "Unknown", index=index["E_fr"], dependencies=" ".join(
-            index[f"{d}_{axis}"] for axis in AXES for d in ("u", "n")))
+            for name in ("F", "Ffr", "kt", "slip", "E_fr", "N", "N2"):
+                rows.append((int(index[f"{name}_{axis}"]), " ".join(
+                    index[f"{d}_{axis}"] for d in deps.get(name, ("u", "n")))))
+        rows.append((int(index["E_fr"]), " ".join(
+            index[f"{d}_{axis}"] for axis in AXES for d in ("u", "n"))))
+        for i, refs in sorted(rows):
+            SubElement(outputs, "Unknown", index=str(i), dependencies=refs)
         # Initial values of the outputs depend on inputs, parameters and the start
         # value of w: no `dependencies` attribute = depends on all knowns (FMI 2.0).
         for unknown in outputs:

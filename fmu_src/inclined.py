@@ -32,7 +32,13 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 __all__ = ["InclinedParameters", "InclinedStep", "ContactLost", "inclined_update",
-           "inclined_forces"]
+           "inclined_forces", "InclinedState", "relaxed_state", "relaxed_force",
+           "stuck_stiffness", "step_derivatives", "INCLINED_FIELDS", "axis_step",
+           "axis_normal_forces"]
+
+#: The element's parameters as fields of a mount axis (``fmu_src.mount_law.
+#: AxisParameters``): the axis's ``kf`` is the inclined surface's contact stiffness.
+INCLINED_FIELDS = ("theta_deg", "k", "kf", "kf2", "mu1", "mu2", "preload")
 
 _MAX_EVENTS = 64
 _REL_TOL = 1e-12
@@ -174,13 +180,23 @@ def inclined_forces(x: float, w1: float, w2: float, p: InclinedParameters,
     return _solve(x, w1, w2, reg, p, s, c)
 
 
+_SLOPES: dict = {}
+
+
 def _affine(x, w1, w2, reg, p, s, c):
     """Values at ``x`` and slopes d/dx of ``(f1, f2, N, N2)`` in regime ``reg``."""
     v0 = _solve(x, w1, w2, reg, p, s, c)
-    # the sliders only shift the intercept: slopes from the pair x = 0, 1 with w = 0
-    v0z = _solve(0.0, 0.0, 0.0, reg, p, s, c)
-    v1z = _solve(1.0, 0.0, 0.0, reg, p, s, c)
-    return v0, tuple(b - a for a, b in zip(v0z, v1z))
+    # the sliders only shift the intercept: slopes from the pair x = 0, 1 with w = 0,
+    # constants of (parameters, regime), computed once (the same floats every time)
+    key = (p, reg)
+    slopes = _SLOPES.get(key)
+    if slopes is None:
+        if len(_SLOPES) > 4096:   # many designs in one process: start over
+            _SLOPES.clear()
+        v0z = _solve(0.0, 0.0, 0.0, reg, p, s, c)
+        v1z = _solve(1.0, 0.0, 0.0, reg, p, s, c)
+        slopes = _SLOPES[key] = tuple(b - a for a, b in zip(v0z, v1z))
+    return v0, slopes
 
 
 def _consistent(vals, slopes, reg, at_limit, d, p, s, c) -> bool:
@@ -210,8 +226,11 @@ def _choose(x, w1, w2, d, p, s, c):
     f1, f2, n1, n2 = vals
     lim = (p.mu1 * n1, p.mu2 * n2)
     at_limit = []
+    # within rounding of the element's force scale (the friction forces are computed
+    # from spring forces of that size: a normal force near 0 makes L tiny, not exact)
+    scale = abs(f1) + abs(f2) + p.preload
     for f, L in zip((f1, f2), lim):
-        tol = _REL_TOL * max(abs(f), abs(L), 1e-9)
+        tol = _REL_TOL * max(abs(f), abs(L), scale, 1e-9)
         at_limit.append(not math.isinf(L) and abs(f) >= L - tol)
     options = [(0,), (0,)]
     for i, f in enumerate((f1, f2)):
@@ -292,3 +311,146 @@ def _check_contact(x, vals, p):
         if n < -_REL_TOL * scale and not math.isinf(mu):
             raise ContactLost(f"the inclined element loses contact at x = {x!r} m: "
                               f"{name} = {n:.6g} N < 0 (raise the preload or k)")
+
+
+# --------------------------------------------------------------------------------------
+# The element as the friction element of a mount axis (fmu_src.mount_law.axis_force):
+# its state, the relaxed state at a deflection, and the derivatives of one increment.
+#
+# Sign convention on an axis: the element is pressed into the wedge when the mount is
+# compressed, x = -u (u = engine minus chassis deflection along the axis, negative in
+# compression), and it pushes the two sides apart, F = -N2 (a positive axis force is
+# tension). With the axis pointing up from the chassis to the engine, the engine's
+# weight presses the wedge in, as in the thesis's Fig. 5.4.
+# --------------------------------------------------------------------------------------
+
+
+class InclinedState(NamedTuple):
+    """Committed state of the element on a mount axis: the sliders ``w1``, ``w2`` (m,
+    element coordinates) and the committed axis deflection ``uc`` (m; the element's
+    ``x = -uc``), where the next increment starts."""
+
+    w1: float
+    w2: float
+    uc: float
+
+
+def relaxed_state(p: InclinedParameters, u: float) -> InclinedState:
+    """The element at axis deflection ``u`` (m) with both surfaces unloaded (f1 = f2
+    = 0): ``w1 = x / sin``, ``w2 = x cos / sin``, ``x = -u``. The harness's one-number
+    slider value of the axis (``w_<axis>``) is ``uc``; setting it relaxes the element
+    there."""
+    s, c = p.sc
+    u = float(u)
+    return InclinedState(-u / s, -u * c / s, u)
+
+
+def relaxed_force(u: float, p: InclinedParameters) -> tuple[float, float]:
+    """Axis force (N) and tangent dF/du (N/m) of the element relaxed at axis
+    deflection ``u`` (f1 = f2 = 0): ``F = -N2 = -cos (k x cos / sin + P) / sin``,
+    ``x = -u`` (eq. 5.1-5.3 with the sliders unloaded); the static working point's law
+    (``hbm.static``)."""
+    s, c = p.sc
+    return -c * (-p.k * u * c / s + p.preload) / s, p.k * c * c / (s * s)
+
+
+def axis_step(u: float, state: InclinedState, p: InclinedParameters
+              ) -> tuple[InclinedStep, InclinedState]:
+    """The element's increment on an axis from ``state`` to axis deflection ``u``:
+    the :class:`InclinedStep` in element coordinates (``x = -u``; the axis force is
+    ``-step.force``, its tangent dF/du is ``step.tangent``) and the new state."""
+    st = inclined_update(-u, -state.uc, state.w1, state.w2, p)
+    return st, InclinedState(st.w1, st.w2, u)
+
+
+def axis_normal_forces(state: InclinedState, p: InclinedParameters
+                       ) -> tuple[float, float]:
+    """Normal forces ``(N, N2)`` in N of the element in ``state``: the stuck-regime
+    forces at the committed deflection reproduce every regime's (a slipping surface's
+    slider sits at ``d_i - f_i / kf_i``)."""
+    _, _, n1, n2 = inclined_forces(-state.uc, state.w1, state.w2, p)
+    return n1, n2
+
+
+def stuck_stiffness(p: InclinedParameters) -> float:
+    """dF/du with both surfaces stuck, N/m (the element's stiffest regime)."""
+    s, c = p.sc
+    return (_solve(1.0, 0.0, 0.0, (0, 0), p, s, c)[3]
+            - _solve(0.0, 0.0, 0.0, (0, 0), p, s, c)[3])
+
+
+def step_derivatives(x: float, x_old: float, w1: float, w2: float,
+                     p: InclinedParameters, st: InclinedStep | None = None):
+    """Derivatives of one increment of :func:`inclined_update`.
+
+    Returns ``rows`` = ``(dF, dN, dw1, dw2)``, each a 4-tuple of the derivatives with
+    respect to ``(x, x_old, w1, w2)`` (``F`` = N2 the force, ``N`` the inclined
+    surface's normal force, ``w1``, ``w2`` the sliders after the increment).
+
+    Exact: in the final stick/slip regime the forces are affine in ``x`` and the
+    stuck surfaces' sliders (a slipping surface's slider only follows, ``w_i = d_i(x)
+    - f_i / kf_i``), and where no surface re-sticks inside the increment a stuck
+    surface's slider is its committed value, so nothing depends on ``x_old``. An
+    increment in which a surface slips and re-sticks is differentiated by central
+    differences of the map instead (the map is piecewise affine: exact unless an event
+    lies within the difference step).
+    """
+    if st is None:
+        st = inclined_update(x, x_old, w1, w2, p)
+    reg = (1 if st.slip1 else 0, 1 if st.slip2 else 0)
+    restuck = (not st.slip1 and st.w1 != w1) or (not st.slip2 and st.w2 != w2)
+    if restuck:
+        return _fd_derivatives(x, x_old, w1, w2, p)
+    # regime signs only matter for slipping surfaces: take them from the end forces
+    sreg = (0 if not reg[0] else (1 if st.f1 >= 0 else -1),
+            0 if not reg[1] else (1 if st.f2 >= 0 else -1))
+    return _regime_derivatives(p, sreg)
+
+
+_REGIME_CACHE: dict = {}
+
+
+def _regime_derivatives(p: InclinedParameters, sreg):
+    """The rows of :func:`step_derivatives` in regime ``sreg``: constants of the
+    regime (every force is affine there), computed once per (parameters, regime)."""
+    key = (p, sreg)
+    rows = _REGIME_CACHE.get(key)
+    if rows is not None:
+        return rows
+    if len(_REGIME_CACHE) > 4096:   # many designs in one process: start over
+        _REGIME_CACHE.clear()
+    s, c = p.sc
+    base = _solve(0.0, 0.0, 0.0, sreg, p, s, c)
+    dx = [b - a for a, b in zip(base, _solve(1.0, 0.0, 0.0, sreg, p, s, c))]
+    dw1 = ([b - a for a, b in zip(base, _solve(0.0, 1.0, 0.0, sreg, p, s, c))]
+           if not sreg[0] else [0.0] * 4)
+    dw2 = ([b - a for a, b in zip(base, _solve(0.0, 0.0, 1.0, sreg, p, s, c))]
+           if not sreg[1] else [0.0] * 4)
+    rows_f = [(dx[i], 0.0, dw1[i], dw2[i]) for i in range(4)]   # f1, f2, N, N2
+    w_rows = []
+    for i, (kfi, da) in enumerate(((p.kf, 1.0 / s), (p.kf2, c / s))):
+        if sreg[i]:
+            f = rows_f[i]
+            w_rows.append((da - f[0] / kfi, 0.0, -f[2] / kfi, -f[3] / kfi))
+        else:
+            w_rows.append((0.0, 0.0, 1.0, 0.0) if i == 0 else (0.0, 0.0, 0.0, 1.0))
+    rows = (rows_f[3], rows_f[2], w_rows[0], w_rows[1])
+    _REGIME_CACHE[key] = rows
+    return rows
+
+
+def _fd_derivatives(x, x_old, w1, w2, p):
+    """Central differences of the map (an increment with a re-stick event)."""
+    args = [x, x_old, w1, w2]
+    scale = max(abs(x), abs(x_old), abs(w1), abs(w2), 1e-6)
+    h = 1e-7 * scale
+    cols = []
+    for j in range(4):
+        hi, lo = list(args), list(args)
+        hi[j] += h
+        lo[j] -= h
+        a = inclined_update(*hi, p)
+        b = inclined_update(*lo, p)
+        cols.append([(fa - fb) / (2 * h) for fa, fb in
+                     zip((a.force, a.n1, a.w1, a.w2), (b.force, b.n1, b.w1, b.w2))])
+    return tuple(tuple(cols[j][i] for j in range(4)) for i in range(4))

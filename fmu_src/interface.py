@@ -10,18 +10,23 @@ Per axis in ``AXES`` (``axial``, ``radial1``, ``radial2``): parameters
 ``<axis>_<field>`` (the fields of :class:`fmu_src.mount_law.AxisParameters`; ``law`` as
 its integer code, :func:`fmu_src.mount_law.law_code`), inputs ``u_``, ``v_``, ``n_``,
 outputs ``F_``, ``Ffr_``, ``kt_``, ``slip_``, ``E_fr_``; then the output ``E_fr`` (all
-axes) and the locals ``w_<axis>`` (committed slider positions).
+axes) and the locals ``w_<axis>`` (committed slider positions); then, appended so that
+the earlier value references stay, the inclined element's parameters per axis
+(``<axis>_friction_kind`` and the fields of :data:`INCLINED_PARAMETER_FIELDS`) and the
+outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .mount_law import AXES, LAWS, AxisParameters, law_code
+from .mount_law import (AXES, FRICTION_KINDS, LAWS, AxisParameters,
+                        friction_kind_code, law_code)
 
 __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
-           "by_causality", "parameter_unit"]
+           "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
+           "ALL_PARAMETER_FIELDS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -69,6 +74,7 @@ BASE_UNITS: dict[str, dict[str, int]] = {
     "N.s/m": {"kg": 1, "s": -1},
     "J": {"kg": 1, "m": 2, "s": -2},
     "1": {},
+    "deg": {"rad": 1, "factor": 0.017453292519943295},  # pi / 180
 }
 
 #: CoSimulation capability flags of the model description.
@@ -107,15 +113,49 @@ PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
      "one, >= 0 (1: symmetric friction)"),
 )
 
+_KIND_TEXT = ", ".join(f"{friction_kind_code(name)} = {name}"
+                       for name in FRICTION_KINDS)
 
-def _variables() -> tuple[Variable, ...]:
+#: (field, FMI type, unit, description) of the inclined element's per-axis parameters
+#: (thesis Ch. 5, fmu_src/inclined.py), in the order of the fields of
+#: ``AxisParameters``; ``kf`` of the table above is its inclined surface's stiffness.
+INCLINED_PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
+    ("friction_kind", "Integer", None, f"friction element: {_KIND_TEXT} (the "
+     f"inclined two-surface element of thesis Ch. 5; its kf is the inclined "
+     f"surface's contact stiffness, n0, mu and n_<axis> are not used)"),
+    ("theta_deg", "Real", "deg", "inclined element: angle of the inclined surface to "
+     "the plate, in (0, 90]"),
+    ("k", "Real", "N/m", "inclined element: stiffness of the elastic pieces pushing "
+     "the wedge, >= 0"),
+    ("kf2", "Real", "N/m", "inclined element: contact stiffness of the flat surface, "
+     "> 0"),
+    ("mu1", "Real", "1", "inclined element: friction coefficient of the inclined "
+     "surface, >= 0 (inf: bonded)"),
+    ("mu2", "Real", "1", "inclined element: friction coefficient of the flat "
+     "surface, >= 0 (inf: bonded)"),
+    ("preload", "Real", "N", "inclined element: force of the elastic pieces at "
+     "u = 0, >= 0"),
+)
+
+
+def _parameters(table) -> list[Variable]:
     defaults = AxisParameters()
     out = []
     for axis in AXES:
-        for name, typ, unit, text in PARAMETER_FIELDS:
-            start = law_code(defaults.law) if name == "law" else getattr(defaults, name)
+        for name, typ, unit, text in table:
+            start = getattr(defaults, name)
+            if name == "law":
+                start = law_code(start)
+            elif name == "friction_kind":
+                start = friction_kind_code(start)
             out.append(Variable(f"{axis}_{name}", typ, "parameter", "fixed", start,
                                 unit, f"{axis}: {text}"))
+    return out
+
+
+def _variables() -> tuple[Variable, ...]:
+    defaults = AxisParameters()
+    out = _parameters(PARAMETER_FIELDS)
     for axis in AXES:
         out += [
             Variable(f"u_{axis}", "Real", "input", "continuous", 0.0, "m",
@@ -146,9 +186,25 @@ def _variables() -> tuple[Variable, ...]:
         out.append(Variable(
             f"w_{axis}", "Real", "local", "continuous", 0.0, "m",
             f"{axis}: committed slider position of the Jenkins element (micro-slip: "
-            f"the mean of the sliders; setting it puts every slider there)", "exact"))
+            f"the mean of the sliders; setting it puts every slider there; inclined "
+            f"element: the committed deflection, setting it relaxes the element "
+            f"there)", "exact"))
+    out += _parameters(INCLINED_PARAMETER_FIELDS)
+    for axis in AXES:
+        out += [
+            Variable(f"N_{axis}", "Real", "output", "continuous", None, "N",
+                     f"{axis}: normal force of the friction contact (inclined "
+                     f"element: on the inclined surface, from its kinematics; Jenkins "
+                     f"element: max(n_{axis}, 0); 0 without friction)"),
+            Variable(f"N2_{axis}", "Real", "output", "continuous", None, "N",
+                     f"{axis}: normal force on the inclined element's flat surface "
+                     f"(0 for the Jenkins element and without friction)"),
+        ]
     return tuple(out)
 
+
+#: Every per-axis parameter field: (field, FMI type, unit, description).
+ALL_PARAMETER_FIELDS = PARAMETER_FIELDS + INCLINED_PARAMETER_FIELDS
 
 #: Every variable of the FMU, in value-reference order.
 VARIABLES: tuple[Variable, ...] = _variables()
@@ -161,7 +217,8 @@ def variable(name: str) -> Variable:
         return _BY_NAME[name]
     except KeyError:
         raise KeyError(f"{MODEL_NAME} has no variable {name!r} (variables are "
-                       f"<axis>_<parameter>, u_/v_/n_/F_/Ffr_/kt_/slip_/E_fr_/w_<axis> "
+                       f"<axis>_<parameter>, u_/v_/n_/F_/Ffr_/kt_/slip_/E_fr_/w_/N_/"
+                       f"N2_<axis> "
                        f"and E_fr; axes {', '.join(AXES)})") from None
 
 

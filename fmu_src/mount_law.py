@@ -37,6 +37,15 @@ force is Fs r_i / S. The r_i are uniform on [1 - spread, 1 + spread] with mean 1
 total stiffness is kf, the full-slip force is Fs, and spread = 0 is the macro-slip
 element. Its state is the tuple of the S slider positions (:func:`iwan_update`).
 
+Inclined two-surface element (``friction_kind = "inclined"``, thesis Ch. 5): the
+friction element of the axis is the wedge of :mod:`fmu_src.inclined` (parameters
+``theta_deg``, ``k``, ``kf``, ``kf2``, ``mu1``, ``mu2``, ``preload``), whose normal
+forces follow from its kinematics (``n0``, ``mu`` and the normal-force input are not
+used). Its state is an :class:`fmu_src.inclined.InclinedState` (sliders ``w1``, ``w2``
+and the committed deflection); its force (N2, along the axis) is the friction force
+of the axis. The wedge is pressed in when the axis is compressed (element deflection
+``x = -u``) and pushes the sides apart (axis force ``-N2``).
+
 A positive force is a tensile force along the axis: for u > 0 (engine moved in the
 positive axis direction relative to the chassis) the elastic force is positive, and the
 engine feels ``-F_j`` while the chassis feels ``+F_j``.
@@ -48,9 +57,14 @@ References: thesis eq. 2.10-2.13 (Jenkins element), 2.15-2.20 (elastic laws), 4.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from typing import NamedTuple
+
+from .elastic_laws import (ELASTIC_LAWS, LAWS, ElasticLaw, law_code, law_name,
+                           register_law)
+from .inclined import (INCLINED_FIELDS, InclinedParameters, InclinedState,
+                       axis_normal_forces, axis_step, relaxed_force, relaxed_state,
+                       stuck_stiffness)
 
 __all__ = [
     "AXES",
@@ -74,145 +88,36 @@ __all__ = [
     "initial_sliders",
     "mean_slider",
     "axis_force",
+    "FRICTION_KINDS",
+    "friction_kind_code",
+    "friction_kind_name",
+    "conform_state",
+    "normal_forces",
+    "static_force",
 ]
+
+#: The friction elements of an axis, in the order of the FMU's ``<axis>_friction_kind``
+#: code: the Jenkins/Iwan element (macro- or micro-slip) and the inclined element.
+FRICTION_KINDS = ("jenkins", "inclined")
+
+
+def friction_kind_code(name: str) -> int:
+    """The FMU's integer ``<axis>_friction_kind`` of ``name``."""
+    return FRICTION_KINDS.index(name)
+
+
+def friction_kind_name(code) -> str | None:
+    """The friction kind of the FMU's integer code; None if invalid."""
+    if isinstance(code, int) and not isinstance(code, bool) \
+            and 0 <= code < len(FRICTION_KINDS):
+        return FRICTION_KINDS[code]
+    return None
 
 #: Largest number of sliders of a micro-slip (Iwan) element.
 MAX_SLIDERS = 64
 
 #: Names of the three local axes of a mount, in the order used everywhere.
 AXES = ("axial", "radial1", "radial2")
-
-
-# --------------------------------------------------------------------------------------
-# The law registry: each elastic law once. The FMU's integer parameter ``<axis>_law``
-# is the position of the law in this registry (law_code / law_name below are the one
-# place that maps the two); append new laws at the end.
-# --------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class ElasticLaw:
-    """One elastic law of a mount axis (thesis eq. 2.15-2.20).
-
-    Attributes
-    ----------
-    name : str
-        The value of ``AxisParameters.law``.
-    summary : str
-        One line for documentation and error messages.
-    uses : tuple of str
-        ``AxisParameters`` fields the law reads besides ``k1`` and ``c`` (a
-        configuration must give them).
-    force : callable
-        ``force(u, p) -> (F_el, dF_el/du)`` for a deflection ``u`` (m) and the axis
-        parameters ``p``.
-    knees : callable
-        ``knees(p) -> tuple of deflections (m)`` where the law has a kink (events
-        of an event-exact integrator); empty for smooth laws.
-    nonlinear : callable
-        ``nonlinear(p) -> bool``: whether ``F_el - k1 u`` is not identically zero.
-    stiffest : callable
-        ``stiffest(p) -> float``: the largest tangent stiffness of the piecewise-
-        linear part, N/m (``k1`` for smooth laws; a step-size bound, not a bound of
-        the cubic's growing tangent).
-    """
-
-    name: str
-    summary: str
-    uses: tuple[str, ...]
-    force: Callable[[float, AxisParameters], tuple[float, float]]
-    knees: Callable[[AxisParameters], tuple[float, ...]]
-    nonlinear: Callable[[AxisParameters], bool]
-    stiffest: Callable[[AxisParameters], float]
-
-
-#: The registered elastic laws by name, in FMU code order.
-ELASTIC_LAWS: dict[str, ElasticLaw] = {}
-#: Names of the elastic laws, in FMU code order.
-LAWS: tuple[str, ...] = ()
-
-
-def register_law(law: ElasticLaw) -> ElasticLaw:
-    """Add ``law`` to :data:`ELASTIC_LAWS` (its FMU code is the next integer)."""
-    global LAWS
-    if law.name in ELASTIC_LAWS:
-        raise ValueError(f"elastic law {law.name!r} is registered already")
-    ELASTIC_LAWS[law.name] = law
-    LAWS = tuple(ELASTIC_LAWS)
-    return law
-
-
-def law_code(name: str) -> int:
-    """The FMU's integer ``<axis>_law`` of the law ``name``."""
-    return LAWS.index(name)
-
-
-def law_name(code) -> str | None:
-    """The law of the FMU's integer ``<axis>_law`` = ``code``; None if invalid."""
-    if isinstance(code, int) and not isinstance(code, bool) and 0 <= code < len(LAWS):
-        return LAWS[code]
-    return None
-
-
-def _linear(u: float, p: AxisParameters) -> tuple[float, float]:
-    k1 = p.k1
-    return k1 * u, k1
-
-
-def _cubic(u: float, p: AxisParameters) -> tuple[float, float]:
-    k1, kc = p.k1, p.kc
-    return k1 * u + kc * u * u * u, k1 + 3.0 * kc * u * u
-
-
-def _piecewise(u: float, p: AxisParameters) -> tuple[float, float]:
-    """A linear spring plus a spring (k2 - k1) behind gaps at +-delta (eq. 3.30)."""
-    return _knee_spring(u, p, p.delta)
-
-
-def _piecewise_asym(u: float, p: AxisParameters) -> tuple[float, float]:
-    """As :func:`_piecewise` with the negative gap at -delta_neg."""
-    return _knee_spring(u, p, p.delta_neg)
-
-
-def _knee_spring(u: float, p: AxisParameters, dneg: float) -> tuple[float, float]:
-    k1 = p.k1
-    if u > p.delta:
-        k2 = p.k2
-        return k1 * u + (k2 - k1) * (u - p.delta), k2
-    if u < -dneg:
-        k2 = p.k2
-        return k1 * u + (k2 - k1) * (u + dneg), k2
-    return k1 * u, k1
-
-
-def _no_knees(p: AxisParameters) -> tuple[float, ...]:
-    return ()
-
-
-def _k1(p: AxisParameters) -> float:
-    return p.k1
-
-
-def _stiffer(p: AxisParameters) -> float:
-    return max(p.k1, p.k2)
-
-
-def _gap(p: AxisParameters) -> bool:
-    return p.k2 != p.k1
-
-
-register_law(ElasticLaw(
-    "linear", "k1 u", (), _linear, _no_knees, lambda p: False, _k1))
-register_law(ElasticLaw(
-    "cubic", "k1 u + kc u^3 (eq. 2.15)", ("kc",), _cubic, _no_knees,
-    lambda p: p.kc != 0.0, _k1))
-register_law(ElasticLaw(
-    "piecewise", "k1 u, k2 beyond |u| > delta (symmetric, eq. 3.30)",
-    ("k2", "delta"), _piecewise, lambda p: (p.delta, -p.delta), _gap, _stiffer))
-register_law(ElasticLaw(
-    "piecewise_asym", "as piecewise, knee at +delta for u > 0, -delta_neg for u < 0",
-    ("k2", "delta", "delta_neg"), _piecewise_asym,
-    lambda p: (p.delta, -p.delta_neg), _gap, _stiffer))
 
 
 class ParameterError(ValueError):
@@ -270,6 +175,21 @@ class AxisParameters:
     fs_ratio : float
         Slip force in the negative direction over the one in the positive direction,
         >= 0 (1: symmetric friction).
+    friction_kind : str
+        ``"jenkins"`` (the macro-/micro-slip element above) or ``"inclined"`` (the
+        two-surface element of thesis Ch. 5, :mod:`fmu_src.inclined`; ``kf`` is then
+        its inclined surface's contact stiffness).
+    theta_deg : float
+        Inclined element: angle of the inclined surface to the plate, deg, (0, 90].
+    k : float
+        Inclined element: stiffness of the elastic pieces pushing the wedge, N/m.
+    kf2 : float
+        Inclined element: contact stiffness of the flat surface, N/m, > 0.
+    mu1, mu2 : float
+        Inclined element: friction coefficients of the inclined and of the flat
+        surface, >= 0 (``inf``: bonded).
+    preload : float
+        Inclined element: force of the elastic pieces at u = 0, N, >= 0.
     """
 
     law: str = "piecewise"
@@ -286,6 +206,13 @@ class AxisParameters:
     sliders: int = 1
     spread: float = 0.0
     fs_ratio: float = 1.0
+    friction_kind: str = "jenkins"
+    theta_deg: float = 60.0
+    k: float = 20000.0
+    kf2: float = 60000.0
+    mu1: float = 0.3
+    mu2: float = 0.3
+    preload: float = 200.0
 
     def __post_init__(self):
         problems = self.problems()
@@ -293,9 +220,15 @@ class AxisParameters:
             raise ParameterError(problems)
         # the law's scalar force, looked up once (per-step hot path of axis_force)
         object.__setattr__(self, "elastic_force", ELASTIC_LAWS[self.law].force)
-        # friction beyond the symmetric macro-slip element (micro-slip or fs_ratio)
+        # the inclined element's parameters (None unless this axis carries it)
+        object.__setattr__(self, "inclined", InclinedParameters(
+            **{f: getattr(self, f) for f in INCLINED_FIELDS})
+            if self.friction and self.friction_kind == "inclined" else None)
+        # friction beyond the symmetric macro-slip element (micro-slip, fs_ratio or
+        # the inclined element)
         object.__setattr__(self, "general_friction",
-                           self.sliders > 1 or self.fs_ratio != 1.0)
+                           self.sliders > 1 or self.fs_ratio != 1.0
+                           or self.inclined is not None)
 
     def problems(self, prefix: str = "") -> list[str]:
         """Every problem of these parameters, each naming field, value and rule."""
@@ -333,12 +266,25 @@ class AxisParameters:
         if not (_finite(self.spread) and 0.0 <= self.spread < 1.0):
             out.append(f"`{prefix}spread` must be finite and in [0, 1) (half-width of "
                        f"the sliders' slip displacements / eps), got {self.spread!r}")
+        if self.friction_kind not in FRICTION_KINDS:
+            out.append(f"`{prefix}friction_kind` must be one of "
+                       f"{', '.join(FRICTION_KINDS)}, got {self.friction_kind!r}")
+        elif self.friction_kind == "inclined" and self.friction is True:
+            out += _inclined_problems(self, prefix)
         return out
 
     @property
     def micro_slip(self) -> bool:
         """Whether friction is a micro-slip (Iwan) element (``sliders`` > 1)."""
-        return self.friction and self.sliders > 1
+        return self.friction and self.sliders > 1 and self.friction_kind == "jenkins"
+
+    @property
+    def contact_stiffness(self) -> float:
+        """Stiffest tangent of the friction element, N/m (0 without friction): ``kf``
+        of the Jenkins element, the both-stuck tangent of the inclined one."""
+        if not self.friction:
+            return 0.0
+        return stuck_stiffness(self.inclined) if self.inclined else self.kf
 
     @property
     def elastic(self) -> ElasticLaw:
@@ -347,8 +293,8 @@ class AxisParameters:
 
     @property
     def fs(self) -> float:
-        """Slip force Fs = mu * n0 in N (0 without friction), thesis eq. 2.12."""
-        return self.mu * self.n0 if self.friction else 0.0
+        """Slip force Fs = mu * n0 in N (0 without a Jenkins element), eq. 2.12."""
+        return self.mu * self.n0 if self.friction and self.inclined is None else 0.0
 
     @property
     def eps(self) -> float:
@@ -364,6 +310,26 @@ class AxisParameters:
 
     def to_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def _inclined_problems(p, prefix: str) -> list[str]:
+    """The inclined element's checks (``InclinedParameters.problems``) on the axis's
+    fields, plus: micro-slip and non-symmetric friction are Jenkins-only."""
+    raw = {f: getattr(p, f) for f in INCLINED_FIELDS}
+    try:
+        InclinedParameters(**raw)
+        out = []
+    except ValueError:
+        obj = object.__new__(InclinedParameters)
+        for f, v in raw.items():
+            object.__setattr__(obj, f, v)
+        out = obj.problems(prefix)
+    if p.sliders != 1 or p.fs_ratio != 1.0:
+        out.append(f"`{prefix}sliders` = {p.sliders!r} and `{prefix}fs_ratio` = "
+                   f"{p.fs_ratio!r}: micro-slip and non-symmetric friction belong to "
+                   f"the Jenkins element; the inclined element needs sliders = 1 and "
+                   f"fs_ratio = 1")
+    return out
 
 
 @dataclass(frozen=True)
@@ -472,6 +438,19 @@ def elastic_force(u: float, p: AxisParameters) -> tuple[float, float]:
     return ELASTIC_LAWS[p.law].force(u, p)
 
 
+def static_force(u: float, p: AxisParameters) -> tuple[float, float]:
+    """Force and tangent ``(F, dF/du)`` of axis ``p`` at rest at ``u`` with its
+    friction element relaxed (the static working point, ``hbm.static``): the elastic
+    law, plus the inclined element's relaxed force
+    (:func:`fmu_src.inclined.relaxed_force`; a relaxed Jenkins element carries none).
+    """
+    f, k = p.elastic_force(u, p)
+    if p.inclined is not None:
+        fi, ki = relaxed_force(u, p.inclined)
+        return f + fi, k + ki
+    return f, k
+
+
 def jenkins_update(u: float, w: float, kf: float, fs: float) -> SliderStep:
     """Return map of the macro-slip element for a new deflection ``u``.
 
@@ -541,13 +520,56 @@ def slider_bank(p: AxisParameters, fs: float | None = None
 
 def initial_sliders(p: AxisParameters, w: float = 0.0):
     """The friction state of axis ``p`` with every slider at ``w`` (m): a float for
-    the macro-slip element, a tuple of ``sliders`` floats for the micro-slip one."""
+    the macro-slip element, a tuple of ``sliders`` floats for the micro-slip one, the
+    element relaxed at deflection ``w`` for the inclined one
+    (:func:`fmu_src.inclined.relaxed_state`)."""
+    if p.inclined is not None:
+        return relaxed_state(p.inclined, w)
     return tuple([float(w)] * p.sliders) if p.micro_slip else float(w)
+
+
+def conform_state(p: AxisParameters, w):
+    """``w`` if it is a friction state of axis ``p``'s kind, else the state of
+    :func:`initial_sliders` at its :func:`mean_slider` (e.g. after the parameters
+    changed). A plain 3-sequence is read as an inclined state ``(w1, w2, uc)`` on an
+    inclined axis (a restored FMU state)."""
+    if p.inclined is not None:
+        if isinstance(w, InclinedState):
+            return w
+        if isinstance(w, (tuple, list)) and len(w) == 3:
+            return InclinedState(*(float(x) for x in w))
+        return initial_sliders(p, mean_slider(w))
+    if isinstance(w, InclinedState):
+        return initial_sliders(p, w.uc)
+    n = p.sliders if p.micro_slip else 1
+    if isinstance(w, (tuple, list)):
+        return tuple(float(x) for x in w) if len(w) == n > 1 \
+            else initial_sliders(p, mean_slider(tuple(w)))
+    return initial_sliders(p, w) if n > 1 else w
+
+
+def normal_forces(p: AxisParameters, w, fs: float | None = None
+                  ) -> tuple[float, float]:
+    """Normal forces ``(N, N2)`` in N of axis ``p``'s friction element in state ``w``
+    (the state after an increment, e.g. ``axis_force(...).w_new``): the inclined
+    element's two contacts (from its kinematics); the Jenkins element's contact
+    force ``fs / mu`` (``fs`` the slip force used, default ``mu n0``) and 0; (0, 0)
+    without friction."""
+    if not p.friction:
+        return 0.0, 0.0
+    if p.inclined is not None:
+        return axis_normal_forces(w, p.inclined)
+    if fs is None:
+        return p.n0, 0.0
+    return (fs / p.mu if p.mu > 0 else p.n0), 0.0
 
 
 def mean_slider(w) -> float:
     """Mean slider position (m) of a friction state (float or tuple); exactly the
-    common position when every slider is at the same one."""
+    common position when every slider is at the same one; the committed deflection
+    ``uc`` of an inclined state."""
+    if isinstance(w, InclinedState):
+        return w.uc
     if isinstance(w, tuple):
         first = w[0]
         if all(x == first for x in w):
@@ -590,8 +612,11 @@ def iwan_update(u: float, w: tuple[float, ...], bank) -> AxisForce:
 
 
 def _friction(u: float, w, p: AxisParameters, fs: float):
-    """Friction of a non-symmetric or micro-slip axis: (force, w_new, tangent,
-    slipping, dissipated)."""
+    """Friction of a non-symmetric, micro-slip or inclined axis: (force, w_new,
+    tangent, slipping, dissipated)."""
+    if p.inclined is not None:   # element coordinates x = -u, F = -N2 (inclined.py)
+        st, w_new = axis_step(u, w, p.inclined)
+        return -st.force, w_new, st.tangent, st.slip1 or st.slip2, st.dissipated
     if p.sliders > 1:
         r = iwan_update(u, w, slider_bank(p, fs))
         return r[0], r[2], r[3], r[4], r[5]

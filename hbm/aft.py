@@ -8,7 +8,8 @@ truncated to H harmonics; ``P E = I`` for ``N > 2H``). The Jacobian follows by t
 rule through the law's tangent at each sample (``dF/dU = P diag(df/du) E``); for the
 Jenkins element a stuck sample depends on the last slip sample too (see
 :func:`hbm.elements.jenkins_periodic`). The Jenkins march is vectorised over samples,
-elements and batches (:mod:`hbm.friction_march`).
+elements and batches (:mod:`hbm.friction_march`). The inclined element of Ch. 5 is
+marched by :mod:`hbm.inclined`, its Jacobian carried through the march.
 
 The nonlinear remainders are rate independent (the viscous part ``c v`` is linear and
 handled in the frequency domain), so the AFT needs no velocities and its result does
@@ -27,6 +28,7 @@ import numpy as np
 
 from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
 from hbm.friction_march import jenkins_aft
+from hbm.inclined import inclined_aft
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 
@@ -121,6 +123,19 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     dF : ndarray, shape (..., n_ax, 2H+1, 2H+1) or None
         ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
+    if ax.inclined:   # the inclined element's march (hbm.inclined), added per axis
+        F, dF = _aft_jenkins(U, ax, basis, jacobian)
+        for a, Fa, dFa in inclined_aft(basis.E @ U, ax, basis, jacobian):
+            F[..., a] += Fa
+            if jacobian:
+                dF[..., a, :, :] += dFa
+        return F, dF
+    return _aft_jenkins(U, ax, basis, jacobian)
+
+
+def _aft_jenkins(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
+                 jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`aft_forces` of the elastic remainders and the Jenkins elements."""
     E, P = basis.E, basis.P
     if _has_slider_banks(ax):   # micro-slip or non-symmetric sliders: per slider
         return _aft_banks(U, ax, basis, jacobian)

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from fmu_src.mount_law import AxisParameters, axis_force
+from fmu_src.mount_law import AxisParameters, axis_force, initial_sliders, slider_bank
 from hbm.aft import FourierBasis, aft_forces
 from hbm.elements import NonlinearAxes
 
@@ -102,8 +102,10 @@ def axis_as_nonlinear(axis: AxisParameters, w_start: float = 0.0) -> NonlinearAx
         kc=np.array([axis.kc]), k2=np.array([axis.k2]),
         delta=np.array([axis.delta]),
         delta_neg=np.array([axis.delta_neg]),
-        kf=np.array([axis.kf if axis.friction else 0.0]),
-        fs=np.array([axis.fs]), w_start=np.array([float(w_start)]))
+        kf=np.array([axis.kf if axis.friction and axis.inclined is None else 0.0]),
+        fs=np.array([axis.fs]), w_start=np.array([float(w_start)]),
+        banks=(slider_bank(axis) if axis.friction and axis.inclined is None else (),),
+        inclined=((0, axis.inclined),) if axis.inclined is not None else ())
 
 
 def _coefficients(axis: AxisParameters, X: float, U0: float, basis: FourierBasis
@@ -199,7 +201,7 @@ def time_domain_stiffness(axis: AxisParameters, freq_hz: float, X: float,
     X = _check_amplitude(X)
     omega = 2.0 * math.pi * freq_hz
     n = int(steps_per_period)
-    w = float(U0)
+    w = initial_sliders(axis, float(U0))   # relaxed at U0 (any friction kind)
     last = np.empty(n)
     for k in range(periods * n):
         th = 2.0 * math.pi * (k % n) / n

@@ -60,6 +60,10 @@ class NonlinearAxes:
         (:func:`fmu_src.mount_law.slider_bank`: one for the macro-slip element,
         ``sliders`` for a micro-slip one; empty without friction). None: one
         symmetric slider ``(kf, fs, fs)`` per friction axis.
+    inclined : tuple of (int, InclinedParameters)
+        The axes (row index) whose friction element is the inclined one of thesis
+        Ch. 5 (their ``kf`` and ``fs`` here are 0; :mod:`hbm.inclined` marches them,
+        starting relaxed at ``w_start``).
     """
 
     labels: tuple[str, ...]
@@ -76,6 +80,7 @@ class NonlinearAxes:
     fs: np.ndarray
     w_start: np.ndarray | None = None
     banks: tuple | None = None
+    inclined: tuple = ()
 
     def __post_init__(self):
         if self.w_start is None:
@@ -104,13 +109,14 @@ class NonlinearAxes:
 
     @property
     def is_hysteretic(self) -> bool:
-        return bool(np.any(self.kf > 0.0))
+        return bool(np.any(self.kf > 0.0)) or bool(self.inclined)
 
     @property
     def has_closed_form(self) -> bool:
         """Whether every law has an H = 1 closed form (``hbm.laws``) and every
         friction element is a symmetric macro-slip one (the Jenkins closed form)."""
-        return (all(law.closed_form is not None for law, _ in self.groups)
+        return (not self.inclined
+                and all(law.closed_form is not None for law, _ in self.groups)
                 and all(len(b) <= 1 and b[0][1] == b[0][2] for b in self.banks
                         if b))
 
@@ -148,11 +154,15 @@ def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
         k2=np.array([p.k2 for *_, p in rows], dtype=float),
         delta=np.array([p.delta for *_, p in rows], dtype=float),
         delta_neg=np.array([p.delta_neg for *_, p in rows], dtype=float),
-        kf=np.array([p.kf if p.friction else 0.0 for *_, p in rows], dtype=float),
+        kf=np.array([p.kf if p.friction and p.inclined is None else 0.0
+                     for *_, p in rows], dtype=float),
         fs=np.array([p.fs for *_, p in rows], dtype=float),
         w_start=np.array([sliders[ie, j] if sliders is not None else 0.0
                           for ie, j, _, _ in rows], dtype=float),
-        banks=tuple(slider_bank(p) if p.friction else () for *_, p in rows),
+        banks=tuple(slider_bank(p) if p.friction and p.inclined is None else ()
+                    for *_, p in rows),
+        inclined=tuple((a, p.inclined) for a, (*_, p) in enumerate(rows)
+                       if p.inclined is not None),
     )
 
 

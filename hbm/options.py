@@ -58,12 +58,12 @@ class HBMOptions:
         Compute the Hill stability of the points.
     stability_stride : int
         Solve Hill's eigenvalue problem at every ``stability_stride``-th point, at
-        the ends and on both sides of every sign change of ``det(dR/dX)``, and at
-        every ``stability_stride // 4``-th point around a change of verdict;
-        between two such points with the same verdict the verdict is carried over,
-        where they differ the change is found by bisection (1: every point; 16
-        gives the verdicts of the former every-4th-point schedule on the validation
-        cases with 25-70 % of the eigenvalue problems, docs/performance.md).
+        the ends, on both sides of every sign change of ``det(dR/dX)``, and between
+        two such points where the verdicts differ (bisection) or where the points
+        are close to the stability boundary for their distance
+        (:mod:`hbm.stability_schedule`); elsewhere the verdict is carried over
+        (1: every point). The eigenvalues nearest the origin come from shift-invert
+        Arnoldi on the LU of ``dR/dX`` (:mod:`hbm.hill_arnoldi`, dense when unsure).
         ``floquet_max_real`` is NaN at the points not evaluated.
     n_peak : int
         Phases per period used for the peak ``max |q(t)|``.
@@ -121,7 +121,7 @@ class HBMOptions:
     max_growth: float = 2.0
     max_angle: float = 0.15
     stability: bool = True
-    stability_stride: int = 16
+    stability_stride: int = 64
     n_peak: int = 256
     refine_samples: int = 2
     max_restarts: int = 0

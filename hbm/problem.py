@@ -132,21 +132,23 @@ def _start(prob: _Problem, freq_hz: float, settings) -> StartSolution:
         if ok:
             return StartSolution(y, total, "")
     # load stepping: raise the excitation from a small fraction to 1, each Newton
-    # started from the previous solution scaled up (halving the increment on failure)
+    # started from the previous solution scaled up (halving the increment on failure);
+    # the static load and the static rows stay (vibration about the working point)
     hb = prob.hb
+    dyn = slice(hb.n, -1)   # the harmonic rows of y (the static rows come first)
     try:
         mu, dmu = 0.0, 0.125
-        y = prob.linear_guess(freq_hz, False) * 0.0
-        y[-1] = 2 * np.pi * freq_hz / prob.ws
+        y = prob.linear_guess(freq_hz, False)
+        y[dyn] = 0.0
         while mu < 1.0:
             target = min(1.0, mu + dmu)
             hb.exc_scale = target
             guess = y.copy()
             if mu > 0:
-                guess[:-1] *= target / mu
+                guess[dyn] *= target / mu
             else:
                 guess = prob.linear_guess(freq_hz, False)
-                guess[:-1] *= target
+                guess[dyn] *= target
             y_new, ok, its, msg = newton(prob, guess, start, fixed=n)
             total += its
             if ok:

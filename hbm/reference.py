@@ -99,8 +99,9 @@ class _Model:
         if general:
             raise ValueError(
                 f"the event-exact reference integrates the symmetric macro-slip "
-                f"element only; axes {', '.join(general)} have sliders > 1 or "
-                f"fs_ratio != 1 (use the co-simulation, vehicle.steady_state)")
+                f"element only; axes {', '.join(general)} have sliders > 1, "
+                f"fs_ratio != 1 or the inclined element (use the co-simulation, "
+                f"vehicle.steady_state)")
         self.friction = [p.friction for p in self.p]
         # kinks of each law (the registry's knees: +-delta for the symmetric
         # piecewise law, +delta and -delta_neg for the asymmetric one)

@@ -119,8 +119,9 @@ class HarmonicBalance:
         e2 = np.zeros((self.m, self.n))
         exc = system.excitation
         self.Yax = np.zeros((self.m, ax.n))  # base part of the axis deflections
+        es = np.zeros((self.m, self.n))
         if self.static is not None:
-            e0[0] = system.static_load  # the static row carries the load
+            es[0] = system.static_load  # the static row carries the load
         if exc.kind == "force":
             e0[2] = exc.amplitude
         elif exc.kind == "unbalance":
@@ -131,9 +132,13 @@ class HarmonicBalance:
             e1[1] = Cb0 @ Y
             self.Yax[2] = -(ax.G @ Y)
         self.e0, self.e1, self.e2 = e0.ravel(), e1.ravel(), e2.ravel()
+        #: the static load (not scaled by ``exc_scale``: load stepping raises the
+        #: vibration about the loaded working point)
+        self.e_static = es.ravel()
         self.Bt = ax.B  # (n_ax, n)
         self.BB = np.einsum("ai,aj->aij", ax.B, ax.B)  # (n_ax, n, n)
-        #: factor on the excitation (load stepping to a first solution); 1 normally
+        #: factor on the dynamic excitation (load stepping to a first solution; the
+        #: static load stays); 1 normally
         self.exc_scale = 1.0
         self._trig = {}
 
@@ -141,7 +146,7 @@ class HarmonicBalance:
     def excitation(self, omega: float) -> np.ndarray:
         """Excitation coefficient vector ``f_exc(omega)``, shape (m n,)."""
         f = self.e0 + omega * self.e1 + omega * omega * self.e2
-        return f if self.exc_scale == 1.0 else self.exc_scale * f
+        return self.e_static + (f if self.exc_scale == 1.0 else self.exc_scale * f)
 
     def linear_matrix(self, omega: float) -> np.ndarray:
         """``dR/dX`` of the linear part, shape (m n, m n)."""

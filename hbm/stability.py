@@ -20,18 +20,26 @@ References: von Groll and Ewins (2001); Detroux et al. (2015); Krack and Gross,
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from enum import Enum
 from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
 
+from hbm.hill_arnoldi import central_eigenvalues
 from hbm.residual import HarmonicBalance
 
-__all__ = ["floquet_exponents", "is_stable"]
+#: A Floquet exponent counts as unstable above RTOL * omega (round-off of the
+#: eigenvalues of neutral exponents).
+RTOL = 1e-7
+
+__all__ = ["RTOL", "HillVerdict", "Method", "floquet_exponents", "hill_eigenvalues",
+           "hill_verdict", "is_stable", "stability_of"]
 
 
-def floquet_exponents(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.ndarray:
-    """Approximate Floquet exponents (2 n,) in 1/s from Hill's matrix.
+def hill_eigenvalues(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.ndarray:
+    """All 2 n (2H+1) eigenvalues of Hill's matrix (1/s), LAPACK's order.
 
     Parameters
     ----------
@@ -52,9 +60,19 @@ def floquet_exponents(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.nd
     A[:size, size:] = np.eye(size)
     A[size:, :size] = -Minv_k @ J
     A[size:, size:] = -Minv_k @ Delta1
-    lam = scipy.linalg.eigvals(A, check_finite=False, overwrite_a=True)
+    return scipy.linalg.eigvals(A, check_finite=False, overwrite_a=True)
+
+
+def _selected(lam: np.ndarray, n: int) -> np.ndarray:
+    """The 2 n eigenvalues of smallest imaginary part: the Floquet exponents."""
     order = np.argsort(np.abs(lam.imag), kind="stable")
     return lam[order[: 2 * n]]
+
+
+def floquet_exponents(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.ndarray:
+    """Approximate Floquet exponents (2 n,) in 1/s from Hill's matrix (parameters as
+    :func:`hill_eigenvalues`)."""
+    return _selected(hill_eigenvalues(hb, J, omega), hb.n)
 
 
 class Stability(NamedTuple):
@@ -65,9 +83,47 @@ class Stability(NamedTuple):
     max_real: float
 
 
-def is_stable(hb: HarmonicBalance, J: np.ndarray, omega: float,
-              rtol: float = 1e-7) -> Stability:
-    """Unstable if a Floquet exponent has a real part above ``rtol * omega``."""
-    lam = floquet_exponents(hb, J, omega)
-    mr = float(np.max(lam.real))
+def stability_of(lam: np.ndarray, n: int, omega: float,
+                 rtol: float = RTOL) -> Stability:
+    """The verdict from all of Hill's eigenvalues ``lam``: unstable if a Floquet
+    exponent has a real part above ``rtol * omega``."""
+    mr = float(np.max(_selected(lam, n).real))
     return Stability(mr <= rtol * omega, mr)
+
+
+def is_stable(hb: HarmonicBalance, J: np.ndarray, omega: float,
+              rtol: float = RTOL) -> Stability:
+    """Hill's verdict at one point (:func:`stability_of` of
+    :func:`hill_eigenvalues`)."""
+    return stability_of(hill_eigenvalues(hb, J, omega), hb.n, omega, rtol)
+
+
+
+class Method(Enum):
+    """How Hill's eigenvalues were found."""
+
+    DENSE = "dense"  # every eigenvalue, scipy.linalg.eigvals (the reference)
+    ARNOLDI = "arnoldi"  # those nearest the origin, hbm.hill_arnoldi
+
+
+@dataclass(frozen=True)
+class HillVerdict:
+    """Hill stability of one solution and how its eigenvalues were found."""
+
+    stable: bool
+    max_real: float
+    method: Method
+
+
+def hill_verdict(hb: HarmonicBalance, J: np.ndarray, omega: float, rtol: float = RTOL,
+                 lu=None) -> HillVerdict:
+    """:func:`is_stable` from the eigenvalues nearest the origin
+    (:func:`hbm.hill_arnoldi.central_eigenvalues`, about 3x cheaper for 6 DOFs at
+    H = 7), from the dense problem when those cannot decide. ``lu``: the LU factors of
+    ``J`` if already computed."""
+    lam = central_eigenvalues(hb, J, omega, lu)
+    method = Method.ARNOLDI
+    if lam is None:
+        lam, method = hill_eigenvalues(hb, J, omega), Method.DENSE
+    st = stability_of(lam, hb.n, omega, rtol)
+    return HillVerdict(st.stable, st.max_real, method)

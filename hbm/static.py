@@ -13,7 +13,11 @@ holds at most Fs (10-250 N in the presets, a fraction of the engine's weight) an
 vibration about the working point makes it slip whenever its force would exceed Fs, so
 over the first cycles it settles where its spring is unloaded: the working point is the
 elastic laws' equilibrium and each slider's committed position is the deflection there
-(``w = u0``). The alternative, sliders stuck at a position committed before loading
+(``w = u0``). The inclined element of Ch. 5 is relaxed the same way (both surfaces
+unloaded, ``fmu_src.inclined.relaxed_state``); its wedge spring and preload still
+carry load through the inclined surface, so its relaxed force
+(``fmu_src.mount_law.static_force``) enters the equilibrium. The alternative, sliders
+stuck at a position committed before loading
 (e.g. 0), would let them carry up to Fs of the load, a history-dependent share that no
 datasheet knows; it moves the working point by at most Fs / k_tangent per mount.
 
@@ -27,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, ELASTIC_LAWS, elastic_force
+from fmu_src.mount_law import AXES, ELASTIC_LAWS, static_force
 from hbm.system import System
 
 __all__ = ["StaticStatus", "StaticPoint", "gravity_load", "static_equilibrium",
@@ -101,7 +105,7 @@ def _mount_terms(system: System, q: np.ndarray):
     for ie, e in enumerate(system.elements):
         for j in e.active_axes:
             u[ie, j] = float(e.B[j] @ q)
-            F[ie, j], k = elastic_force(u[ie, j], e.params.axes[j])
+            F[ie, j], k = static_force(u[ie, j], e.params.axes[j])
             f += e.B[j] * F[ie, j]
             Kt += k * np.outer(e.B[j], e.B[j])
     return u, F, f, Kt

@@ -215,7 +215,9 @@ class System:
 
         Each axis contributes ``k1`` (small-deflection stiffness) and ``c``; with
         ``stuck`` a friction element adds its contact stiffness ``kf`` (stuck
-        Jenkins element), otherwise it adds nothing (free slider). Exact for linear
+        Jenkins element; the both-stuck tangent of the inclined element,
+        ``AxisParameters.contact_stiffness``), otherwise it adds nothing (free
+        slider). Exact for linear
         laws; for the others it is the tangent at zero deflection.
 
         Returns ``(K_total, C_total)``, shapes (n, n).
@@ -226,7 +228,7 @@ class System:
             kd = np.zeros(3)
             cd = np.zeros(3)
             for j, p in enumerate(e.params.axes):
-                kd[j] = p.k1 + (p.kf if (stuck and p.friction) else 0.0)
+                kd[j] = p.k1 + (p.contact_stiffness if stuck else 0.0)
                 cd[j] = p.c
             K += e.B.T @ (kd[:, None] * e.B)
             C += e.B.T @ (cd[:, None] * e.B)
@@ -241,7 +243,7 @@ class System:
         Kb = self.Kb.copy()
         Cb = self.Cb.copy()
         for e in self.elements:
-            kd = np.array([p.k1 + (p.kf if (stuck and p.friction) else 0.0)
+            kd = np.array([p.k1 + (p.contact_stiffness if stuck else 0.0)
                            for p in e.params.axes])
             cd = np.array([p.c for p in e.params.axes])
             Kb += e.B.T @ (kd[:, None] * e.G)

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AXES, LAWS, AxisParameters, axis_force, law_code
+from fmu_src.mount_law import (AXES, LAWS, AxisParameters, axis_force,
+                               initial_sliders, law_code, mean_slider)
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Output columns compared, per axis, then the total energy.
@@ -42,6 +43,9 @@ class Outputs:
     slip: np.ndarray
     E_fr: np.ndarray
     E_total: np.ndarray
+    #: committed slider position w_<axis> after each step (the mean of a micro-slip
+    #: axis's sliders); None where not read
+    w: np.ndarray | None = None
 
 
 def random_trajectory(rng: np.random.Generator, steps: int, h: float = 1e-4,
@@ -83,9 +87,10 @@ def reference_run(axes: tuple[AxisParameters, ...], traj: Trajectory) -> Outputs
     steps = traj.u.shape[0]
     out = {name: np.zeros((steps, 3)) for name in AXIS_OUTPUTS}
     committed, dissipated = np.zeros((steps, 3)), np.zeros((steps, 3))
+    w_after = np.zeros((steps, 3))
     for j, p in enumerate(axes):
         mu = p.mu if p.friction else 0.0
-        w = e = 0.0
+        w, e = initial_sliders(p), 0.0
         F, Ffr, kt, slip, E = (out[name][:, j] for name in AXIS_OUTPUTS)
         for k, (u, v, n) in enumerate(zip(traj.u[:, j].tolist(), traj.v[:, j].tolist(),
                                           traj.n[:, j].tolist())):
@@ -94,12 +99,13 @@ def reference_run(axes: tuple[AxisParameters, ...], traj: Trajectory) -> Outputs
             F[k], Ffr[k], kt[k], slip[k], E[k] = r[0], r[1], r[3], r[4], e + r[5]
             committed[k, j], dissipated[k, j] = e, r[5]
             w = r[2]
+            w_after[k, j] = mean_slider(w)
             e += r[5]
     # the FMU's summation order: e0 + d0 + e1 + d1 + e2 + d2
     e_total = np.zeros(steps)
     for j in range(3):  # elementwise, in that order
         e_total = e_total + committed[:, j] + dissipated[:, j]
-    return Outputs(**out, E_total=e_total)
+    return Outputs(**out, E_total=e_total, w=w_after)
 
 
 def scales(ref: Outputs) -> dict[str, float]:
@@ -119,11 +125,16 @@ def worst_relative(ref: Outputs, got: Outputs) -> dict[str, float]:
 
 
 def parameter_values(axes: tuple[AxisParameters, ...]) -> dict[str, object]:
-    """FMU parameter values ``<axis>_<field>`` of three axes."""
+    """FMU parameter values ``<axis>_<field>`` of three axes (integer codes for the
+    law and, where the law has friction kinds, the friction kind)."""
+    from fmu_src import mount_law
+
+    codes = {"law": law_code,
+             "friction_kind": getattr(mount_law, "friction_kind_code", None)}
     out = {}
     for axis, p in zip(AXES, axes, strict=True):
         for name, value in p.to_dict().items():
-            out[f"{axis}_{name}"] = law_code(p.law) if name == "law" else value
+            out[f"{axis}_{name}"] = codes[name](value) if name in codes else value
     return out
 
 
@@ -140,6 +151,22 @@ assert {x for inst in LAW_LAYOUT for x in inst} == {(law, f) for law in LAWS
 
 def random_instance(rng, layout) -> tuple[AxisParameters, ...]:
     return tuple(random_axis(rng, law, friction) for law, friction in layout)
+
+
+#: (law, sliders, spread, fs_ratio) of each axis (friction on) of two instances:
+#: micro-slip with and without spread and fs_ratio (also 0 and 64 sliders), and the
+#: non-symmetric macro-slip element.
+GENERAL_LAYOUT = (
+    (("piecewise", 8, 0.6, 1.0), ("cubic", 1, 0.0, 0.4), ("linear", 64, 0.9, 1.7)),
+    (("piecewise_asym", 3, 0.3, 0.0), ("linear", 1, 0.0, 2.5),
+     ("piecewise", 17, 0.0, 1.0)),
+)
+
+
+def random_general_instance(rng, layout) -> tuple[AxisParameters, ...]:
+    """Random axes with the friction elements of a :data:`GENERAL_LAYOUT` entry."""
+    return tuple(replace(random_axis(rng, law, True), sliders=sliders, spread=spread,
+                         fs_ratio=ratio) for law, sliders, spread, ratio in layout)
 
 
 def without_friction(axes):

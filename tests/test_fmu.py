@@ -32,8 +32,8 @@ except ImportError as exc:
 
 from fmu_build import (FMU_SOURCES, build_fmu, ensure_fmu, fmu_module_names,
                        source_dir)
-from fmu_src.mount_law import (AXES, AxisParameters, axis_force, initial_sliders,
-                               law_name)
+from fmu_src.mount_law import (AXES, AxisParameters, axis_force,
+                               friction_kind_name, initial_sliders, law_name)
 
 # The FMU calls the same scalar law with the same floats: equality is expected to be
 # exact; 1e-12 is the issue's bound.
@@ -106,7 +106,9 @@ def axis_params(prefix_values: dict, axis: str) -> AxisParameters:
     for key, value in prefix_values.items():
         if key.startswith(axis + "_"):
             field = key[len(axis) + 1:]
-            kw[field] = law_name(value) if field == "law" else value
+            kw[field] = (law_name(value) if field == "law" else
+                         friction_kind_name(value) if field == "friction_kind"
+                         else value)
     return AxisParameters(**kw)
 
 
@@ -178,13 +180,15 @@ def test_model_description_interface(fmu):
     md = fmu[0]
     by_name = {v.name: v for v in md.modelVariables}
     fields = ["law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
-              "mu", "n0", "sliders", "spread", "fs_ratio"]
+              "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind",
+              "theta_deg", "k", "kf2", "mu1", "mu2", "preload"]
     expected = {f"{a}_{f}": "parameter" for a in AXES for f in fields}
     for a in AXES:
         expected.update({f"u_{a}": "input", f"v_{a}": "input", f"n_{a}": "input",
                          f"F_{a}": "output", f"Ffr_{a}": "output", f"kt_{a}": "output",
                          f"slip_{a}": "output", f"E_fr_{a}": "output",
-                         f"w_{a}": "local"})
+                         f"w_{a}": "local", f"N_{a}": "output",
+                         f"N2_{a}": "output"})
     expected["E_fr"] = "output"
     assert {n: v.causality for n, v in by_name.items()} == expected
     units = {u.name for u in md.unitDefinitions}
@@ -196,6 +200,8 @@ def test_model_description_interface(fmu):
             assert v.variability == "fixed", v.name
     assert by_name["F_axial"].unit == "N" and by_name["kt_radial1"].unit == "N/m"
     assert by_name["axial_kc"].unit == "N/m3" and by_name["E_fr"].unit == "J"
+    assert by_name["radial1_theta_deg"].unit == "deg"
+    assert by_name["N2_axial"].unit == "N"
     newton = next(u for u in md.unitDefinitions if u.name == "N")
     assert (newton.baseUnit.kg, newton.baseUnit.m, newton.baseUnit.s) == (1, 1, -2)
     assert float(by_name["n_axial"].start) == AxisParameters().n0
@@ -838,3 +844,92 @@ def test_bad_micro_slip_parameter_fails_initialization(fmu, name, value, message
                for status, text in mount.messages), mount.messages
     mount.slave.freeInstance()
     gc.collect()
+
+
+# ------------------------------------------------------------- the inclined element
+INCLINED_PARAMS = {
+    "axial_law": 0, "axial_k1": 45935.0, "axial_c": 150.0, "axial_friction": True,
+    "axial_friction_kind": 1, "axial_theta_deg": 55.0, "axial_k": 30000.0,
+    "axial_kf": 70000.0, "axial_kf2": 50000.0, "axial_mu1": 0.25, "axial_mu2": 0.35,
+    "axial_preload": 300.0,
+    "radial1_law": 0, "radial1_k1": 34770.0, "radial1_friction": True,
+    "radial1_kf": 150000.0, "radial1_mu": 1.0, "radial1_n0": 40.0,
+}
+INCLINED_OUTPUTS = [f"{name}_{axis}" for axis in AXES
+                    for name in ("F", "Ffr", "kt", "E_fr", "N", "N2")]
+
+
+def _inclined_reference(u_steps, v_steps):
+    """axis_force stepped by hand per axis, with normal_forces of the new state."""
+    from fmu_src.mount_law import normal_forces
+
+    ps = [axis_params(INCLINED_PARAMS, axis) for axis in AXES]
+    w = [initial_sliders(p) for p in ps]
+    e = [0.0, 0.0, 0.0]
+    rows = []
+    for u, v in zip(u_steps, v_steps):
+        row = []
+        for j, p in enumerate(ps):
+            f, ffr, w_new, kt, _slip, diss = axis_force(u[j], v[j], w[j], p)
+            n1, n2 = normal_forces(p, w_new, p.fs)
+            row += [f, ffr, kt, e[j] + diss, n1, n2]
+            w[j] = w_new
+            e[j] += diss
+        rows.append(row)
+    return np.array(rows)
+
+
+def test_inclined_axis_outputs_equal_the_law_and_state_restores(fmu):
+    rng = np.random.default_rng(7)
+    n = 400
+    # random walk in compression (the wedge stays loaded), random rates
+    walk = np.cumsum(rng.normal(0, 2e-4, n)).clip(-0.006, 0.0035)
+    u = np.column_stack([-0.004 + walk,
+                         0.002 * np.sin(np.arange(n) / 9.0), np.zeros(n)])
+    v = rng.normal(0, 0.05, (n, 3))
+    ref = _inclined_reference(u, v)
+    m = Mount(fmu, params=INCLINED_PARAMS).start()
+    vr_in = [m.vr[f"{q}_{a}"] for a in AXES for q in ("u", "v")]
+    vr_out = [m.vr[name] for name in INCLINED_OUTPUTS]
+    try:
+        rows, state = [], None
+        for k in range(n):
+            m.slave.setReal(vr_in, [x for j in range(3) for x in (u[k, j], v[k, j])])
+            rows.append(m.slave.getReal(vr_out))
+            if k == n // 2:
+                state = m.slave.getFMUstate()
+            m.slave.doStep(k * 1e-4, 1e-4)
+        assert np.abs(np.array(rows) - ref).max() <= RTOL_FMU_VS_LAW * np.abs(ref).max()
+        assert np.ptp(ref[:, 4]) > 50.0   # N varied: the element's point
+        # restore the state saved at n/2 and repeat the second half: the same numbers
+        m.slave.setFMUstate(state)
+        again = []
+        for k in range(n // 2, n):
+            m.slave.setReal(vr_in, [x for j in range(3) for x in (u[k, j], v[k, j])])
+            again.append(m.slave.getReal(vr_out))
+            m.slave.doStep(k * 1e-4, 1e-4)
+        assert np.array_equal(np.array(again), np.array(rows[n // 2:]))
+        m.slave.freeFMUstate(state)
+        # w_axial reads the committed deflection; setting it relaxes the element there
+        assert m.real(["w_axial"])[0] == u[-1, 0]
+        m.set("w_axial", -0.003)
+        m.slave.setReal([m.vr["u_axial"]], [-0.003])
+        f1_free = m.real(["Ffr_axial"])[0]
+        p = axis_params(INCLINED_PARAMS, "axial")
+        assert f1_free == pytest.approx(
+            axis_force(-0.003, 0.0, initial_sliders(p, -0.003), p).friction_force,
+            rel=1e-14)
+    finally:
+        m.free()
+
+
+def test_inclined_axis_lost_contact_is_an_error_naming_the_axis(fmu):
+    m = Mount(fmu, params=INCLINED_PARAMS).start()
+    try:
+        m.slave.setReal([m.vr["u_axial"]], [0.05])   # pulled far out of the wedge
+        with pytest.raises(FMICallException):
+            m.real(["F_axial"])
+        text = " ".join(msg for _, msg in m.messages)
+        assert "axis axial" in text and "loses contact" in text
+    finally:
+        m.slave.freeInstance()

@@ -137,7 +137,8 @@ def test_stalled_continuation_returns_branch():
 def test_dead_end_of_the_sampled_problem_is_refined(six_dof_halved_issue4):
     """six_dof_halved (the engine of issue 4) at H = 5 and 64 samples: the branch turns
     back onto itself at a kink near 9.65 Hz (measured). Without refinement the curve
-    so far comes back with status RETRACED; by default the samples are doubled, the curve
+    so far comes back with status RETRACED; by default the samples are doubled, the
+    curve
     reaches fmax and the message says what happened."""
     s = six_dof_halved_issue4
     # tol=None: the steps of the old default (the chord control would step past it)
@@ -177,7 +178,8 @@ def test_csv_and_plot(tmp_path):
     fig = ax.figure
     assert len(fig.axes) == 4
     assert "H = 3" in fig._suptitle.get_text()
-    assert "|sprung|" in fig.axes[0].get_ylabel() or "eq. 4.3" in fig.axes[0].get_ylabel()
+    label = fig.axes[0].get_ylabel()
+    assert "|sprung|" in label or "eq. 4.3" in label
     assert [a.get_title() for a in fig.axes[1:]] == [
         "DOF engine", "DOF sprung", "DOF unsprung"]
     assert all("[m]" in a.get_ylabel() for a in fig.axes[1:])

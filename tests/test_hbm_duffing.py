@@ -120,7 +120,8 @@ def _synthetic(freq, amp, stable, turning=()):
         freq_hz=np.asarray(freq, float), coefficients=np.zeros((n, 1, 3)),
         amplitude=np.asarray(amp, float)[:, None], peak=np.asarray(amp, float)[:, None],
         transmissibility=np.asarray(amp, float), stable=np.asarray(stable, bool),
-        turning_points=np.asarray(turning, int), success=True, status=Status.DONE, message="",
+        turning_points=np.asarray(turning, int), success=True, status=Status.DONE,
+        message="",
         n_newton=0, n_steps=0, dof_names=("x",), harmonics=1)
 
 

@@ -152,3 +152,17 @@ def test_lost_contact_is_reported():
     p = InclinedParameters(preload=10.0, k=5e4)
     with pytest.raises(ContactLost, match="N"):
         inclined_update(-0.01, 0.0, 0.0, 0.0, p)
+
+
+def test_surface_at_its_limit_with_a_vanishing_normal_force_slips():
+    """Regression (study incline, 75 degrees): N2 = 0.005 N, the flat surface at its
+    limit within the rounding of the 100 N forces around it; the walk used to stop at
+    the start for ever ("more than 64 stick/slip events")."""
+    p = InclinedParameters(theta_deg=75.0, k=5000.0, kf=6e4, kf2=6e4, mu1=0.3, mu2=0.3,
+                           preload=100.0)
+    x_old, x = 0.013761253808459595, 0.013760826624516402
+    w1, w2 = 0.014757511768119893, 0.003687340007461514
+    # the flat surface slips (its limit is reached at once) and then opens: N2 < 0
+    # by x (measured -0.021 N), an honest ContactLost, not the event-count guard
+    with pytest.raises(ContactLost, match="loses contact at x"):
+        inclined_update(x, x_old, w1, w2, p)

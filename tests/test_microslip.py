@@ -1,4 +1,4 @@
-"""Micro-slip (Iwan) and non-symmetric friction of fmu_src.mount_law against closed forms.
+"""Micro-slip (Iwan) and non-symmetric friction of fmu_src.mount_law vs closed forms.
 
 References: the Iwan backbone of the uniform slip-displacement fit (sum of clipped
 springs, and its continuum limit), Masing's rules for unloading/reloading branches,

@@ -404,3 +404,21 @@ def test_cosim_failure_writes_the_steps_computed(tmp_path, capsys, monkeypatch):
     n = master.BLOCK_ROWS
     assert f"{n} time steps" in lines[0]
     assert lines[1:] == complete[:n + 2]
+
+
+def test_default_output_never_replaces_a_users_file(tmp_path, capsys, monkeypatch):
+    """Without --out, ``<name>_hbm.csv`` is replaced only if drymount wrote it."""
+    monkeypatch.chdir(tmp_path)
+    mine = tmp_path / "sdof_linear_hbm.csv"
+    mine.write_text("my own measurements\n1,2,3\n")
+    code, _, err = run(["hbm", "sdof_linear", "-q", "--harmonics", "1"], capsys)
+    assert code == 2, err
+    assert "sdof_linear_hbm.csv" in err and "--out" in err, err
+    assert mine.read_text() == "my own measurements\n1,2,3\n"
+    mine.unlink()
+    code, _, err = run(["hbm", "sdof_linear", "-q", "--harmonics", "1"], capsys)
+    assert code == 0, err
+    first = mine.read_text().splitlines()[0]
+    assert first.startswith("# drymount HBM"), first
+    code, _, err = run(["hbm", "sdof_linear", "--harmonics", "1"], capsys)
+    assert code == 0 and "replacing sdof_linear_hbm.csv" in err, err

@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from fmu_src.interface import by_causality
-from fmu_src.mount_law import (AXES, axis_force, initial_sliders, law_code,
-                               mean_slider)
+from fmu_src.mount_law import (AXES, axis_force, friction_kind_code,
+                               initial_sliders, law_code, mean_slider)
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
@@ -62,6 +62,8 @@ def fmu_parameter_values(params) -> dict[str, dict]:
         value = getattr(params.axes[AXES.index(axis)], field)
         if field == "law":
             value = law_code(value)
+        elif field == "friction_kind":
+            value = friction_kind_code(value)
         cast = {"Real": float, "Integer": int, "Boolean": bool}[var.type]
         out[var.type][var.name] = cast(value)
     return out
@@ -209,6 +211,10 @@ class _Backend:
             if not p.friction:
                 raise ValueError(f"control of {key!r}: the axis has no friction "
                                  f"element, so its normal force does nothing")
+            if p.inclined is not None:
+                raise ValueError(f"control of {key!r}: the axis carries the inclined "
+                                 f"friction element, whose normal forces follow from "
+                                 f"its kinematics (the input n_<axis> is not used)")
             ctl.append([i, int(cols["u"][i]), int(cols["v"][i]), c, p])
             n0.append(float(p.n0))
             labels.append(f"{key[0]}_{key[1]}")

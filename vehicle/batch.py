@@ -112,6 +112,12 @@ class VectorLaw:
         bad = [i for i, p in enumerate(axes) if not isinstance(p, AxisParameters)]
         if bad:
             raise TypeError(f"`axes` must be AxisParameters, entries {bad} are not")
+        inclined = [i for i, p in enumerate(axes) if p.inclined is not None]
+        if inclined:
+            raise ValueError(
+                f"the batched steady states have no vectorised port of the inclined "
+                f"friction element (axis columns {inclined} have friction_kind "
+                f"'inclined'); use the native or fmu backend without `batch`")
         unknown = sorted({p.law for p in axes} - set(VECTOR_ELASTIC))
         if unknown:
             raise ValueError(f"no vectorised elastic law for {unknown}; known: "

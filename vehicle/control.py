@@ -35,7 +35,7 @@ def _num(x) -> bool:
 
 @dataclass(frozen=True)
 class Limits:
-    """Actuator limits: ``n_min <= n <= n_max`` (N) and ``|dn/dt| <= rate_max`` (N/s)."""
+    """Actuator limits: ``n_min <= n <= n_max`` (N), ``|dn/dt| <= rate_max`` (N/s)."""
 
     n_min: float = 0.0
     n_max: float = math.inf

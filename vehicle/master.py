@@ -258,15 +258,16 @@ class Master:
 
     def _stiffest(self):
         """Total K and C with every active mount axis at its stiffest tangent (the
-        law's ``stiffest``: max(k1, k2) for the piecewise laws, k1 otherwise), plus kf
-        if friction."""
+        law's ``stiffest``: max(k1, k2) for the piecewise laws, k1 otherwise), plus the
+        friction element's stiffest tangent (``contact_stiffness``: kf, or the inclined
+        element's both-stuck tangent)."""
         s = self.system
         K, C = s.K.copy(), s.C.copy()
         for e in s.elements:
             kd, cd = np.zeros(3), np.zeros(3)
             for j in e.active_axes:
                 p = e.params.axes[j]
-                kd[j] = p.elastic.stiffest(p) + (p.kf if p.friction else 0.0)
+                kd[j] = p.elastic.stiffest(p) + p.contact_stiffness
                 cd[j] = p.c
             K += e.B.T @ (kd[:, None] * e.B)
             C += e.B.T @ (cd[:, None] * e.B)

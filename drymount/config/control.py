@@ -2,7 +2,7 @@
 
     [control]
     kind = "scheduled"            # or "onoff"
-    axes = ["mount.axial"]        # optional: "<mount>.<axis>"; default every friction axis
+    axes = ["mount.axial"]   # optional: "<mount>.<axis>"; default every friction axis
     n_min = 0.0                   # N
     n_max = 400.0                 # N (default: no upper limit)
     rate_max = 20000.0            # N/s (default: no rate limit)
@@ -44,16 +44,19 @@ class ControlSettings:
     n_off: float = 0.0
 
     def targets(self, system) -> list[tuple[str, str]]:
-        """``(mount name, axis)`` of the controlled axes of ``system``."""
+        """``(mount name, axis)`` of the controlled axes of ``system`` (Jenkins
+        friction axes: the inclined element's normal forces follow from its
+        kinematics)."""
         friction = [(e.name, AXES[j]) for e in system.elements for j in e.active_axes
-                    if e.params.axes[j].friction]
+                    if e.params.axes[j].friction and e.params.axes[j].inclined is None]
         if self.axes is None:
             return friction
         out = [tuple(a.split(".", 1)) for a in self.axes]
         bad = [a for a, key in zip(self.axes, out) if key not in friction]
         if bad:
             raise ValueError(
-                f"`control.axes` entries {bad} are not friction axes of "
+                f"`control.axes` entries {bad} are not friction axes (with a "
+                f"normal-force input, i.e. not the inclined element) of "
                 f"{system.name!r}; allowed: "
                 f"{', '.join(f'{m}.{a}' for m, a in friction) or 'none'}")
         return out

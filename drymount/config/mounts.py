@@ -10,7 +10,8 @@ from dataclasses import fields, replace
 import numpy as np
 
 from fmu_src.interface import parameter_unit
-from fmu_src.mount_law import AXES, ELASTIC_LAWS, LAWS, AxisParameters, MountParameters
+from fmu_src.mount_law import (AXES, ELASTIC_LAWS, FRICTION_KINDS, LAWS,
+                               AxisParameters, MountParameters)
 from drymount.config.checks import (
     _as_float,
     _Checker,
@@ -23,6 +24,8 @@ from drymount.config.schema import (
     ConfigError,
     _AXIS_LAW_KEYS,
     _FRICTION_KEYS,
+    _INCLINED_KEYS,
+    _JENKINS_KEYS,
 )
 
 
@@ -51,6 +54,7 @@ def _law_problems(axis: AxisParameters, path: str) -> list[str]:
     prefix = path + "."
     out = []
     for msg in axis.problems(prefix):
+        msg = msg.replace(f"`{prefix}friction_kind`", f"`{prefix}friction.kind`")
         for name in _FRICTION_KEYS:
             msg = msg.replace(f"`{prefix}{name}`", f"`{prefix}friction.{name}`")
         out.append(msg)
@@ -67,7 +71,17 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
         ck.add(f"`{p}` must be a table with kf [N/m], mu [-] and n0 [N] (remove it "
                f"for a mount without friction), got {_type_name(fr)} {_show(fr)}")
         return None
-    ck.keys(fr, p, _FRICTION_KEYS, hints={
+    kind = fr.get("kind", "jenkins")
+    if kind not in FRICTION_KINDS:
+        ck.add(f"`{p}.kind` must be one of {', '.join(map(repr, FRICTION_KINDS))} "
+               f"(\"inclined\": the two-surface element of thesis Ch. 5), got "
+               f"{_type_name(kind)} {_show(kind)}")
+        return None
+    if kind == "inclined":
+        return _inclined(ck, fr, p)
+    ck.keys(fr, p, ("kind", *_JENKINS_KEYS), hints={
+        **{k: f"`{k}` belongs to the inclined element (kind = \"inclined\")"
+           for k in _INCLINED_KEYS if k not in _JENKINS_KEYS and k != "kind"},
         "normal_force": "the normal force is `n0`", "N": "the normal force is `n0`",
         "fs": "give the normal force `n0` and `mu` (Fs = mu * n0)",
         "enabled": "the table's presence switches friction on; remove the table "
@@ -108,6 +122,34 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
                    f"{_show(fr[name])}: with mu * n0 = 0 the element does nothing; "
                    f"remove the [{p}] table instead")
     return kw
+
+
+def _inclined(ck: _Checker, fr: dict, p: str) -> dict | None:
+    """A friction table with ``kind = "inclined"`` -> AxisParameters keywords (the
+    element of :mod:`fmu_src.inclined`; its ranges are checked by AxisParameters)."""
+    ck.keys(fr, p, _INCLINED_KEYS, hints={
+        "n0": "the inclined element's normal forces follow from its kinematics; "
+              "give `preload` (N) and `k` (N/m)",
+        "mu": "the inclined element has `mu1` (inclined surface) and `mu2` (flat)",
+        "theta": "the angle is `theta_deg` (degrees)",
+        "sliders": "micro-slip belongs to the Jenkins element (no `kind`)"})
+    kw = {"friction": True, "friction_kind": "inclined"}
+    ok = True
+    for name in _INCLINED_KEYS[1:]:
+        unit = readable_unit(parameter_unit(name))
+        if name not in fr:
+            ck.add(f"`{p}.{name}` is missing: the inclined element needs "
+                   f"{', '.join(_INCLINED_KEYS[1:])} (this one in {unit})")
+            ok = False
+            continue
+        x = _as_float(fr[name])
+        if x is None:
+            ck.add(f"`{p}.{name}` must be a number ({unit}), got "
+                   f"{_type_name(fr[name])} {_show(fr[name])}")
+            ok = False
+        else:
+            kw[name] = x
+    return kw if ok else None
 
 
 def _micro_slip(ck: _Checker, fr: dict, p: str, kw: dict) -> bool:

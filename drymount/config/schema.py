@@ -37,7 +37,11 @@ MAX_POINTS = 10_000
 SINGULAR_RTOL = 1e-10
 
 _AXIS_LAW_KEYS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c")
-_FRICTION_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
+_JENKINS_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
+#: Keys of a friction table with ``kind = "inclined"`` (thesis Ch. 5; the values are
+#: the ``AxisParameters`` fields of the same names, ``kind`` its ``friction_kind``).
+_INCLINED_KEYS = ("kind", "theta_deg", "k", "kf", "kf2", "mu1", "mu2", "preload")
+_FRICTION_KEYS = ("kind", *_JENKINS_KEYS, *_INCLINED_KEYS[1:3], *_INCLINED_KEYS[4:])
 
 #: Allowed keys of every table, by the path pattern used in messages and in
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).

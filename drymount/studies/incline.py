@@ -1,32 +1,40 @@
 """Design study of the inclined friction mount (thesis Ch. 5): `drymount study incline`.
 
 Sweeps the surface angle theta, the stiffness k of the elastic pieces and their preload.
-For each design: the static deflection and normal forces under the engine's weight (the
-element's own quasi-static law, loaded monotonically from the assembled state at x = 0,
-solved by bisection: the static working point of branch `design` is not used here), and
-the force transmissibility of the SDOF (engine mass on the elastomer plus the element,
-harmonic force on the mass around the static point) by HBM with the normal force
-varying over the period (:mod:`hbm.inclined`). Designs that self-lock or lose contact
+Each design is the SDOF of the general route (:func:`hbm.systems.sdof`: the engine mass
+on a mount axis with the elastomer ``k1``, ``c`` and the inclined friction element,
+``friction_kind = "inclined"``, the axis pointing up) under the engine's weight
+(``static_load``) and a harmonic force on the mass. For each design: the static working
+point under the weight (:func:`hbm.static.working_point`, the element relaxed there)
+with its deflection and normal forces, and the force transmissibility by the general
+:func:`hbm.frequency_response` (arc-length continuation, H = 7, the normal forces
+varying over the period, :mod:`hbm.inclined`), each study frequency solved exactly on
+the curve (:func:`hbm.branches.solutions_at`). Designs that self-lock or lose contact
 are reported as such. Writes ``incline.csv``, ``summary.md`` and two plots. At 90
-degrees the second
-surface is bonded (the thesis's Fig. 5.3 design).
+degrees the second surface is bonded (the thesis's Fig. 5.3 design).
 """
 
 from __future__ import annotations
 
 import csv
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from drymount.studies.output import md_table, new_figure, progress_bar, save_fig
-from fmu_src.inclined import ContactLost, InclinedParameters, inclined_update
-from hbm.aft import FourierBasis, default_n_samples
-from hbm.inclined import InclinedSDOF, solve_inclined_hbm
+from fmu_src.inclined import axis_normal_forces, relaxed_state
+from fmu_src.mount_law import AxisParameters, MountParameters, ParameterError
+from hbm import frequency_response
+from hbm.branches import solutions_at
+from hbm.inclined import normal_force_range
+from hbm.options import HBMOptions
+from hbm.problem import build_problem
+from hbm.static import working_point
+from hbm.systems import sdof
 
-__all__ = ["run_incline", "InclineDesign", "static_point"]
+__all__ = ["run_incline", "InclineDesign", "incline_system"]
 
 G = 9.81
 MASS = 70.0          # kg, the thesis's engine mass (Sec. 2.1.1)
@@ -34,13 +42,18 @@ K1 = 45935.0         # N/m, the halved elastomer of the SDOF presets
 C = 150.0            # N s/m
 FORCE_AMP = 150.0    # N, harmonic force on the mass
 HARMONICS = 7
+#: HBM options of the study: H = 7 with the default 64 samples, no adaptation (the
+#: validate case sdof_inclined_60deg checks this H against co-simulation)
+OPTIONS = HBMOptions(harmonics=HARMONICS, tol=None)
 
 
 @dataclass
 class InclineDesign:
     """One design's results; ``status`` is "ok", "self-locks", "loses contact under
     the weight" or "loses contact at f1-f2 Hz" (the steady state asks for N < 0 or
-    N2 < 0 there; NaN transmissibility at those frequencies)."""
+    N2 < 0 there; NaN transmissibility at those frequencies). ``x_static`` is the
+    static compression (m, > 0 downwards), ``missing`` the study frequencies without
+    an HBM solution."""
 
     theta_deg: float
     k: float
@@ -54,81 +67,96 @@ class InclineDesign:
     n_min: float = math.nan
     n_max: float = math.nan
     peak_trans: float = math.nan
-    unconverged: int = 0
+    missing: int = 0
 
 
-def static_point(p: InclinedParameters, weight: float, k1: float = K1):
-    """Deflection (m) and ``InclinedStep`` where ``k1 x + F(x) = weight`` on first
-    loading from the assembled state (x = 0, relaxed sliders); bisection (the loading
-    curve is monotone: every regime's tangent is >= 0 for a non-self-locking wedge)."""
-    def net(x):
-        st = inclined_update(x, 0.0, 0.0, 0.0, p)
-        return k1 * x + st.force - weight, st
-    lo, hi = 0.0, weight / k1
-    if net(lo)[0] >= 0:
-        return 0.0, net(0.0)[1]
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if net(mid)[0] > 0:
-            hi = mid
-        else:
-            lo = mid
-        if hi - lo < 1e-13:
-            break
-    return hi, net(hi)[1]
+def incline_system(theta: float, k: float, preload: float):
+    """The SDOF of one design: ``MASS`` on ``K1``, ``C`` and the inclined element
+    (kf = kf2 = 60 000 N/m, mu1 = mu2 = 0.3; the flat surface bonded at 90 degrees),
+    weight as the static load, ``FORCE_AMP`` on the mass. Raises ParameterError when
+    the wedge self-locks."""
+    mu2 = math.inf if theta == 90.0 else 0.3
+    axis = AxisParameters(law="linear", k1=K1, k2=K1, c=C, friction=True,
+                          friction_kind="inclined", theta_deg=theta, k=k, kf=6e4,
+                          kf2=6e4, mu1=0.3, mu2=mu2, preload=preload)
+    bare = AxisParameters(law="linear", k1=K1, k2=K1, c=C)
+    system = sdof(MASS, MountParameters(axis, bare, bare), "force", FORCE_AMP)
+    return replace(system, static_load=np.array([-MASS * G]))  # x points up
 
 
-def _transmissibility(sysm: InclinedSDOF, freqs):
-    """Fundamental of (elastomer + damper + element force) / force amplitude per
-    frequency (NaN where HBM fails), the range of N, and the frequencies where the
-    steady state loses contact."""
-    out, nmin, nmax, x0, lost, failed = [], math.inf, -math.inf, None, [], 0
-    b = FourierBasis(HARMONICS, default_n_samples(HARMONICS))
+def _covers(curve, f: float) -> bool:
+    fr = np.asarray(curve.freq_hz)
+    return fr.size > 1 and fr.min() <= f <= fr.max()
+
+
+def _curves_and_solutions(system, freqs):
+    """Per study frequency the HBM solution ``(prob, y)``, ``"lost"`` (the element
+    loses contact: no solution keeps N, N2 >= 0, e.g. load stepping from the working
+    point ends with N2 -> 0) or None (no solution found). Arc-length curves
+    (:func:`hbm.frequency_response`) start at the first frequency not yet covered and
+    run to the band's end; each frequency is solved on its curve."""
+    out, curve, prob = [], None, None
     for f in freqs:
-        try:
-            r = solve_inclined_hbm(sysm, f, HARMONICS, x0=x0)
-            if not r.success and x0 is not None:     # retry from the stuck linear start
-                r = solve_inclined_hbm(sysm, f, HARMONICS)
-        except ContactLost:
-            lost.append(float(f))
-            out.append(math.nan)
+        f = float(f)
+        if curve is None or not _covers(curve, f):
+            curve = frequency_response(system, f, float(freqs[-1]) + 1e-9 * f,
+                                       options=OPTIONS)
+            prob = build_problem(system, f, float(freqs[-1]) + 1e-9 * f, HARMONICS,
+                                 curve.n_samples, False)
+            if len(curve.freq_hz) == 0:
+                out.append("lost" if "loses contact" in curve.message else None)
+                curve = None
+                continue
+        sols = solutions_at(system, curve, f, prob, OPTIONS)
+        if not sols:
+            out.append(None)
             continue
-        if not r.success:
-            failed += 1
-            out.append(math.nan)
+        out.append((prob, next((y for y, stable, _ in sols if stable), sols[0][0])))
+    return out
+
+
+def _solve_at(system, freqs, p, u0):
+    """Transmissibility (fundamental of the mount force / force amplitude), the range
+    of N, the frequencies where contact is lost and the number of missing ones."""
+    trans, nmin, nmax, lost, missing = [], math.inf, -math.inf, [], 0
+    for f, sol in zip(freqs, _curves_and_solutions(system, freqs)):
+        if not isinstance(sol, tuple):
+            trans.append(math.nan)
+            if sol == "lost":
+                lost.append(float(f))
+            else:
+                missing += 1
             continue
-        x0 = r.X
-        w = 2 * math.pi * f
-        Fel = b.P @ r.element.force
-        c1 = K1 * r.X[1] + C * w * r.X[2] + Fel[1]
-        s1 = K1 * r.X[2] - C * w * r.X[1] + Fel[2]
-        out.append(math.hypot(c1, s1) / sysm.force_amp)
-        nmin, nmax = min(nmin, r.element.n1.min()), max(nmax, r.element.n1.max())
-    return np.array(out), nmin, nmax, lost, failed
+        prob, y = sol
+        hb = prob.hb
+        X, w = prob.x_of(y)
+        c1, s1 = hb.axis_force_fundamental(X, w, [(0, 0)])
+        trans.append(math.hypot(c1, s1) / FORCE_AMP)
+        lo, hi, _, _ = normal_force_range(hb.time_samples(X, hb.n_samples)[:, 0], p, u0)
+        nmin, nmax = min(nmin, lo), max(nmax, hi)
+    return np.array(trans), nmin, nmax, lost, missing
 
 
 def _design(theta, k, preload, freqs) -> InclineDesign:
     d = InclineDesign(theta, k, preload, "ok")
-    # at 90 degrees the second surface carries no load (a = 0) and N2 = f1 changes
-    # sign: the thesis's 90-degree design (Fig. 5.3) holds the pieces, so bond it
-    mu2 = math.inf if theta == 90.0 else 0.3
     try:
-        p = InclinedParameters(theta_deg=theta, k=k, preload=preload, mu2=mu2)
-    except ValueError:
+        system = incline_system(theta, k, preload)
+    except ParameterError:
         d.status = "self-locks"
         return d
-    try:
-        x, st = static_point(p, MASS * G)
-        d.x_static, d.n_static, d.n2_static = x, st.n1, st.n2
-    except ContactLost:
+    p = system.elements[0].params.axial.inclined
+    point = working_point(system)
+    u0 = float(point.deflection[0, 0])
+    d.x_static = -u0
+    d.n_static, d.n2_static = axis_normal_forces(relaxed_state(p, u0), p)
+    if min(d.n_static, d.n2_static) < 0:
         d.status = "loses contact under the weight"
         return d
-    sysm = InclinedSDOF(MASS, K1, C, p, FORCE_AMP, MASS * G)
-    d.trans, d.n_min, d.n_max, lost, d.unconverged = _transmissibility(sysm, freqs)
-    d.freqs = np.asarray(freqs)
+    d.trans, d.n_min, d.n_max, lost, d.missing = _solve_at(system, freqs, p, u0)
     if lost:
         span = f"{min(lost):g}" if len(lost) == 1 else f"{min(lost):g}-{max(lost):g}"
         d.status = f"loses contact at {span} Hz"
+    d.freqs = np.asarray(freqs)
     if not np.all(np.isnan(d.trans)):
         d.peak_trans = float(np.nanmax(d.trans))
     return d
@@ -156,9 +184,12 @@ def _write(out: Path, designs, freqs) -> str:
     md = ["# Inclined friction mount (thesis Ch. 5)", "",
           f"Engine {MASS} kg (weight {MASS * G:.1f} N) on k1 = {K1:g} N/m, c = {C:g} "
           f"N s/m and the inclined element (kf = kf2 = 60 000 N/m, mu1 = mu2 = 0.3); "
-          f"harmonic force {FORCE_AMP:g} N; HBM H = {HARMONICS}.", "",
+          f"harmonic force {FORCE_AMP:g} N; HBM H = {HARMONICS} (general route: "
+          f"arc-length "
+          f"continuation, each frequency solved on the curve); the element relaxed at "
+          f"the static working point; static x = compression under the weight.", "",
           md_table(["theta [deg]", "k [N/m]", "preload [N]", "status",
-                    "static x [mm]", "static N [N]", "N min [N]", "N max [N]",
+                    "static compression [mm]", "static N [N]", "N min [N]", "N max [N]",
                     "peak T [-]"], rows), "",
           "![transmissibility](incline_transmissibility.png)", "",
           "![static](incline_static.png)", ""]
@@ -184,11 +215,11 @@ def _plot(out: Path, designs) -> None:
     ax = fig.add_subplot()
     ok = [d for d in designs if not math.isnan(d.x_static)]
     ax.plot([d.theta_deg for d in ok], [1e3 * d.x_static for d in ok], "o",
-            label="static deflection [mm]")
+            label="static compression [mm]")
     ax.plot([d.theta_deg for d in ok], [d.n_static / 100 for d in ok], "s",
             label="static normal force N [100 N]")
     ax.set_xlabel("surface angle theta [deg]")
-    ax.set_ylabel("static deflection [mm] / N [100 N]")
+    ax.set_ylabel("static compression [mm] / N [100 N]")
     ax.set_title(f"Inclined mount under the engine's weight ({MASS * G:.0f} N)")
     ax.legend()
     save_fig(fig, out / "incline_static.png")
@@ -205,11 +236,12 @@ def run_incline(out_dir, quick: bool = False, progress: bool = True) -> dict:
     _write(out, designs, freqs)
     _plot(out, designs)
     failures = [f"theta {d.theta_deg:g} deg, k {d.k:g} N/m, preload {d.preload:g} N: "
-                f"HBM did not converge at {d.unconverged} frequencies"
-                for d in designs if d.unconverged]
+                f"no HBM solution at {d.missing} of {len(freqs)} frequencies"
+                for d in designs if d.missing]
     files = [out / n for n in ("incline.csv", "summary.md",
                                "incline_transmissibility.png", "incline_static.png")]
     return {"files": files, "failures": failures, "designs": len(designs),
             "ok": sum(d.status == "ok" for d in designs),
+            "missing": sum(d.missing for d in designs),
             "statuses": {f"{d.theta_deg:g}/{d.k:g}/{d.preload:g}": d.status
                          for d in designs}}

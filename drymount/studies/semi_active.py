@@ -115,7 +115,8 @@ def hbm_schedule(system: System, n0_grid, freqs=SCHEDULE_HZ, harmonics: int = 3
         better = tr < best
         best[better], best_n[better] = tr[better], n0
     if np.any(np.isnan(best_n)):
-        raise RuntimeError(f"HBM schedule: no solution at {np.asarray(freqs)[np.isnan(best_n)]} Hz")
+        missing = np.asarray(freqs)[np.isnan(best_n)]
+        raise RuntimeError(f"HBM schedule: no solution at {missing} Hz")
     return np.asarray(freqs, dtype=float), best_n
 
 

@@ -141,6 +141,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined,
         return fmi2Error;
     }
     m->start_time = startTime;
+    m->d.time = startTime;  /* part of the FMU state from here on */
     return fmi2OK;
 }
 
@@ -148,7 +149,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c)
 {
     CHECK(c, 0);
     return (fmi2Status)md_enter_initialization(M(c), "fmi2EnterInitializationMode",
-                                               M(c)->start_time);
+                                               M(c)->d.time, !isnan(M(c)->d.time));
 }
 
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
@@ -179,8 +180,10 @@ fmi2Status fmi2Reset(fmi2Component c)
     CHECK(c, 0);                                                                \
     for (i = 0; i < nvr; ++i) {                                                 \
         status = worst(status, md_get(M(c), call, mdtype, vr[i], &x));          \
-        if (status >= fmi2Error)                                                \
+        if (status >= fmi2Error) { /* a refused call returns zeros */           \
+            memset(value, 0, nvr * sizeof value[0]);                            \
             return status;                                                      \
+        }                                                                       \
         value[i] = (ctype)x;                                                    \
     }                                                                           \
     return status
@@ -188,9 +191,11 @@ fmi2Status fmi2Reset(fmi2Component c)
 #define SET_LOOP(call, mdtype)                                                  \
     size_t i;                                                                   \
     CHECK(c, 0);                                                                \
-    for (i = 0; i < nvr; ++i)                                                   \
-        if (md_set(M(c), call, mdtype, vr[i], (double)value[i]) != MD_OK)       \
+    for (i = 0; i < nvr; ++i) /* every value checked before any is set */     \
+        if (md_check_set(M(c), call, mdtype, vr[i], (double)value[i]) != MD_OK) \
             return fmi2Error;                                                   \
+    for (i = 0; i < nvr; ++i)                                                   \
+        md_set(M(c), call, mdtype, vr[i], (double)value[i]);                    \
     return fmi2OK
 
 fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,

@@ -150,7 +150,7 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance c, fmi3Boolean toleranceDefi
     UNUSED(toleranceDefined); UNUSED(tolerance); UNUSED(stopTimeDefined);
     UNUSED(stopTime);
     return (fmi3Status)md_enter_initialization(M(c), "fmi3EnterInitializationMode",
-                                               startTime);
+                                               startTime, 1);
 }
 
 fmi3Status fmi3ExitInitializationMode(fmi3Instance c)
@@ -200,8 +200,10 @@ static fmi3Status count_check(fmi3Instance c, const char *call, size_t nvr,
         s = md_get(M(c), call, mdtype, vr[i], &x);                                 \
         if (s > status)                                                            \
             status = s;                                                            \
-        if (status >= MD_ERROR)                                                    \
+        if (status >= MD_ERROR) { /* a refused call returns zeros */              \
+            memset(value, 0, nvr * sizeof value[0]);                               \
             return (fmi3Status)status;                                             \
+        }                                                                          \
         value[i] = (ctype)x;                                                       \
     }                                                                              \
     return (fmi3Status)status
@@ -211,9 +213,11 @@ static fmi3Status count_check(fmi3Instance c, const char *call, size_t nvr,
     CHECK(c);                                                                      \
     if (count_check(c, call, nvr, nValues) != fmi3OK)                              \
         return fmi3Error;                                                          \
-    for (i = 0; i < nvr; ++i)                                                      \
-        if (md_set(M(c), call, mdtype, vr[i], (double)value[i]) != MD_OK)          \
+    for (i = 0; i < nvr; ++i) /* every value checked before any is set */        \
+        if (md_check_set(M(c), call, mdtype, vr[i], (double)value[i]) != MD_OK)    \
             return fmi3Error;                                                      \
+    for (i = 0; i < nvr; ++i)                                                      \
+        md_set(M(c), call, mdtype, vr[i], (double)value[i]);                       \
     return fmi3OK
 
 fmi3Status fmi3GetFloat64(fmi3Instance c, VR_IN, fmi3Float64 value[], size_t nValues)

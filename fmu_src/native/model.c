@@ -13,7 +13,13 @@ static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '1'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '2'};
+
+/* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
+ * (tests/test_native_fmu.py checks that the numbers agree): the largest
+ * communication step [s] and the relative tolerance of a step's start time. */
+#define MD_MAX_STEP_SIZE 1e6
+#define MD_TIME_RTOL 1e-9
 
 size_t md_n_variables(void) { return MD_N_VARIABLES; }
 
@@ -59,6 +65,27 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed)
     return MD_ERROR;
 }
 
+/* FNV-1a of a message: which "outputs are 0" warning was logged last. */
+static unsigned long text_hash(const char *text)
+{
+    unsigned long h = 2166136261UL;
+    for (; *text; ++text)
+        h = (h ^ (unsigned char)*text) * 16777619UL;
+    return h ? h : 1UL;
+}
+
+/* 1 if variables of this role are outputs (everything not settable nor the time) */
+static int is_output(md_role role)
+{
+    switch (role) {
+    case MD_PARAMETER: case MD_INPUT_U: case MD_INPUT_V: case MD_INPUT_N:
+    case MD_LOCAL_W: case MD_TIME:
+        return 0;
+    default:
+        return 1;
+    }
+}
+
 /* ------------------------------------------------------------------ life cycle */
 
 static void set_field(ml_axis_params *p, md_field field, double value)
@@ -78,6 +105,13 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_SLIDERS: p->sliders = (int)value; break;
     case MD_P_SPREAD: p->spread = value; break;
     case MD_P_FS_RATIO: p->fs_ratio = value; break;
+    case MD_P_FRICTION_KIND: p->friction_kind = (int)value; break;
+    case MD_P_THETA_DEG: p->theta_deg = value; break;
+    case MD_P_K: p->k = value; break;
+    case MD_P_KF2: p->kf2 = value; break;
+    case MD_P_MU1: p->mu1 = value; break;
+    case MD_P_MU2: p->mu2 = value; break;
+    case MD_P_PRELOAD: p->preload = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -99,9 +133,66 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_SLIDERS: return p->sliders;
     case MD_P_SPREAD: return p->spread;
     case MD_P_FS_RATIO: return p->fs_ratio;
+    case MD_P_FRICTION_KIND: return p->friction_kind;
+    case MD_P_THETA_DEG: return p->theta_deg;
+    case MD_P_K: return p->k;
+    case MD_P_KF2: return p->kf2;
+    case MD_P_MU1: return p->mu1;
+    case MD_P_MU2: return p->mu2;
+    case MD_P_PRELOAD: return p->preload;
     case MD_P_NONE: break;
     }
     return 0.0;
+}
+
+/* Every slider of axis j at value, as many as the current <axis>_sliders says (one if
+ * that is not > 1). */
+static void put_sliders(md_data *d, int j, double value)
+{
+    int i, n = d->p[j].sliders;
+    for (i = 0; i < ML_MAX_SLIDERS; ++i)
+        d->w[j][i] = value;
+    d->nw[j] = n > 1 ? (n < ML_MAX_SLIDERS ? n : ML_MAX_SLIDERS) : 1;
+    d->wkind[j] = 0;
+}
+
+/* mount_law.initial_sliders of the checked axis j at value: the inclined element
+ * relaxed there, or n = ml_state_size sliders there. */
+static void initial_state(md_data *d, int j, double value)
+{
+    if (ml_is_inclined(&d->p[j])) {
+        ml_relaxed_state(&d->p[j], value, d->w[j]);
+        d->nw[j] = 3;
+        d->wkind[j] = 1;
+        return;
+    }
+    put_sliders(d, j, value);
+    d->nw[j] = ml_state_size(&d->p[j]);
+}
+
+/* mount_law.mean_slider of axis j's committed state (uc of the inclined element). */
+static double mean_state(const md_data *d, int j)
+{
+    return d->wkind[j] ? d->w[j][2] : ml_mean_slider(d->w[j], d->nw[j]);
+}
+
+/* mount_law.conform_state once the parameters are checked: the state of the axis's
+ * kind, kept if it is one already. */
+static void conform_state(md_data *d, int j)
+{
+    const ml_axis_params *p = &d->p[j];
+    if (ml_is_inclined(p)) {
+        if (d->wkind[j])
+            return;
+        if (d->nw[j] == 3) {  /* a 3-sequence reads as (w1, w2, uc) */
+            d->wkind[j] = 1;
+            return;
+        }
+        initial_state(d, j, mean_state(d, j));
+        return;
+    }
+    if (d->wkind[j] || d->nw[j] != ml_state_size(p))
+        initial_state(d, j, mean_state(d, j));
 }
 
 static void invalidate(md_instance *m)
@@ -122,13 +213,14 @@ void md_reset(md_instance *m)
         case MD_PARAMETER: set_field(&m->d.p[var->axis], var->field, var->start); break;
         case MD_INPUT_U: m->d.u[var->axis] = var->start; break;
         case MD_INPUT_V: m->d.v[var->axis] = var->start; break;
-        case MD_LOCAL_W: m->d.w[var->axis] = var->start; break;
+        case MD_LOCAL_W: put_sliders(&m->d, var->axis, var->start); break;
         default: break;  /* n follows <axis>_n0 until set; outputs are computed */
         }
     }
     m->d.mode = MD_INSTANTIATED;
     m->params_ok = 0;
-    m->start_time = 0.0;
+    m->start_time = NAN;  /* no fmi2SetupExperiment yet: the first step starts anywhere */
+    m->d.time = NAN;      /* (in the FMU state, as the PythonFMU build's _t_next) */
     m->last_time_ok = 0.0;
     invalidate(m);
 }
@@ -174,40 +266,38 @@ void md_delete(md_instance *m)
 
 /* ------------------------------------------------------------------ the law */
 
-/* The micro-slip and non-symmetric friction elements are not ported to C: a clear
- * message (1) instead of the macro-slip result, 0 if the axis uses neither. */
-static int unported(const ml_axis_params *p, const char *prefix, char *buf,
-                    size_t size)
-{
-    if (!p->friction || (p->sliders == 1 && p->fs_ratio == 1.0))
-        return 0;
-    snprintf(buf, size, "`%ssliders` = %d, `%sfs_ratio` = %g: the native FMU ports "
-             "only the macro-slip element (sliders = 1, fs_ratio = 1); build the "
-             "PythonFMU FrictionMount.fmu for micro-slip or non-symmetric friction",
-             prefix, p->sliders, prefix, p->fs_ratio);
-    return 1;
-}
-
 /* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
-static md_status check_parameters(md_instance *m, const char *call)
+static md_status check_parameters(md_instance *m, const char *call, md_status level)
 {
+    /* logged at `level`: MD_ERROR (the call fails) or MD_WARNING (an output read before
+     * the end of initialization reads 0; one warning per distinct problem) */
     char all[2048] = "", one[1024], prefix[16];
     int j, count = 0;
     if (m->params_ok)
         return MD_OK;
     for (j = 0; j < 3; ++j) {
         snprintf(prefix, sizeof prefix, "%s_", AXIS_NAMES[j]);
-        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0
-                && !unported(&m->d.p[j], prefix, one, sizeof one))
+        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0)
             continue;
         if (count++)
             strncat(all, "; ", sizeof all - strlen(all) - 1);
         strncat(all, one, sizeof all - strlen(all) - 1);
     }
     if (count) {
-        md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all, call);
+        if (level == MD_ERROR)
+            md_log(m, MD_ERROR, "FrictionMount: invalid parameters: %s (in %s)", all,
+                   call);
+        else if (text_hash(all) != m->warned) {
+            m->warned = text_hash(all);
+            md_log(m, MD_WARNING, "FrictionMount: outputs are 0 until the parameters "
+                   "are valid (invalid parameters: %s)", all);
+        }
         return MD_ERROR;
     }
+    /* a micro-slip axis keeps one position per slider, an inclined one its (w1, w2,
+     * uc) (FrictionMount._prepare) */
+    for (j = 0; j < 3; ++j)
+        conform_state(&m->d, j);
     m->params_ok = 1;
     return MD_OK;
 }
@@ -225,7 +315,7 @@ static md_status evaluate(md_instance *m, const char *call, int j)
     md_status status;
     if (m->valid[j])
         return MD_OK;
-    status = check_parameters(m, call);
+    status = check_parameters(m, call, MD_ERROR);
     if (status != MD_OK)
         return status;
     if (!(isfinite(u) && isfinite(v) && isfinite(n))) {
@@ -233,16 +323,25 @@ static md_status evaluate(md_instance *m, const char *call, int j)
         ml_repr_double(u, su, sizeof su);
         ml_repr_double(v, sv, sizeof sv);
         ml_repr_double(n, sn, sizeof sn);
-        md_log(m, MD_DISCARD, "FrictionMount: inputs of axis %s must be finite, got "
+        /* a guard: md_check_set refuses non-finite values (docs/fmu.md 4a) */
+        md_log(m, MD_ERROR, "FrictionMount: inputs of axis %s must be finite, got "
                "u_%s=%s, v_%s=%s, n_%s=%s (in %s)", a, a, su, a, sv, a, sn, call);
-        return MD_DISCARD;
+        return MD_ERROR;
     }
 #ifdef DRYMOUNT_NULL_MODEL
     /* The null FMU of the benchmark: the same interface and bookkeeping, no law. */
     memset(&m->res[j], 0, sizeof m->res[j]);
-    m->res[j].w_new = m->d.w[j];
+    m->res[j].w_new = m->d.w[j][0];
+    memcpy(m->w_new[j], m->d.w[j], ml_state_size(&m->d.p[j]) * sizeof(double));
 #else
-    m->res[j] = ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n);
+    if (ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n, m->w_new[j], &m->res[j],
+                        m->lost, sizeof m->lost)) {  /* inclined: ContactLost */
+        const char *a = AXIS_NAMES[j];
+        ml_repr_double(u, su, sizeof su);
+        md_log(m, MD_ERROR, "FrictionMount: axis %s at u_%s=%s: %s (in %s)", a, a, su,
+               m->lost, call);
+        return MD_ERROR;
+    }
     if (!(isfinite(m->res[j].force) && isfinite(m->res[j].tangent))) {
         const char *a = AXIS_NAMES[j];
         char sf[40];
@@ -275,17 +374,18 @@ static md_status energy_total(md_instance *m, const char *call, double *value)
 
 /* ------------------------------------------------------------------ modes */
 
-md_status md_enter_initialization(md_instance *m, const char *call, double start)
+md_status md_enter_initialization(md_instance *m, const char *call, double start,
+                                  int start_defined)
 {
     if (md_check_mode(m, call, MD_IN(MD_INSTANTIATED)) != MD_OK)
         return MD_ERROR;
-    if (!isfinite(start)) {
+    if (start_defined && !isfinite(start)) {
         md_log(m, MD_ERROR, "%s: startTime must be finite, got %g", call, start);
         return MD_ERROR;
     }
     m->start_time = start;
-    m->d.time = start;
-    m->last_time_ok = start;
+    m->d.time = start_defined ? start : NAN;  /* NAN: the first step starts anywhere */
+    m->last_time_ok = start_defined ? start : 0.0;
     m->d.started = 0;
     m->d.mode = MD_INIT;
     return MD_OK;
@@ -295,7 +395,7 @@ md_status md_exit_initialization(md_instance *m, const char *call)
 {
     if (md_check_mode(m, call, MD_IN(MD_INIT)) != MD_OK)
         return MD_ERROR;
-    if (check_parameters(m, call) != MD_OK)
+    if (check_parameters(m, call, MD_ERROR) != MD_OK)
         return MD_ERROR;
     m->d.mode = MD_STEP;
     return MD_OK;
@@ -309,31 +409,51 @@ md_status md_terminate(md_instance *m, const char *call)
     return MD_OK;
 }
 
+/* The step checks of docs/fmu.md 4a in fmu_src/fmi_state.step_error's order: 1 (and
+ * logged) if doStep(t, h) is refused. */
+static int step_refused(md_instance *m, const char *call, double t, double h)
+{
+    double expected = m->d.time;  /* NAN: no start time, the first step starts anywhere */
+    char st[40], sh[40], se[40];
+    ml_repr_double(t, st, sizeof st);
+    ml_repr_double(h, sh, sizeof sh);
+    ml_repr_double(expected, se, sizeof se);
+    if (!(isfinite(h) && h > 0.0))
+        md_log(m, MD_ERROR, "%s: communicationStepSize must be finite and > 0, got %s",
+               call, sh);
+    else if (h > MD_MAX_STEP_SIZE)
+        md_log(m, MD_ERROR, "%s: communicationStepSize must be <= %g s, got %s", call,
+               MD_MAX_STEP_SIZE, sh);
+    else if (!isfinite(t))
+        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must be finite, got %s",
+               call, st);
+    else if (!(t + h > t))
+        md_log(m, MD_ERROR, "%s: communicationStepSize = %s does not advance "
+               "currentCommunicationPoint = %s (below its resolution)", call, sh, st);
+    else if (!isnan(expected) && fabs(t - expected)
+             > MD_TIME_RTOL * fmax(1.0, fmax(fabs(expected), h)))
+        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must continue from the end "
+               "of the last step, %s, got %s", call, se, st);
+    else
+        return 0;
+    return 1;
+}
+
 md_status md_do_step(md_instance *m, const char *call, double t, double h)
 {
     int j;
     md_status status;
     if (md_check_mode(m, call, MD_IN(MD_STEP)) != MD_OK)
         return MD_ERROR;
-    if (!(isfinite(h) && h > 0.0)) {
-        md_log(m, MD_ERROR, "%s: communicationStepSize must be finite and > 0, got %g",
-               call, h);
+    if (step_refused(m, call, t, h))
         return MD_ERROR;
-    }
-    /* time continues from the end of the last step (rounding of t_n = t0 + n h
-     * allowed: 1e-9 of |t| + h) */
-    if (!isfinite(t) || fabs(t - m->d.time) > 1e-9 * (fabs(m->d.time) + h)) {
-        md_log(m, MD_ERROR, "%s: currentCommunicationPoint must continue from the end "
-               "of the last step, %.17g, got %.17g", call, m->d.time, t);
-        return MD_ERROR;
-    }
     for (j = 0; j < 3; ++j) {
         status = evaluate(m, call, j);
         if (status != MD_OK)
-            return status;  /* discard or error: nothing committed */
+            return status;  /* error: nothing committed */
     }
     for (j = 0; j < 3; ++j) {
-        m->d.w[j] = m->res[j].w_new;
+        memcpy(m->d.w[j], m->w_new[j], ml_state_size(&m->d.p[j]) * sizeof(double));
         m->d.e[j] += m->res[j].dissipated;
     }
     m->d.time = t + h;
@@ -368,16 +488,24 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     const md_variable *var;
     md_status status;
     int j;
-    if (md_check_mode(m, call, MD_IN(MD_INIT) | MD_IN(MD_STEP) | MD_IN(MD_TERMINATED))
-        != MD_OK || lookup(m, call, type, vr, &var) != MD_OK)
-        return MD_ERROR;
+    if (lookup(m, call, type, vr, &var) != MD_OK)
+        return MD_ERROR;  /* getters are allowed in every state (docs/fmu.md 4a) */
     j = var->axis;
+    if (is_output(var->role) && m->d.mode <= MD_INIT
+            && check_parameters(m, call, MD_WARNING) != MD_OK) {
+        *value = 0.0;  /* the error comes from ExitInitializationMode */
+        return MD_OK;
+    }
+    if (var->role == MD_TIME && isnan(m->d.time)) {
+        *value = 0.0;  /* no start time yet (FMI 2.0 without fmi2SetupExperiment) */
+        return MD_OK;
+    }
     switch (var->role) {
     case MD_PARAMETER: *value = get_field(&m->d.p[j], var->field); return MD_OK;
     case MD_INPUT_U: *value = m->d.u[j]; return MD_OK;
     case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
     case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
-    case MD_LOCAL_W: *value = m->d.w[j]; return MD_OK;
+    case MD_LOCAL_W: *value = mean_state(&m->d, j); return MD_OK;
     case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
     default: break;
@@ -392,20 +520,26 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_OUTPUT_FFR: *value = m->res[j].friction; break;
     case MD_OUTPUT_KT: *value = m->res[j].tangent; break;
     case MD_OUTPUT_SLIP: *value = m->res[j].slipping; break;
+    case MD_OUTPUT_N: case MD_OUTPUT_N2: {
+        double n1, n2;
+        ml_normal_forces(&m->d.p[j], m->w_new[j], ml_slip_force(&m->d.p[j],
+                         normal_force(m, j)), &n1, &n2);
+        *value = var->role == MD_OUTPUT_N ? n1 : n2;
+        break;
+    }
     default: *value = m->d.e[j] + m->res[j].dissipated; break;  /* E_fr_<axis> */
     }
     return MD_OK;
 }
 
-md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
-                 double value)
+md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                       double value)
 {
     const md_variable *var;
     unsigned allowed;
-    int j;
+    char sv[40];
     if (lookup(m, call, type, vr, &var) != MD_OK)
         return MD_ERROR;
-    j = var->axis;
     switch (var->role) {
     case MD_PARAMETER:  /* fixed parameters: before the end of initialization */
         allowed = MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT);
@@ -424,6 +558,23 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
         snprintf(what, sizeof what, "%s of %s", call, var->name);
         return md_check_mode(m, what, allowed);
     }
+    if (type == MD_REAL && !isfinite(value)) {
+        ml_repr_double(value, sv, sizeof sv);
+        md_log(m, MD_ERROR, "%s: `%s` must be finite, got %s", call, var->name, sv);
+        return MD_ERROR;
+    }
+    return MD_OK;
+}
+
+md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                 double value)
+{
+    const md_variable *var;
+    int j;
+    if (md_check_set(m, call, type, vr, value) != MD_OK)
+        return MD_ERROR;
+    var = &MD_VARIABLES[vr];
+    j = var->axis;
     switch (var->role) {
     case MD_PARAMETER:
         if (var->field == MD_P_LAW && value != floor(value))
@@ -435,7 +586,12 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_U: m->d.u[j] = value; break;
     case MD_INPUT_V: m->d.v[j] = value; break;
     case MD_INPUT_N: m->d.n[j] = value; m->d.n_set[j] = 1; break;
-    default: m->d.w[j] = value; break;
+    default:  /* w_<axis>: FrictionMount._set_sliders */
+        if (m->params_ok)
+            initial_state(&m->d, j, value);
+        else
+            put_sliders(&m->d, j, value);
+        break;
     }
     m->valid[j] = 0;
     return MD_OK;
@@ -471,7 +627,7 @@ md_status md_set_state(md_instance *m, const char *call, const void *state)
     }
     m->d = *(const md_data *)state;
     m->params_ok = 0;
-    m->last_time_ok = m->d.time;
+    m->last_time_ok = isnan(m->d.time) ? 0.0 : m->d.time;
     invalidate(m);
     return MD_OK;
 }

@@ -8,10 +8,10 @@
  * the sliders and adds the dissipated energy. Statuses use the FMI numbering (OK 0,
  * Warning 1, Discard 2, Error 3, Fatal 4) of both standards.
  *
- * A refused call (out of order, unknown value reference, invalid parameters, non-finite
- * step size) returns MD_ERROR, logs a message naming the call and the state, and changes
- * nothing. Non-finite inputs make the outputs and md_do_step return MD_DISCARD (nothing
- * committed; the master may correct the inputs and repeat the step).
+ * The call-order rules of docs/fmu.md 4a: a refused call (out of order, unknown value
+ * reference, a non-finite value, invalid parameters, a step size not in (0, 1e6] s, a
+ * time that does not continue) returns MD_ERROR, logs a message naming the call and the
+ * state or the value, and changes nothing.
  */
 #ifndef DRYMOUNT_MODEL_H
 #define DRYMOUNT_MODEL_H
@@ -33,14 +33,15 @@ typedef enum { MD_REAL = 0, MD_INTEGER = 1, MD_BOOLEAN = 2 } md_type;
 typedef enum {
     MD_PARAMETER = 0, MD_INPUT_U, MD_INPUT_V, MD_INPUT_N, MD_OUTPUT_F,
     MD_OUTPUT_FFR, MD_OUTPUT_KT, MD_OUTPUT_SLIP, MD_OUTPUT_E_AXIS, MD_OUTPUT_E_TOTAL,
-    MD_LOCAL_W, MD_TIME
+    MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2
 } md_role;
 
 /* Fields of a parameter variable, in mount_law.AxisParameters' order. */
 typedef enum {
     MD_P_LAW = 0, MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA, MD_P_DELTA_NEG, MD_P_C,
     MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SLIDERS, MD_P_SPREAD,
-    MD_P_FS_RATIO, MD_P_NONE
+    MD_P_FS_RATIO, MD_P_NONE, MD_P_FRICTION_KIND, MD_P_THETA_DEG, MD_P_K, MD_P_KF2,
+    MD_P_MU1, MD_P_MU2, MD_P_PRELOAD
 } md_field;
 
 typedef struct {
@@ -63,7 +64,12 @@ typedef struct {
     ml_axis_params p[3];
     double u[3], v[3], n[3];
     int n_set[3];
-    double w[3], e[3];
+    /* committed friction state per axis: wkind[j] 0: nw[j] slider positions (1, or
+     * the sliders of a micro-slip axis; all equal to the last w_<axis> set); 1: the
+     * inclined element's (w1, w2, uc) in w[j][0..2] */
+    double w[3][ML_MAX_SLIDERS];
+    int nw[3], wkind[3];
+    double e[3];
     double time;      /* end of the last step (= start time before the first) */
     int started;      /* a step was done since initialization */
 } md_data;
@@ -80,8 +86,11 @@ typedef struct {
     int params_ok;         /* parameters checked since the last parameter change */
     int valid[3];          /* cached trial results per axis */
     ml_axis_result res[3];
+    double w_new[3][ML_MAX_SLIDERS];  /* slider positions of the cached results */
+    char lost[512];                   /* message of the inclined element's ContactLost */
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */
+    unsigned long warned;  /* hash of the last "outputs are 0" warning's problems */
 } md_instance;
 
 /* Number of variables, the variable table and the instantiation token (GUID), all
@@ -108,7 +117,10 @@ md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
 #define MD_IN(mode) (1u << (mode))
 
 void md_reset(md_instance *m);
-md_status md_enter_initialization(md_instance *m, const char *call, double start);
+/* start_defined 0: FMI 2.0 without fmi2SetupExperiment, the first step starts anywhere
+ * (md_data.time is NAN until the first step) */
+md_status md_enter_initialization(md_instance *m, const char *call, double start,
+                                  int start_defined);
 md_status md_exit_initialization(md_instance *m, const char *call);
 md_status md_terminate(md_instance *m, const char *call);
 md_status md_do_step(md_instance *m, const char *call, double t, double h);
@@ -118,6 +130,10 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
                  double *value);
 md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
                  double value);
+/* MD_OK if md_set would accept the value (nothing changed; refusals are logged): the
+ * glue checks every value of a call before setting any (docs/fmu.md 4a). */
+md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
+                       double value);
 
 /* FMU state: a heap copy of md_data, serialized as magic + size + bytes. */
 md_status md_get_state(md_instance *m, const char *call, void **state);

@@ -8,6 +8,7 @@
 
 static const char *const LAW_NAMES[ML_N_LAWS] = {
     "linear", "cubic", "piecewise", "piecewise_asym"};
+static const char *const KIND_NAMES[ML_N_FRICTION_KINDS] = {"jenkins", "inclined"};
 
 ml_axis_params ml_default_params(void)
 {
@@ -26,6 +27,13 @@ ml_axis_params ml_default_params(void)
     p.sliders = 1;
     p.spread = 0.0;
     p.fs_ratio = 1.0;
+    p.friction_kind = ML_JENKINS;
+    p.theta_deg = 60.0;
+    p.k = 20000.0;
+    p.kf2 = 60000.0;
+    p.mu1 = 0.3;
+    p.mu2 = 0.3;
+    p.preload = 200.0;
     return p;
 }
 
@@ -81,27 +89,273 @@ double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new
     return trial;
 }
 
+double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_neg,
+                        double *w_new, double *tangent, int *slipping)
+{
+    double trial = kf * (u - w);
+    if (trial > fs_pos) {
+        *w_new = u - fs_pos / kf;
+        *tangent = 0.0;
+        *slipping = 1;
+        return fs_pos;
+    }
+    if (trial < -fs_neg) {
+        *w_new = u + fs_neg / kf;
+        *tangent = 0.0;
+        *slipping = 1;
+        return -fs_neg;
+    }
+    *w_new = w;
+    *tangent = kf;
+    *slipping = 0;
+    return trial;
+}
+
+ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
+                              double fs, double *w_new)
+{
+    /* slider_bank: k_i = kf / S, r_i = 1 + spread ((2 i + 1) / S - 1),
+     * fs_pos_i = Fs r_i / S, fs_neg_i = Fs r_i fs_ratio / S (same operation order) */
+    ml_axis_result r;
+    int n = p->sliders, i;
+    double k = p->kf / n, f = 0.0, kt = 0.0, diss = 0.0;
+    int slipping = 0;
+    for (i = 0; i < n; ++i) {
+        double ri = 1.0 + p->spread * ((double)(2 * i + 1) / n - 1.0);
+        double fp = fs * ri / n, fn = fs * ri * p->fs_ratio / n;
+        double wi = w[i], trial = k * (u - wi), wn;
+        if (trial > fp) {
+            wn = u - fp / k;
+            f += fp;
+            diss += fp * (wn - wi);
+            slipping = 1;
+        } else if (trial < -fn) {
+            wn = u + fn / k;
+            f -= fn;
+            diss += fn * (wi - wn);
+            slipping = 1;
+        } else {
+            wn = wi;
+            f += trial;
+            kt += k;
+        }
+        w_new[i] = wn;
+    }
+    r.force = f;
+    r.friction = f;
+    r.w_new = w_new[0];
+    r.tangent = kt;
+    r.slipping = slipping;
+    r.dissipated = diss;
+    return r;
+}
+
+int ml_is_inclined(const ml_axis_params *p)
+{
+    return p->friction && p->friction_kind == ML_INCLINED;
+}
+
+int ml_state_size(const ml_axis_params *p)
+{
+    if (ml_is_inclined(p))
+        return 3;
+    return p->friction && p->sliders > 1 ? p->sliders : 1;
+}
+
+in_params ml_inclined_params(const ml_axis_params *p)
+{
+    in_params q;
+    q.theta_deg = p->theta_deg;
+    q.k = p->k;
+    q.kf = p->kf;
+    q.kf2 = p->kf2;
+    q.mu1 = p->mu1;
+    q.mu2 = p->mu2;
+    q.preload = p->preload;
+    return q;
+}
+
+void ml_relaxed_state(const ml_axis_params *p, double u, double *w)
+{
+    in_params q = ml_inclined_params(p);
+    double s, c;
+    in_sc(&q, &s, &c);
+    w[0] = -u / s;
+    w[1] = -u * c / s;
+    w[2] = u;
+}
+
+void ml_normal_forces(const ml_axis_params *p, const double *w, double fs, double *n1,
+                      double *n2)
+{
+    *n1 = *n2 = 0.0;
+    if (!p->friction)
+        return;
+    if (p->friction_kind == ML_INCLINED) {  /* inclined.axis_normal_forces */
+        in_params q = ml_inclined_params(p);
+        double f[4];
+        in_forces(-w[2], w[0], w[1], &q, 0, 0, f);
+        *n1 = f[2];
+        *n2 = f[3];
+        return;
+    }
+    *n1 = p->mu > 0 ? fs / p->mu : p->n0;
+}
+
+/* math.fsum (CPython's Shewchuk summation with its half-even correction) of n <=
+ * ML_MAX_SLIDERS finite values; a non-finite term or an intermediate overflow (where
+ * Python raises) gives the plain sum. */
+static double exact_sum(const double *values, int n)
+{
+    double part[ML_MAX_SLIDERS + 1], x, y, t, hi = 0.0, lo = 0.0, yr, plain = 0.0;
+    int np = 0, i, j, k;
+    for (k = 0; k < n; ++k)
+        plain += values[k];
+    if (!isfinite(plain))
+        return plain;
+    for (k = 0; k < n; ++k) {
+        x = values[k];
+        for (i = j = 0; j < np; ++j) {
+            y = part[j];
+            if (fabs(x) < fabs(y)) {
+                t = x;
+                x = y;
+                y = t;
+            }
+            hi = x + y;
+            yr = hi - x;
+            lo = y - yr;
+            if (lo != 0.0)
+                part[i++] = lo;
+            x = hi;
+        }
+        np = i;
+        if (x != 0.0) {
+            if (!isfinite(x))
+                return plain;
+            part[np++] = x;
+        }
+    }
+    hi = 0.0;
+    if (np > 0) {
+        hi = part[--np];
+        while (np > 0) {
+            x = hi;
+            y = part[--np];
+            hi = x + y;
+            yr = hi - x;
+            lo = y - yr;
+            if (lo != 0.0)
+                break;
+        }
+        if (np > 0 && ((lo < 0.0 && part[np - 1] < 0.0)
+                       || (lo > 0.0 && part[np - 1] > 0.0))) {
+            y = lo * 2.0;
+            x = hi + y;
+            yr = x - hi;
+            if (y == yr)
+                hi = x;
+        }
+    }
+    return hi;
+}
+
+double ml_mean_slider(const double *w, int n)
+{
+    int i;
+    if (n <= 1)
+        return w[0];
+    for (i = 1; i < n; ++i)
+        if (!(w[i] == w[0]))
+            return exact_sum(w, n) / n;
+    return w[0];
+}
+
+/* The inclined element on an axis (mount_law._friction, inclined.axis_step): element
+ * deflection x = -u from the committed -uc, friction force -N2. */
+static int inclined_friction(double u, const double *w, const ml_axis_params *p,
+                             double *w_new, double *f_fr, double *k_fr,
+                             ml_axis_result *r, char *msg, size_t size)
+{
+    in_params q = ml_inclined_params(p);
+    in_step st;
+    if (in_update(-u, -w[2], w[0], w[1], &q, &st, msg, size) != IN_OK)
+        return 1;
+    *f_fr = -st.force;
+    *k_fr = st.tangent;
+    r->slipping = st.slip1 || st.slip2;
+    r->dissipated = st.dissipated;
+    w_new[0] = st.w1;
+    w_new[1] = st.w2;
+    w_new[2] = u;
+    r->w_new = u;
+    return 0;
+}
+
+int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p,
+                    double fs, double *w_new, ml_axis_result *r, char *msg,
+                    size_t size)
+{
+    ml_axis_result out;
+    double f_el, k_el, k_fr, f_fr;
+    ml_elastic_force(u, p->law, p->k1, p->kc, p->k2, p->delta, p->delta_neg, &f_el,
+                     &k_el);
+    if (!p->friction) {
+        out.force = f_el + p->c * v;
+        out.friction = 0.0;
+        out.w_new = w_new[0] = w[0];
+        out.tangent = k_el;
+        out.slipping = 0;
+        out.dissipated = 0.0;
+        *r = out;
+        return 0;
+    }
+    if (p->friction_kind == ML_INCLINED) {
+        if (inclined_friction(u, w, p, w_new, &f_fr, &k_fr, &out, msg, size))
+            return 1;
+    } else if (p->sliders > 1) {  /* micro-slip (mount_law._friction) */
+        ml_axis_result fr = ml_iwan_update(u, w, p, fs, w_new);
+        f_fr = fr.force;
+        out.w_new = fr.w_new;
+        k_fr = fr.tangent;
+        out.slipping = fr.slipping;
+        out.dissipated = fr.dissipated;
+    } else if (p->fs_ratio != 1.0) {  /* non-symmetric macro-slip */
+        double fn = fs * p->fs_ratio;
+        f_fr = ml_slider_update(u, w[0], p->kf, fs, fn, &out.w_new, &k_fr,
+                                &out.slipping);
+        out.dissipated = (out.w_new > w[0] ? fs : fn) * fabs(out.w_new - w[0]);
+        w_new[0] = out.w_new;
+    } else {
+        f_fr = ml_jenkins_update(u, w[0], p->kf, fs, &out.w_new, &k_fr,
+                                 &out.slipping);
+        out.dissipated = fs * fabs(out.w_new - w[0]);
+        w_new[0] = out.w_new;
+    }
+    out.friction = f_fr;
+    out.force = f_el + p->c * v + f_fr;
+    out.tangent = k_el + k_fr;
+    *r = out;
+    return 0;
+}
+
 ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
                              double kc, double k2, double delta, double delta_neg,
                              double c, double kf, double fs)
 {
+    ml_axis_params p = ml_default_params();
     ml_axis_result r;
-    double f_el, k_el;
-    ml_elastic_force(u, law, k1, kc, k2, delta, delta_neg, &f_el, &k_el);
-    if (kf > 0.0) {
-        double k_fr;
-        r.friction = ml_jenkins_update(u, w, kf, fs, &r.w_new, &k_fr, &r.slipping);
-        r.force = f_el + c * v + r.friction;
-        r.tangent = k_el + k_fr;
-        r.dissipated = fs * fabs(r.w_new - w);
-        return r;
-    }
-    r.force = f_el + c * v;
-    r.friction = 0.0;
-    r.w_new = w;
-    r.tangent = k_el;
-    r.slipping = 0;
-    r.dissipated = 0.0;
+    double w_new;
+    p.law = law;
+    p.k1 = k1;
+    p.kc = kc;
+    p.k2 = k2;
+    p.delta = delta;
+    p.delta_neg = delta_neg;
+    p.c = c;
+    p.friction = kf > 0.0;
+    p.kf = kf;
+    ml_axis_force_w(u, v, &w, &p, fs, &w_new, &r, NULL, 0);  /* cannot fail */
     return r;
 }
 
@@ -113,12 +367,11 @@ double ml_slip_force(const ml_axis_params *p, double n)
     return n > 0.0 ? p->mu * n : 0.0;
 }
 
-ml_axis_result ml_axis_force_p(double u, double v, double w, const ml_axis_params *p,
-                               double n)
+int ml_axis_force_p(double u, double v, const double *w, const ml_axis_params *p,
+                    double n, double *w_new, ml_axis_result *r, char *msg,
+                    size_t size)
 {
-    return ml_axis_force(u, v, w, p->law, p->k1, p->kc, p->k2, p->delta,
-                         p->delta_neg, p->c, p->friction ? p->kf : 0.0,
-                         ml_slip_force(p, n));
+    return ml_axis_force_w(u, v, w, p, ml_slip_force(p, n), w_new, r, msg, size);
 }
 
 /* ------------------------------------------------------------------ messages */
@@ -199,18 +452,47 @@ static int finite_and(double value, int strict)
     return isfinite(value) && (strict ? value > 0 : value >= 0);
 }
 
+/* mount_law._inclined_problems: the inclined element's checks on the axis's fields,
+ * and micro-slip / non-symmetric friction belong to the Jenkins element. Appends to
+ * buf (count problems there already); returns the number appended. */
+static int inclined_problems(const ml_axis_params *p, const char *prefix, char *buf,
+                             size_t size, int count)
+{
+    in_params q = ml_inclined_params(p);
+    char text[2048], val[40];
+    int added = in_problems(&q, prefix, text, sizeof text), n = count;
+    if (added)
+        append(buf, size, &n, text);  /* already "; "-separated */
+    if (p->sliders != 1 || p->fs_ratio != 1.0) {
+        ml_repr_double(p->fs_ratio, val, sizeof val);
+        snprintf(text, sizeof text, "`%ssliders` = %d and `%sfs_ratio` = %s: micro-slip "
+                 "and non-symmetric friction belong to the Jenkins element; the "
+                 "inclined element needs sliders = 1 and fs_ratio = 1", prefix,
+                 p->sliders, prefix, val);
+        append(buf, size, &n, text);
+        ++added;
+    }
+    return added;
+}
+
 int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                      size_t size)
 {
     struct { const char *name; double value; int strict; } checks[9];
     char text[256], val[40];
-    int count = 0, i;
+    int count = 0, i, kind_ok;
     if (size)
         buf[0] = '\0';
     if (p->law < 0 || p->law >= ML_N_LAWS) {
         snprintf(text, sizeof text, "`%slaw` must be one of 0 = %s, 1 = %s, 2 = %s, "
                  "3 = %s, got %d", prefix, LAW_NAMES[0], LAW_NAMES[1], LAW_NAMES[2],
                  LAW_NAMES[3], p->law);
+        append(buf, size, &count, text);
+    }
+    kind_ok = p->friction_kind >= 0 && p->friction_kind < ML_N_FRICTION_KINDS;
+    if (!kind_ok) {
+        snprintf(text, sizeof text, "`%sfriction_kind` must be one of 0 = %s, 1 = %s, "
+                 "got %d", prefix, KIND_NAMES[0], KIND_NAMES[1], p->friction_kind);
         append(buf, size, &count, text);
     }
     checks[0].name = "k1"; checks[0].value = p->k1; checks[0].strict = 0;
@@ -248,5 +530,7 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                  "of the sliders' slip displacements / eps), got %s", prefix, val);
         append(buf, size, &count, text);
     }
+    if (kind_ok && ml_is_inclined(p))
+        count += inclined_problems(p, prefix, buf, size, count);
     return count;
 }

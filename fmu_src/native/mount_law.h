@@ -10,11 +10,17 @@
 
 #include <stddef.h>
 
+#include "inclined.h"
+
 /* Elastic laws, codes as mount_law.LAWS. */
 enum ml_law { ML_LINEAR = 0, ML_CUBIC = 1, ML_PIECEWISE = 2, ML_PIECEWISE_ASYM = 3 };
 #define ML_N_LAWS 4
 /* mount_law.MAX_SLIDERS */
 #define ML_MAX_SLIDERS 64
+/* Friction elements of an axis, codes as mount_law.FRICTION_KINDS: the Jenkins/Iwan
+ * element and the inclined two-surface element of thesis Ch. 5 (inclined.h). */
+enum ml_friction_kind { ML_JENKINS = 0, ML_INCLINED = 1 };
+#define ML_N_FRICTION_KINDS 2
 
 /* Parameters of one local axis (mount_law.AxisParameters), SI units. */
 typedef struct {
@@ -22,18 +28,22 @@ typedef struct {
     double k1, kc, k2, delta, delta_neg, c;
     int friction;     /* 0 or 1 */
     double kf, mu, n0;
-    int sliders;      /* micro-slip sliders; the C port runs only 1 (see model.c) */
-    double spread, fs_ratio;  /* checked; fs_ratio != 1 is not ported either */
+    int sliders;      /* Jenkins elements of the micro-slip (Iwan) element, 1..64 */
+    double spread, fs_ratio;  /* slip-displacement spread; negative/positive Fs */
+    int friction_kind;        /* enum ml_friction_kind */
+    /* the inclined element (its inclined surface's stiffness is kf) */
+    double theta_deg, k, kf2, mu1, mu2, preload;
 } ml_axis_params;
 
 /* Result of mount_law.axis_force. */
 typedef struct {
     double force;       /* total force, N */
     double friction;    /* friction force, N */
-    double w_new;       /* slider position after the increment, m */
+    double w_new;       /* slider position after the increment, m (micro-slip: the
+                           first slider's; all of them in the caller's array) */
     double tangent;     /* dF/du, N/m */
     int slipping;       /* 1 while the slider slips */
-    double dissipated;  /* fs * |w_new - w|, J */
+    double dissipated;  /* energy the sliders dissipate in the increment, J */
 } ml_axis_result;
 
 /* The thesis's defaults (mount_law.AxisParameters()). */
@@ -47,7 +57,53 @@ void ml_elastic_force(double u, int law, double k1, double kc, double k2,
 double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new,
                          double *tangent, int *slipping);
 
-/* mount_law.axis_force (kf <= 0: no friction element). */
+/* mount_law.slider_update (non-symmetric slip forces fs_pos, fs_neg); returns the
+ * friction force. */
+double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_neg,
+                        double *w_new, double *tangent, int *slipping);
+
+/* mount_law.iwan_update with the bank mount_law.slider_bank(p, fs): the micro-slip
+ * element of axis p alone (force = friction). w holds the p->sliders committed
+ * positions, w_new receives them after the increment. */
+ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
+                              double fs, double *w_new);
+
+/* Number of doubles in the friction state of axis p (mount_law.initial_sliders): 3
+ * for the inclined element (w1, w2 and the committed deflection uc), p->sliders for a
+ * micro-slip axis, else 1 (the slider position). */
+int ml_state_size(const ml_axis_params *p);
+
+/* Whether axis p carries the inclined element (friction on, friction_kind inclined). */
+int ml_is_inclined(const ml_axis_params *p);
+
+/* The inclined element's parameters of axis p (kf: the axis's). */
+in_params ml_inclined_params(const ml_axis_params *p);
+
+/* inclined.relaxed_state: the inclined element of axis p relaxed at deflection u, as
+ * the state (w1, w2, uc) in w[0..2]. */
+void ml_relaxed_state(const ml_axis_params *p, double u, double *w);
+
+/* mount_law.normal_forces (N, N2) of axis p's friction element in state w (after an
+ * increment) with slip force fs: the inclined element's two contacts, the Jenkins
+ * element's fs / mu (n0 if mu = 0) and 0, (0, 0) without friction. */
+void ml_normal_forces(const ml_axis_params *p, const double *w, double fs, double *n1,
+                      double *n2);
+
+/* mount_law.mean_slider of the n positions w: the common position when all are
+ * equal, else their exactly rounded sum (math.fsum) / n. */
+double ml_mean_slider(const double *w, int n);
+
+/* mount_law.axis_force for every friction element of p (macro-slip, non-symmetric,
+ * micro-slip, inclined) with slip force fs: w holds the ml_state_size(p) doubles of
+ * the committed state, w_new receives them after the increment. Returns 0 with the
+ * result in *r, or 1 when the inclined element loses contact (inclined.ContactLost:
+ * its message in msg, nothing else written). */
+int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p,
+                    double fs, double *w_new, ml_axis_result *r, char *msg,
+                    size_t size);
+
+/* mount_law.axis_force of the symmetric macro-slip element (kf <= 0: no friction
+ * element). */
 ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
                              double kc, double k2, double delta, double delta_neg,
                              double c, double kf, double fs);
@@ -55,12 +111,13 @@ ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
 /* Slip force from the normal-force input: mu * max(n, 0) with friction, else 0. */
 double ml_slip_force(const ml_axis_params *p, double n);
 
-/* mount_law.axis_force with the parameters of an axis and normal force n. */
-ml_axis_result ml_axis_force_p(double u, double v, double w, const ml_axis_params *p,
-                               double n);
+/* ml_axis_force_w with the parameters of an axis and normal force n. */
+int ml_axis_force_p(double u, double v, const double *w, const ml_axis_params *p,
+                    double n, double *w_new, ml_axis_result *r, char *msg,
+                    size_t size);
 
-/* Append the problems of p (AxisParameters.problems(prefix), plus the law-code check
- * of the FMU) to buf as "; "-separated text. Returns the number of problems found.
+/* Append the problems of p (AxisParameters.problems(prefix), plus the law-code and
+ * friction-kind-code checks of the FMU) to buf as "; "-separated text. Returns the number of problems found.
  * buf is always NUL-terminated (truncated if too small). */
 int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                      size_t size);

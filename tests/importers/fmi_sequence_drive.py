@@ -12,7 +12,10 @@ state). The answer lists ``[status, values]`` per call (status 0 ok, 3 error, 4
 fatal; values for getReal), the probe after every rejected call (getReal of every
 output: the instance must still answer, with finite values) and ``usable``: after
 the sequence, fmi2Reset and a valid run (setup, enter, exit, three steps, outputs)
-all succeeded with finite outputs.
+all succeeded with finite outputs; ``errors_logged``: the messages of status error the
+instance logged (instantiated with loggingOn, as pythonfmu forwards nothing otherwise;
+to a logger of the driver: fmpy's default logger would print them
+to stdout, this protocol's channel).
 """
 
 from __future__ import annotations
@@ -24,6 +27,8 @@ import sys
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
+
+from vehicle.fmi_logging import callbacks, release
 
 OUTPUTS = ("F_axial", "Ffr_axial", "kt_axial", "E_fr_axial", "E_fr", "F_radial1")
 
@@ -103,9 +108,13 @@ def main(unzipdir: str) -> None:
         slave = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
                           modelIdentifier=md.coSimulation.modelIdentifier,
                           instanceName=f"seq{n}")
-        slave.instantiate(loggingOn=False)
+        logged = []
+        cb = callbacks(lambda env, inst, status, cat, msg: logged.append(status))
+        slave.instantiate(callbacks=cb, loggingOn=True)
         result = run_sequence(slave, vr, calls)
         slave.freeInstance()
+        release(cb)
+        result["errors_logged"] = logged.count(3)
         n += 1
         sys.stdout.write(json.dumps(result) + "\n")
         sys.stdout.flush()
