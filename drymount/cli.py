@@ -37,6 +37,7 @@ from __future__ import annotations
 import contextlib
 import importlib
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -55,6 +56,18 @@ from drymount.cli_guard import (
 from drymount.cli_guard import check_out as _check_out
 from drymount.cli_guard import check_out_dir as _check_out_dir
 from drymount.cli_parser import build_parser
+
+
+def _stop_before_main(signum, frame):  # nothing computed or written yet
+    os._exit(128 + signum)
+
+
+if __name__ == "__main__" or Path(sys.argv[0]).stem == "drymount":
+    # run as a program: a signal while the modules load ends the process with the
+    # documented status (130/143) instead of a traceback; main() installs the
+    # handlers that write what a run computed
+    for _sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(_sig, _stop_before_main)
 
 __all__ = ["main", "build_parser", "EXIT_OK", "EXIT_FAILURE", "EXIT_USAGE",
            "EXIT_INTERRUPTED", "EXIT_TERMINATED", "UsageError"]

@@ -28,9 +28,12 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 #: No child process may outlive the parent by more than this (issue 11).
 CHILD_GRACE_S = 5.0
-#: Signals are sent from this long after the start (the interpreter and the CLI are
-#: up after ~0.1 s; before main() Python's own handler would apply).
-EARLIEST_S = 0.3
+#: Signals are sent from this long after the CLI caught SIGINT (before that, during the
+#: interpreter's own start-up, Python's default handler would apply; the CLI installs
+#: its handler as soon as its module loads, see _wait_until_caught).
+EARLIEST_S = 0.05
+#: Longest wait for a fresh interpreter to load the CLI (a loaded 2-core machine).
+STARTUP_TIMEOUT_S = 60.0
 ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
            PYTHONPATH=str(ROOT))
 
@@ -54,6 +57,22 @@ def _complete_run(args, out: Path, cwd: Path) -> tuple[bytes, float]:
     _, err = p.communicate(timeout=300)
     assert p.returncode == 0, err.decode()
     return out.read_bytes(), time.monotonic() - t0
+
+
+def _wait_until_caught(pid: int, sig: int) -> None:
+    """Wait until process ``pid`` handles ``sig`` itself (Linux: the SigCgt mask of
+    /proc/PID/status), i.e. the CLI module has loaded; return at once elsewhere."""
+    status = Path(f"/proc/{pid}/status")
+    end = time.monotonic() + STARTUP_TIMEOUT_S
+    while status.exists() and time.monotonic() < end:
+        try:
+            fields = dict(line.split(":", 1) for line in status.read_text().splitlines()
+                          if ":" in line)
+        except OSError:  # the process has ended
+            return
+        if int(fields.get("SigCgt", "0").strip(), 16) >> (sig - 1) & 1:
+            return
+        time.sleep(0.005)
 
 
 def _group_gone(pgid: int, timeout: float) -> bool:
@@ -118,6 +137,7 @@ def _inject(tmp_path, args, n, sig, *, subset=False, seed=11):
         os.chmod(out, 0o664)
         delay = rng.uniform(EARLIEST_S, max(EARLIEST_S, 0.95 * duration))
         p = _cli(args, out, tmp_path)
+        _wait_until_caught(p.pid, sig)
         time.sleep(delay)
         p.send_signal(sig)
         _, err = p.communicate(timeout=120)
