@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "mount_law.h"  /* ml_repr_double: Python's repr() in the messages */
+#include "mount_law.h"  /* ml_repr_double, ml_append_problem: the messages */
 
 #define IN_MAX_EVENTS 64
 #define IN_REL_TOL 1e-12
@@ -69,15 +69,6 @@ static void py_g(double x, int prec, char *buf, size_t size)
         snprintf(buf, size, "%.*g", prec, x);
 }
 
-static void append(char *buf, size_t size, int *count, const char *text)
-{
-    size_t len = strlen(buf);
-    if (len + 1 >= size)
-        return;
-    snprintf(buf + len, size - len, "%s%s", *count ? "; " : "", text);
-    ++*count;
-}
-
 int in_problems(const in_params *p, const char *prefix, char *buf, size_t size)
 {
     struct { const char *name; double v; int ok; const char *rule; } r[7];
@@ -105,7 +96,7 @@ int in_problems(const in_params *p, const char *prefix, char *buf, size_t size)
         ml_repr_double(r[i].v, val, sizeof val);
         snprintf(text, sizeof text, "`%s%s` must be %s, got %s", prefix, r[i].name,
                  r[i].rule, val);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     if (count == 0) {
         double margin = in_self_locking_margin(p);
@@ -118,7 +109,7 @@ int in_problems(const in_params *p, const char *prefix, char *buf, size_t size)
                      "mu1 = %s, mu2 = %s (the normal force of a slipping regime has "
                      "determinant %s <= 0): increase theta or lower mu1/mu2", prefix,
                      val, m1, m2, worst);
-            append(buf, size, &count, text);
+            ml_append_problem(buf, size, &count, text);
         }
     }
     return count;

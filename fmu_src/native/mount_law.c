@@ -437,8 +437,7 @@ void ml_repr_double(double x, char *buf, size_t size)
     }
 }
 
-/* Append "; " (unless first) and the formatted text to buf. */
-static void append(char *buf, size_t size, int *count, const char *text)
+void ml_append_problem(char *buf, size_t size, int *count, const char *text)
 {
     size_t len = strlen(buf);
     if (len + 1 >= size)
@@ -462,14 +461,14 @@ static int inclined_problems(const ml_axis_params *p, const char *prefix, char *
     char text[2048], val[40];
     int added = in_problems(&q, prefix, text, sizeof text), n = count;
     if (added)
-        append(buf, size, &n, text);  /* already "; "-separated */
+        ml_append_problem(buf, size, &n, text);  /* already "; "-separated */
     if (p->sliders != 1 || p->fs_ratio != 1.0) {
         ml_repr_double(p->fs_ratio, val, sizeof val);
         snprintf(text, sizeof text, "`%ssliders` = %d and `%sfs_ratio` = %s: micro-slip "
                  "and non-symmetric friction belong to the Jenkins element; the "
                  "inclined element needs sliders = 1 and fs_ratio = 1", prefix,
                  p->sliders, prefix, val);
-        append(buf, size, &n, text);
+        ml_append_problem(buf, size, &n, text);
         ++added;
     }
     return added;
@@ -487,13 +486,13 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
         snprintf(text, sizeof text, "`%slaw` must be one of 0 = %s, 1 = %s, 2 = %s, "
                  "3 = %s, got %d", prefix, LAW_NAMES[0], LAW_NAMES[1], LAW_NAMES[2],
                  LAW_NAMES[3], p->law);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     kind_ok = p->friction_kind >= 0 && p->friction_kind < ML_N_FRICTION_KINDS;
     if (!kind_ok) {
         snprintf(text, sizeof text, "`%sfriction_kind` must be one of 0 = %s, 1 = %s, "
                  "got %d", prefix, KIND_NAMES[0], KIND_NAMES[1], p->friction_kind);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     checks[0].name = "k1"; checks[0].value = p->k1; checks[0].strict = 0;
     checks[1].name = "kc"; checks[1].value = p->kc; checks[1].strict = 0;
@@ -510,25 +509,25 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
         ml_repr_double(checks[i].value, val, sizeof val);
         snprintf(text, sizeof text, "`%s%s` must be finite and %s, got %s", prefix,
                  checks[i].name, checks[i].strict ? "> 0" : ">= 0", val);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     if (!isfinite(p->kf) || (p->friction && p->kf <= 0) || p->kf < 0) {
         ml_repr_double(p->kf, val, sizeof val);
         snprintf(text, sizeof text, "`%skf` must be finite and %s, got %s", prefix,
                  p->friction ? "> 0 when friction is on" : ">= 0", val);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     if (p->sliders < 1 || p->sliders > ML_MAX_SLIDERS) {
         snprintf(text, sizeof text, "`%ssliders` must be an integer from 1 to %d (the "
                  "number of Jenkins elements of the micro-slip element), got %d",
                  prefix, ML_MAX_SLIDERS, p->sliders);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     if (!(isfinite(p->spread) && p->spread >= 0.0 && p->spread < 1.0)) {
         ml_repr_double(p->spread, val, sizeof val);
         snprintf(text, sizeof text, "`%sspread` must be finite and in [0, 1) (half-width "
                  "of the sliders' slip displacements / eps), got %s", prefix, val);
-        append(buf, size, &count, text);
+        ml_append_problem(buf, size, &count, text);
     }
     if (kind_ok && ml_is_inclined(p))
         count += inclined_problems(p, prefix, buf, size, count);

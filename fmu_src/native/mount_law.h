@@ -125,4 +125,8 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
 /* Python's repr() of a float (shortest round-trip text), for the messages. */
 void ml_repr_double(double x, char *buf, size_t size);
 
+/* Append "; " (unless *count is 0) and text to buf (NUL-terminated, truncated if too
+ * small) and count it: the "; "-separated problem lists of the parameter checks. */
+void ml_append_problem(char *buf, size_t size, int *count, const char *text);
+
 #endif
