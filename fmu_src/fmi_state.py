@@ -13,8 +13,8 @@ from __future__ import annotations
 import math
 from enum import Enum
 
-__all__ = ["Mode", "ALLOWED", "SETTABLE", "MAX_STEP_SIZE", "TIME_RTOL", "call_error",
-           "set_error", "step_error", "setup_error"]
+__all__ = ["Mode", "ALLOWED", "SETTABLE", "MAX_STEP_SIZE", "TIME_RTOL",
+           "INFINITE_ALLOWED", "call_error", "set_error", "step_error", "setup_error"]
 
 
 class Mode(str, Enum):
@@ -87,6 +87,13 @@ def call_error(call: str, mode: Mode) -> str | None:
             f"{_allowed_text(call)})")
 
 
+#: Suffixes of the Real variables that also take +inf: the inclined element's
+#: friction coefficients ``<axis>_mu1``, ``<axis>_mu2`` (inf = a bonded surface, one
+#: that never slips; :class:`fmu_src.inclined.InclinedParameters`). Every other Real
+#: must be finite.
+INFINITE_ALLOWED = ("_mu1", "_mu2")
+
+
 def set_error(call: str, name: str, causality: str, variability: str, mode: Mode,
               value) -> str | None:
     """The rejection of setting variable ``name`` to ``value`` in ``mode``, or None."""
@@ -97,7 +104,8 @@ def set_error(call: str, name: str, causality: str, variability: str, mode: Mode
                 else "after fmi2Terminate")
         return (f"{call}: `{name}` is a {variability} {causality} and cannot be set "
                 f"{when} (state {mode.value}, value {value!r})")
-    if isinstance(value, float) and not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value) \
+            and not (value == math.inf and name.endswith(INFINITE_ALLOWED)):
         return f"{call}: `{name}` must be finite, got {value!r}"
     return None
 

@@ -188,3 +188,22 @@ def test_six_dof_engine_on_inclined_mounts_native_equals_fmu():
     u0 = working_point(s).deflection[2, 0]
     ref = _hand_march(a.deflections[:, col], p, u0)
     assert np.abs(a.friction_forces[:, col] - ref).max() <= HAND_TOL
+
+
+@pytest.mark.parametrize("build", ["python", "native"])
+def test_bonded_surface_mu_inf_through_both_fmus(build, tmp_path):
+    """mu1 = inf (a bonded inclined surface) is set through FMI (the one Real that may
+    be infinite, docs/fmu.md 4a) and the FMU equals the hand-stepped map."""
+    bonded = replace(AXIS, mu1=math.inf)
+    # 40 N about the working point under the weight: the wedge keeps contact
+    s = sdof(70.0, MountParameters(bonded, BARE, BARE), "force", 40.0)
+    s = replace(s, static_load=np.array([-70.0 * 9.81]))
+    fmu = None
+    if build == "native":
+        from native_helpers import build as build_native
+        fmu = build_native(tmp_path, 2)
+    th = simulate(s, 8.0, 0.3, backend="fmu", fmu_path=fmu)
+    u0 = working_point(s).deflection[0, 0]
+    ref = _hand_march(th.deflections[:, 0], bonded, u0)
+    assert np.abs(th.friction_forces[:, 0] - ref).max() <= HAND_TOL
+    assert np.ptp(th.friction_forces[:, 0]) > 100.0

@@ -532,6 +532,20 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     return MD_OK;
 }
 
+/* Whether Real variable `name` also takes +inf (fmu_src/fmi_state.py
+ * INFINITE_ALLOWED): the inclined element's <axis>_mu1, <axis>_mu2 (a bonded surface). */
+static int infinite_allowed(const char *name)
+{
+    static const char *const suffixes[] = {"_mu1", "_mu2"};
+    size_t len = strlen(name), i;
+    for (i = 0; i < sizeof suffixes / sizeof suffixes[0]; ++i) {
+        size_t n = strlen(suffixes[i]);
+        if (len >= n && strcmp(name + len - n, suffixes[i]) == 0)
+            return 1;
+    }
+    return 0;
+}
+
 md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
                        double value)
 {
@@ -558,7 +572,8 @@ md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned 
         snprintf(what, sizeof what, "%s of %s", call, var->name);
         return md_check_mode(m, what, allowed);
     }
-    if (type == MD_REAL && !isfinite(value)) {
+    if (type == MD_REAL && !isfinite(value)
+            && !(value == INFINITY && infinite_allowed(var->name))) {
         ml_repr_double(value, sv, sizeof sv);
         md_log(m, MD_ERROR, "%s: `%s` must be finite, got %s", call, var->name, sv);
         return MD_ERROR;
