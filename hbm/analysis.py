@@ -31,8 +31,8 @@ from hbm.problem import (
     build_problem,
     resolve_options,
 )
-from hbm.resolution import nanmax, next_resolution, probe
-from hbm.result import FrequencyResponse
+from hbm.resolution import next_resolution, probe
+from hbm.result import FrequencyResponse, finite_max
 from hbm.segments import Restart, clip, join
 from hbm.system import System
 
@@ -124,7 +124,8 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
                         floor, light)
         if opts.tol is None or not result.success:
             break
-        trunc, samp = nanmax(result.error_truncation), nanmax(result.error_sampling)
+        trunc = finite_max(result.error_truncation)
+        samp = finite_max(result.error_sampling)
         goal = 0.5 * opts.tol
         if trunc + samp <= goal:
             result.tol_met = True

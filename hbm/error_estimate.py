@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hbm.continuation import ContinuationSettings, newton
+from hbm.result import finite_max
 
 __all__ = ["ErrorEstimate", "estimate_errors", "curve_quantities", "RICHARDSON",
            "probe_errors", "curve_scale"]
@@ -65,10 +66,7 @@ class ErrorEstimate:
 
     def max(self) -> tuple[float, float]:
         """Largest ``(truncation, sampling)`` over the points (NaN-aware)."""
-        def top(a):
-            a = a[np.isfinite(a)]
-            return float(a.max()) if a.size else float("nan")
-        return top(self.truncation), top(self.sampling)
+        return finite_max(self.truncation), finite_max(self.sampling)
 
     def summary(self) -> str:
         t, s = self.max()

@@ -16,9 +16,9 @@ from hbm.aft import default_n_samples
 from hbm.error_estimate import curve_scale, probe_errors
 from hbm.options import MAX_HARMONICS, HBMOptions
 from hbm.problem import build_problem
-from hbm.result import FrequencyResponse
+from hbm.result import FrequencyResponse, finite_max
 
-__all__ = ["next_resolution", "probe", "nanmax", "PROBE_POINTS", "PROBE_SPREAD",
+__all__ = ["next_resolution", "probe", "PROBE_POINTS", "PROBE_SPREAD",
            "MAX_PROBES", "PROBE_MARGIN"]
 
 #: Before ``tol`` makes a whole curve be traced at a higher resolution, that
@@ -40,13 +40,6 @@ MAX_PROBES = 3
 #: six_dof_halved and six_dof_original with the worst points only: the worst points
 #: move between resolutions), so a probe has to meet the goal / PROBE_MARGIN.
 PROBE_MARGIN = 2.0
-
-
-def nanmax(a) -> float:
-    """Largest finite value of ``a`` (NaN if none)."""
-    a = np.asarray(a, float)
-    a = a[np.isfinite(a)]
-    return float(a.max()) if a.size else float("nan")
 
 
 def next_resolution(result: FrequencyResponse, trunc: float, samp: float,
@@ -144,8 +137,8 @@ def probe(system, fmin_hz, fmax_hz, result, H1, N1, goal, opts, pin_h, pin_n, ca
 
     H0 = result.harmonics
     N0 = result.n_samples if not result.closed_form else default_n_samples(H0)
-    t0 = nanmax(result.error_truncation[pts])
-    s0 = nanmax(result.error_sampling[pts]) if not result.closed_form else np.nan
+    t0 = finite_max(result.error_truncation[pts])
+    s0 = finite_max(result.error_sampling[pts]) if not result.closed_form else np.nan
     scale = curve_scale(level.prob, level.br.y, opts.n_peak)
     settings = opts.continuation_settings()
     half = 0.5 * goal / PROBE_MARGIN  # truncation target

@@ -9,7 +9,15 @@ import numpy as np
 
 from hbm.continuation import Status
 
-__all__ = ["FrequencyResponse", "MarkedPoint", "Status"]
+__all__ = ["FrequencyResponse", "MarkedPoint", "Status", "finite_max"]
+
+
+def finite_max(a) -> float:
+    """Largest finite value of ``a`` (NaN if none): the worst of per-point error
+    estimates, some of which may be NaN (not estimated)."""
+    a = np.asarray(a, float)
+    a = a[np.isfinite(a)]
+    return float(a.max()) if a.size else float("nan")
 
 
 @dataclass(frozen=True)
@@ -183,9 +191,7 @@ class FrequencyResponse:
     def error_max(self) -> float:
         """Largest estimated error (truncation + sampling) relative to peak; NaN if
         not estimated."""
-        e = self.error_truncation + self.error_sampling
-        e = e[np.isfinite(e)]
-        return float(e.max()) if e.size else float("nan")
+        return finite_max(self.error_truncation + self.error_sampling)
 
     def fold_freq_at(self, i: int, j: int) -> float | None:
         """The located fold between neighbouring points i and j, Hz (None if none)."""
