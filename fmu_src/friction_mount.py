@@ -292,12 +292,15 @@ class FrictionMount(Fmi2Slave):
             self._w[j] = initial_sliders(self._axes[j], value)
         self._res[j] = None
 
+    def _slip_force(self, j: int) -> float:
+        """Fs = mu * max(n, 0) of axis ``j`` (a negative normal force means lost
+        contact)."""
+        n = self._n[j]
+        return self._axes[j].mu * n if n > 0.0 else 0.0
+
     def _normal_output(self, j: int) -> tuple[float, float]:
         """``(N, N2)`` of axis ``j`` at the trial state (mount_law.normal_forces)."""
-        res = self._axis(j)
-        p = self._axes[j]
-        n = self._n[j]
-        return normal_forces(p, res[_W], p.mu * n if n > 0.0 else 0.0)
+        return normal_forces(self._axes[j], self._axis(j)[_W], self._slip_force(j))
 
     def _set_normal_force(self, j: int, value: float) -> None:
         self._n[j] = value
@@ -382,10 +385,8 @@ class FrictionMount(Fmi2Slave):
                 f"inputs of axis {axis} must be finite, got "
                 f"u_{axis}={u!r}, v_{axis}={v!r}, n_{axis}={n!r}")
         p = self._axes[j]
-        # A negative normal force means lost contact: Fs = mu * max(n, 0).
-        fs = p.mu * n if n > 0.0 else 0.0
         try:
-            res = axis_force(u, v, self._w[j], p, fs)
+            res = axis_force(u, v, self._w[j], p, self._slip_force(j))
         except ValueError as exc:  # the inclined element lost contact (ContactLost)
             raise self._fail(f"axis {AXES[j]} at u_{AXES[j]}={u!r}: {exc}") from None
         if not (math.isfinite(res[_F]) and math.isfinite(res[_KT])):

@@ -207,12 +207,13 @@ class AxisParameters:
     spread: float = 0.0
     fs_ratio: float = 1.0
     friction_kind: str = "jenkins"
-    theta_deg: float = 60.0
-    k: float = 20000.0
-    kf2: float = 60000.0
-    mu1: float = 0.3
-    mu2: float = 0.3
-    preload: float = 200.0
+    # the inclined element's fields, with its defaults (fmu_src.inclined)
+    theta_deg: float = InclinedParameters.theta_deg
+    k: float = InclinedParameters.k
+    kf2: float = InclinedParameters.kf2
+    mu1: float = InclinedParameters.mu1
+    mu2: float = InclinedParameters.mu2
+    preload: float = InclinedParameters.preload
 
     def __post_init__(self):
         problems = self.problems()
@@ -315,15 +316,10 @@ class AxisParameters:
 def _inclined_problems(p, prefix: str) -> list[str]:
     """The inclined element's checks (``InclinedParameters.problems``) on the axis's
     fields, plus: micro-slip and non-symmetric friction are Jenkins-only."""
-    raw = {f: getattr(p, f) for f in INCLINED_FIELDS}
-    try:
-        InclinedParameters(**raw)
-        out = []
-    except ValueError:
-        obj = object.__new__(InclinedParameters)
-        for f, v in raw.items():
-            object.__setattr__(obj, f, v)
-        out = obj.problems(prefix)
+    unchecked = object.__new__(InclinedParameters)  # problems() reads attributes only
+    for f in INCLINED_FIELDS:
+        object.__setattr__(unchecked, f, getattr(p, f))
+    out = unchecked.problems(prefix)
     if p.sliders != 1 or p.fs_ratio != 1.0:
         out.append(f"`{prefix}sliders` = {p.sliders!r} and `{prefix}fs_ratio` = "
                    f"{p.fs_ratio!r}: micro-slip and non-symmetric friction belong to "
