@@ -100,14 +100,7 @@ def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
         ok = False
     for name, default in (("kf", None), ("mu", 1.0), ("n0", None)):
         if name in fr:
-            x = _as_float(fr[name])
-            if x is None:
-                unit = readable_unit(parameter_unit(name))
-                ck.add(f"`{p}.{name}` must be a number ({unit}), got "
-                       f"{_type_name(fr[name])} {_show(fr[name])}")
-                ok = False
-            else:
-                kw[name] = x
+            ok = _number_into(ck, fr, p, name, kw) and ok
         elif default is not None:
             kw[name] = default
     ok = _micro_slip(ck, fr, p, kw) and ok
@@ -142,13 +135,7 @@ def _inclined(ck: _Checker, fr: dict, p: str) -> dict | None:
                    f"{', '.join(_INCLINED_KEYS[1:])} (this one in {unit})")
             ok = False
             continue
-        x = _as_float(fr[name])
-        if x is None:
-            ck.add(f"`{p}.{name}` must be a number ({unit}), got "
-                   f"{_type_name(fr[name])} {_show(fr[name])}")
-            ok = False
-        else:
-            kw[name] = x
+        ok = _number_into(ck, fr, p, name, kw) and ok
     return kw if ok else None
 
 
@@ -167,14 +154,21 @@ def _micro_slip(ck: _Checker, fr: dict, p: str, kw: dict) -> bool:
             ok = False
     for name in ("spread", "fs_ratio"):
         if name in fr:
-            x = _as_float(fr[name])
-            if x is None:
-                ck.add(f"`{p}.{name}` must be a number ([-]), got "
-                       f"{_type_name(fr[name])} {_show(fr[name])}")
-                ok = False
-            else:
-                kw[name] = x
+            ok = _number_into(ck, fr, p, name, kw) and ok
     return ok
+
+
+def _number_into(ck: _Checker, fr: dict, p: str, name: str, kw: dict) -> bool:
+    """``kw[name]`` = the number ``fr[name]`` of table ``p``; False (and the problem,
+    with the field's unit) if it is not a number."""
+    x = _as_float(fr[name])
+    if x is None:
+        unit = readable_unit(parameter_unit(name))
+        ck.add(f"`{p}.{name}` must be a number ({unit}), got "
+               f"{_type_name(fr[name])} {_show(fr[name])}")
+        return False
+    kw[name] = x
+    return True
 
 
 def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
