@@ -31,6 +31,7 @@ from enum import Enum
 from typing import NamedTuple
 
 import numpy as np
+from scipy.linalg import lapack
 
 __all__ = ["ContinuationSettings", "Branch", "Status", "NewtonResult", "newton",
            "continue_branch"]
@@ -94,6 +95,10 @@ class Branch:
     tangent : list of ndarray, each (n + 1,)
     jacobian : list of ndarray, each (n, n + 1)
         ``dR/dy`` at each point (reused for stability).
+    det_sign : list of float
+        Sign of ``det dR/dx`` (the first n columns of ``jacobian``) at each point,
+        from the factorization of the tangent's solve (:func:`_tangent`; 0 singular,
+        NaN unknown); the stability schedule's real-exponent crossings.
     n_iter : list of int
         Newton iterations of each point.
     turning_points : list of int
@@ -105,6 +110,7 @@ class Branch:
     y: list = field(default_factory=list)
     tangent: list = field(default_factory=list)
     jacobian: list = field(default_factory=list)
+    det_sign: list = field(default_factory=list)
     n_iter: list = field(default_factory=list)
     turning_points: list = field(default_factory=list)
     success: bool = False
@@ -248,19 +254,39 @@ def _corner_step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
     return y, its_total, None
 
 
-def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
-    """Unit null vector of ``J`` (n, n+1) oriented like ``previous``."""
+class _Tangent(NamedTuple):
+    """A unit tangent and the sign of ``det dR/dx`` at its point."""
+
+    t: np.ndarray
+    det_sign: float
+
+
+def _tangent(J: np.ndarray, previous: np.ndarray) -> _Tangent | None:
+    """Unit null vector of ``J`` (n, n+1) oriented like ``previous``, from
+    ``A t = e`` with ``A = [J; previous]``; and, from the same LU factors, the sign
+    of ``det J_x`` (J without its last column): by Cramer's rule the last component
+    of ``t`` is ``det J_x / det A``, so ``sign det J_x = sign(t_lam) sign(det A)``
+    (no second factorization; 0 where ``t_lam`` is exactly 0)."""
     A = np.vstack([J, previous])
     b = np.zeros(A.shape[0])
     b[-1] = 1.0
-    try:
-        t = np.linalg.solve(A, b)
-    except np.linalg.LinAlgError:
+    if not np.all(np.isfinite(A)):
+        return None
+    lu, piv, t, info = lapack.dgesv(A, b)
+    if info != 0:
         return None
     nt = _norm(t)
     if not np.isfinite(nt) or nt == 0.0:
         return None
-    return t / nt
+    swaps = np.count_nonzero(piv != np.arange(len(piv)))  # 0-based pivots
+    det_a = (-1) ** swaps * np.prod(np.sign(np.diag(lu)))
+    return _Tangent(t / nt, float(np.sign(t[-1]) * det_a))
+
+
+def tangent_at(J: np.ndarray, previous: np.ndarray) -> np.ndarray | None:
+    """Unit null vector of ``J`` (n, n+1) oriented like ``previous``."""
+    tg = _tangent(J, previous)
+    return None if tg is None else tg.t
 
 
 def continue_branch(fun: Callable, y0: np.ndarray, lam_end: float,
@@ -343,20 +369,20 @@ def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
                               else step.failure)
                 return br
             continue
-        y_new, t_new, J, its = step.y, step.t, step.J, step.n_iter
-        ratio = 0.0 if chord_error is None else chord_error(y, t, y_new, t_new)
+        ratio = 0.0 if chord_error is None else chord_error(y, t, step.y, step.t)
         if ratio > 1.0 and ds > 4 * settings.ds_min:
             ds = max(ds * max(0.2, 0.8 / math.sqrt(ratio)), 2 * settings.ds_min)
             continue
-        if y_new[-1] >= lam_end:
-            y_new, t_new, J, its = _land(fun, y, y_new, t, t_new, J, lam_end,
-                                         settings, br)
+        if step.y[-1] >= lam_end:
+            step = _land(fun, y, step, t, lam_end, settings, br)
+        y_new, t_new = step.y, step.t
         if t_new[-1] * t[-1] < 0.0:
             br.turning_points.append(len(br.y))
         br.y.append(y_new.copy())
         br.tangent.append(t_new)
-        br.jacobian.append(J)
-        br.n_iter.append(its)
+        br.jacobian.append(step.J)
+        br.det_sign.append(step.det_sign)
+        br.n_iter.append(step.n_iter)
         if callback is not None:
             callback(y_new[-1])
         if y_new[-1] >= lam_end or (until is not None and until(y_new)):
@@ -369,7 +395,7 @@ def _continue(br: Branch, fun: Callable, y0: np.ndarray, lam_end: float,
             br.status = Status.TURNED_BACK
             br.message = f"branch turned back below the start (lam = {y_new[-1]:.6g})"
             return br
-        ds = _next_ds(ds, its, t, t_new, settings, ratio)
+        ds = _next_ds(ds, step.n_iter, t, t_new, settings, ratio)
         y, t = y_new, t_new
 
 
@@ -386,16 +412,17 @@ def _start(fun: Callable, y: np.ndarray, br: Branch,
         return None
     e = np.zeros(n + 1)
     e[-1] = 1.0
-    t = tangent_at(J, e if direction is None else direction)
-    if t is None:
+    tg = _tangent(J, e if direction is None else direction)
+    if tg is None:
         br.status = Status.EVALUATION_FAILED
         br.message = "singular Jacobian at the start point"
         return None
     br.y.append(y.copy())
-    br.tangent.append(t)
+    br.tangent.append(tg.t)
     br.jacobian.append(J)
+    br.det_sign.append(tg.det_sign)
     br.n_iter.append(0)
-    return t
+    return tg.t
 
 
 class _Step(NamedTuple):
@@ -408,6 +435,7 @@ class _Step(NamedTuple):
     n_iter: int
     failure: str | None = None
     status: Status = Status.STEP_TOO_SMALL
+    det_sign: float = math.nan  # of dR/dx at y (Branch.det_sign)
 
 
 def _step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
@@ -431,36 +459,36 @@ def _step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,
     try:
         R, J = fun(y_new)
         # after a corner the new piece's direction gives the orientation
-        t_new = tangent_at(J, t if corner is None else corner)
+        tg = _tangent(J, t if corner is None else corner)
     except Exception:  # noqa: BLE001
-        t_new = None
-    if t_new is None:
+        tg = None
+    if tg is None:
         return _Step(None, None, None, its, f"tangent failed at lam = {y_new[-1]:.6g}",
                      Status.EVALUATION_FAILED)
-    return _Step(y_new, t_new, J, its)
+    return _Step(y_new, tg.t, J, its, det_sign=tg.det_sign)
 
 
-def _land(fun: Callable, y, y_new, t, t_new, J, lam_end: float,
-          settings: ContinuationSettings, br: Branch):
+def _land(fun: Callable, y, step: _Step, t, lam_end: float,
+          settings: ContinuationSettings, br: Branch) -> _Step:
     """A step past ``lam_end``: land exactly on it by natural-parameter Newton from
-    the secant; ``(y, tangent, J, Newton iterations of the landing)`` (the step's
-    point, tangent and Jacobian if it fails)."""
+    the secant; the landed point with its tangent, Jacobian and Newton iterations
+    (``step`` itself if the landing fails)."""
     n = y.size - 1
-    frac = (lam_end - y[-1]) / (y_new[-1] - y[-1])
-    y_end = y + frac * (y_new - y)
+    frac = (lam_end - y[-1]) / (step.y[-1] - y[-1])
+    y_end = y + frac * (step.y - y)
     y_end[-1] = lam_end
     y_c, ok_end, its, _ = newton(fun, y_end, settings, fixed=n)
     br.n_newton += its
-    if ok_end:
-        y_new = y_c
-        try:
-            J_end = fun(y_new)[1]
-            t_end = tangent_at(J_end, t)
-        except Exception:  # noqa: BLE001
-            t_end = None
-        if t_end is not None:
-            t_new, J = t_end, J_end
-    return y_new, t_new, J, its
+    if not ok_end:
+        return step._replace(n_iter=its)
+    try:
+        J_end = fun(y_c)[1]
+        tg = _tangent(J_end, t)
+    except Exception:  # noqa: BLE001
+        tg = None
+    if tg is None:  # the step's tangent and Jacobian at the landed point
+        return step._replace(y=y_c, n_iter=its)
+    return _Step(y_c, tg.t, J_end, its, det_sign=tg.det_sign)
 
 
 def _retraced(br: Branch) -> bool:
@@ -482,7 +510,7 @@ def _retraced(br: Branch) -> bool:
     if not dist < 0.05 * seg + 1e-9:
         return False
     f_tp = br.y[k][-1]
-    del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:]
+    del br.y[k + 1:], br.tangent[k + 1:], br.jacobian[k + 1:], br.det_sign[k + 1:]
     del br.n_iter[k + 1:]
     br.turning_points.pop()
     br.status = Status.RETRACED

@@ -353,9 +353,12 @@ def _splice(br: Branch, parts: list, settings: ContinuationSettings,
     """Replace the stretches ``(a, b, sub, fine)`` of ``br`` (points a+1..b) by the
     re-traces ``sub`` (their folds located on them); in place, noted in ``rep``."""
     npts = len(br.y)
-    y, tg, jac, nit, tps, folds = [], [], [], [], [], {}
+    y, tg, jac, dets, nit, tps, folds = [], [], [], [], [], [], {}
     start = 0
     old_tp = set(br.turning_points)
+
+    def det_sign(b: Branch, i: int) -> float:
+        return b.det_sign[i] if len(b.det_sign) == len(b.y) else np.nan
 
     def copy(lo, hi):  # coarse points lo..hi-1
         for i in range(lo, hi):
@@ -364,6 +367,7 @@ def _splice(br: Branch, parts: list, settings: ContinuationSettings,
             y.append(br.y[i])
             tg.append(br.tangent[i])
             jac.append(br.jacobian[i])
+            dets.append(det_sign(br, i))
             nit.append(br.n_iter[i])
 
     for a, b, sub, fine in parts:
@@ -379,6 +383,7 @@ def _splice(br: Branch, parts: list, settings: ContinuationSettings,
             y.append(sub.y[k])
             tg.append(sub.tangent[k])
             jac.append(sub.jacobian[k])
+            dets.append(det_sign(sub, k))
             nit.append(sub.n_iter[k])
         rep.removed_points += (b - a) - (len(sub.y) - 1)
         rep.refined.append((to_hz(br.y[a][-1]) if to_hz else br.y[a][-1],
@@ -386,6 +391,6 @@ def _splice(br: Branch, parts: list, settings: ContinuationSettings,
                             len(sub.y) - 1))
         start = b + 1
     copy(start, npts)
-    br.y, br.tangent, br.jacobian, br.n_iter = y, tg, jac, nit
+    br.y, br.tangent, br.jacobian, br.det_sign, br.n_iter = y, tg, jac, dets, nit
     br.turning_points = tps
     rep.folds = folds

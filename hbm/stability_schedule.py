@@ -116,11 +116,19 @@ def _stability(prob: _Problem, ys, br: Branch, stride: int, dense: bool = False)
             computed[i] = hb.residual(X, w)[1]
         return computed[i], w
 
-    # det J from the stored Jacobian without its column scaling (a constant factor)
+    # det J without the column scaling (a constant factor): recorded by the
+    # continuation with each tangent, else from the LU of the stored or new Jacobian
     scale = float(np.prod(np.sign(prob.rs / prob.xs)))
-    sign = np.array([_det_sign(br.jacobian[i][:, :-1]) * scale
-                     if i < len(br.jacobian) else _det_sign(jac(i)[0])
-                     for i in range(npts)])
+    recorded = br.det_sign if len(br.det_sign) == len(br.jacobian) else []
+
+    def det_sign(i):
+        if i < len(recorded) and np.isfinite(recorded[i]):
+            return recorded[i] * scale
+        if i < len(br.jacobian):
+            return _det_sign(br.jacobian[i][:, :-1]) * scale
+        return _det_sign(jac(i)[0])
+
+    sign = np.array([det_sign(i) for i in range(npts)])
 
     def evaluate(i):
         J, w = jac(i)
