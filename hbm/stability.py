@@ -27,12 +27,16 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg
 
-from hbm.hill_arnoldi import central_eigenvalues
+from hbm.hill_arnoldi import TOL, TOL_TIGHT, central_eigenvalues, hill_parts
 from hbm.residual import HarmonicBalance
 
 #: A Floquet exponent counts as unstable above RTOL * omega (round-off of the
 #: eigenvalues of neutral exponents).
 RTOL = 1e-7
+#: :func:`hill_verdict` solves again at ARPACK's tight tolerance when the largest real
+#: part is within GUARD * TOL * (largest modulus of the exponents) of the threshold
+#: (an eigenvalue error of up to GUARD times the Ritz residual bound).
+GUARD = 1e3
 
 __all__ = ["RTOL", "HillVerdict", "Method", "floquet_exponents", "hill_eigenvalues",
            "hill_verdict", "is_stable", "stability_of"]
@@ -50,11 +54,9 @@ def hill_eigenvalues(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.nda
         rad/s.
     """
     n, m = hb.n, hb.m
-    Minv = np.linalg.inv(hb.M)
-    I_m = np.eye(m)
-    D = hb.basis.D
-    Minv_k = np.kron(I_m, Minv)
-    Delta1 = np.kron(I_m, hb.C0) + 2.0 * omega * np.kron(D, hb.M)
+    parts = hill_parts(hb)
+    Minv_k = np.kron(np.eye(m), np.linalg.inv(hb.M))
+    Delta1 = parts.C + 2.0 * omega * parts.DM
     size = m * n
     A = np.zeros((2 * size, 2 * size))
     A[:size, size:] = np.eye(size)
@@ -119,9 +121,17 @@ def hill_verdict(hb: HarmonicBalance, J: np.ndarray, omega: float, rtol: float =
                  lu=None) -> HillVerdict:
     """:func:`is_stable` from the eigenvalues nearest the origin
     (:func:`hbm.hill_arnoldi.central_eigenvalues`, about 3x cheaper for 6 DOFs at
-    H = 7), from the dense problem when those cannot decide. ``lu``: the LU factors of
-    ``J`` if already computed."""
+    H = 7; at ARPACK's loose tolerance, again at the tight one when the verdict is
+    within :data:`GUARD` times the loose bound of the threshold), from the dense
+    problem when those cannot decide. ``lu``: the LU factors of ``J`` if already
+    computed."""
     lam = central_eigenvalues(hb, J, omega, lu)
+    if lam is not None:
+        st = stability_of(lam, hb.n, omega, rtol)
+        bound = GUARD * TOL * float(np.max(np.abs(_selected(lam, hb.n))))
+        if abs(st.max_real - rtol * omega) > bound:
+            return HillVerdict(st.stable, st.max_real, Method.ARNOLDI)
+        lam = central_eigenvalues(hb, J, omega, lu, tol=TOL_TIGHT)
     method = Method.ARNOLDI
     if lam is None:
         lam, method = hill_eigenvalues(hb, J, omega), Method.DENSE
