@@ -933,3 +933,24 @@ def test_inclined_axis_lost_contact_is_an_error_naming_the_axis(fmu):
         assert "axis axial" in text and "loses contact" in text
     finally:
         m.slave.freeInstance()
+
+
+def test_inclined_start_out_of_contact_is_refused_at_exit_initialization(fmu):
+    """A start input that pulls the wedge out: fmi2ExitInitializationMode returns
+    fmi2Error naming the axis and the instance stays in initialization mode (as for a
+    bad parameter, and as the native build); corrected, it exits and steps."""
+    m = Mount(fmu, params=INCLINED_PARAMS)
+    try:
+        m.slave.setReal([m.vr["u_axial"]], [0.05])   # pulled far out of the wedge
+        with pytest.raises(FMICallException):
+            m.slave.exitInitializationMode()
+        text = " ".join(msg for _, msg in m.messages)
+        assert "axis axial at u_axial=0.05" in text and "loses contact" in text
+        with pytest.raises(FMICallException):  # not stepComplete
+            m.slave.doStep(0.0, 1e-4)
+        m.slave.setReal([m.vr["u_axial"]], [-0.001])
+        m.start()
+        m.slave.doStep(0.0, 1e-4)
+        assert m.real(["w_axial"]) == [-0.001]
+    finally:
+        m.slave.freeInstance()

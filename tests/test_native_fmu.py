@@ -811,26 +811,44 @@ def test_fmpy_inclined_axes_equal_python_law(native):
     assert normal[:, 0].min() > 0 and np.ptp(normal[:, 0]) > 0.1 * scale  # N varies
 
 
-@needs_inclined
-def test_inclined_contact_lost_is_an_error_with_the_python_message(native):
-    """Pulling the wedge out: reading an output and the step are refused
-    (fmi2Error / fmi3Error) with the PythonFMU build's message; nothing is
-    committed and the instance steps on once the motion is corrected."""
+def _contact_lost_message(axes, u_out: float) -> str:
+    """The PythonFMU build's message for the axial wedge pulled out to ``u_out``
+    (the law's ContactLost, which it must raise there)."""
     from fmu_src.inclined import ContactLost
 
-    fmi, path = native
-    axes = _inclined_instance(np.random.default_rng(501))
-    u_out = 0.05
     try:
         axis_force(u_out, 0.0, initial_sliders(axes[0]), axes[0])
     except ContactLost as exc:
-        why = f"FrictionMount: axis axial at u_axial={u_out!r}: {exc}"
-    else:
-        raise AssertionError("the wedge should lose contact")
+        return f"FrictionMount: axis axial at u_axial={u_out!r}: {exc}"
+    raise AssertionError("the wedge should lose contact")
+
+
+@needs_inclined
+def test_inclined_contact_lost_is_an_error_with_the_python_message(native):
+    """Pulling the wedge out, with the PythonFMU build's message each time (fmi2Error
+    / fmi3Error): a start input out of contact is refused by ExitInitializationMode,
+    which leaves the instance in initialization mode (as a bad parameter does); in
+    step mode reading an output and the step are refused and nothing is committed;
+    each time the instance goes on once the motion is corrected."""
+    fmi, path = native
+    axes = _inclined_instance(np.random.default_rng(501))
+    u_out = 0.05
+    why = _contact_lost_message(axes, u_out)
     d = Driver(path, fmi)
     try:
         d.set(parameter_values(axes))
-        d.init()
+        d.set({"u_axial": u_out})
+        if fmi == 2:
+            d.fmu.setupExperiment(startTime=0.0)
+            d.fmu.enterInitializationMode()
+        else:
+            d.fmu.enterInitializationMode(startTime=0.0)
+        status, msg = _call(d, d.fmu.exitInitializationMode)
+        assert (status, msg) == (3, f"{why} (in fmi{fmi}ExitInitializationMode)")
+        status, msg = _call(d, d.step, 0.0)
+        assert status == 3 and "not allowed in state InitializationMode" in msg
+        d.set({"u_axial": 0.0})
+        d.fmu.exitInitializationMode()
         d.set({"u_axial": u_out})
         get = "GetReal" if fmi == 2 else "GetFloat64"
         status, msg = _call(d, d.get, ["F_axial"])

@@ -393,10 +393,14 @@ md_status md_enter_initialization(md_instance *m, const char *call, double start
 
 md_status md_exit_initialization(md_instance *m, const char *call)
 {
+    int j;
     if (md_check_mode(m, call, MD_IN(MD_INIT)) != MD_OK)
         return MD_ERROR;
     if (check_parameters(m, call, MD_ERROR) != MD_OK)
         return MD_ERROR;
+    for (j = 0; j < 3; ++j)  /* the start outputs must exist too (lost contact) */
+        if (evaluate(m, call, j) != MD_OK)
+            return MD_ERROR;  /* still initializationMode, as for parameters */
     m->d.mode = MD_STEP;
     return MD_OK;
 }
