@@ -38,12 +38,14 @@ from fmu_src import interface
 from fmu_src.mount_law import AXES, friction_kind_code, law_code
 
 __all__ = ["SspExport", "export_ssp", "parameter_set", "system_structure",
-           "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS"]
+           "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OSP"]
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
-for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV)):
+#: Open Simulation Platform's annotations (libcosim reads its algorithm from them).
+OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
+for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("osp", OSP)):
     register_namespace(_prefix, _uri)
 
 #: Connectors of each mount component (FMU variable prefixes, per axis).
@@ -138,11 +140,24 @@ def system_structure(cfg, fmu_name: str, set_name: str) -> bytes:
         SubElement(bindings, _q(SSD, "ParameterBinding"),
                    source=f"resources/{el.name}.ssv")
     _units(root, SSD)
-    exp = interface.DEFAULT_EXPERIMENT
-    SubElement(root, _q(SSD, "DefaultExperiment"), startTime=repr(exp["startTime"]),
-               stopTime=repr(exp["stopTime"]))
+    _default_experiment(root)
     indent(root)
     return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+
+
+def _default_experiment(root: Element) -> None:
+    """The FMU's default experiment, annotated for libcosim (OSP): a fixed-step
+    algorithm at the FMU's step size on no worker thread. libcosim's default pool
+    runs initialization in worker threads without a catch, so an FMU error there
+    (a bad parameter) would end the host; with zero threads it is a failed step with
+    the FMU's message (docs/fmu.md 4a). Other importers ignore the annotation."""
+    exp = interface.DEFAULT_EXPERIMENT
+    de = SubElement(root, _q(SSD, "DefaultExperiment"),
+                    startTime=repr(exp["startTime"]), stopTime=repr(exp["stopTime"]))
+    ann = SubElement(SubElement(de, _q(SSD, "Annotations")), _q(SSC, "Annotation"),
+                     type="com.opensimulationplatform")
+    SubElement(SubElement(ann, _q(OSP, "Algorithm")), _q(OSP, "FixedStepAlgorithm"),
+               baseStepSize=repr(exp["stepSize"]), numWorkerThreads="0")
 
 
 def _readme(cfg, fmu_name: str, set_name: str) -> bytes:

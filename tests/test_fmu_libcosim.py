@@ -105,6 +105,48 @@ def test_error_during_a_step_is_a_failed_step_not_a_crash(fmu, tmp_path):
 
 
 
+def _exported_folder(fmu, folder: Path, kf: float | None = None) -> Path:
+    """``drymount export-ssp`` of sdof_halved with this FMU inside, extracted; with
+    ``kf`` the parameter set's ``axial_kf`` edited to it (as a user might)."""
+    import zipfile
+    from xml.etree import ElementTree as ET
+
+    from drymount.config import load_preset
+    from drymount.ssp import SSV, export_ssp
+
+    archive = export_ssp(load_preset("sdof_halved"), folder / "sdof.ssp",
+                         fmu_path=fmu).path
+    out = folder / "extracted"
+    zipfile.ZipFile(archive).extractall(out)
+    if kf is not None:
+        (ssv,) = (out / "resources").glob("*.ssv")
+        tree = ET.parse(ssv)
+        (par,) = [p for p in tree.iter(f"{{{SSV}}}Parameter")
+                  if p.get("name") == "axial_kf"]
+        par.find(f"{{{SSV}}}Real").set("value", repr(kf))
+        tree.write(ssv, xml_declaration=True, encoding="UTF-8")
+    return out
+
+
+def test_exported_ssp_runs_in_libcosim_and_survives_a_bad_parameter(fmu, tmp_path):
+    """The archive of ``drymount export-ssp`` loads in libcosim as it is and steps;
+    its default experiment's annotation (fixed step, no worker thread) makes an
+    edited bad parameter a failed step with the FMU's message, not the end of the
+    host (libcosim's default pool would std::terminate, pinned below)."""
+    good = _exported_folder(fmu, tmp_path / "good")
+    out = _run([sys.executable, str(DRIVER), "--exported", str(good)], tmp_path)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-3000:]
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    assert res["instances"] == 1 and res["steps_ok"] == [True, True, True], res
+    bad = _exported_folder(fmu, tmp_path / "bad", kf=-5.0)
+    out = _run([sys.executable, str(DRIVER), "--exported", str(bad)], tmp_path)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-3000:]
+    res = json.loads(out.stdout.strip().splitlines()[-1])
+    assert res["steps_ok"][0] is False, res
+    assert "`axial_kf` must be finite and > 0 when friction is on, got -5.0" in \
+        res["messages"][0], res
+
+
 # ======================================================================================
 # Bad parameters (issue 11): libcosim hosts without worker threads survive them
 # ======================================================================================

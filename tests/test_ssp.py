@@ -17,7 +17,7 @@ import pytest
 from native_helpers import build, random_trajectory
 
 from drymount.config import load_preset
-from drymount.ssp import SSC, SSD, SSV, export_ssp
+from drymount.ssp import OSP, SSC, SSD, SSV, export_ssp
 from fmu_src import interface
 from fmu_src.mount_law import AXES, axis_force, law_code
 
@@ -73,6 +73,15 @@ def test_structure_matches_the_fmu_interface(cfg, ssp):
         assert binding.get("source") == f"resources/{comp.get('name')}.ssv"
         assert binding.get("source") in names
     assert "documentation/README.txt" in names
+    # the default experiment: the FMU's, with libcosim's algorithm on no worker
+    # thread (an FMU error at initialization then reaches the host, docs/fmu.md 4a)
+    exp = root.find(f"{{{SSD}}}DefaultExperiment")
+    assert float(exp.get("startTime")) == interface.DEFAULT_EXPERIMENT["startTime"]
+    ann = exp.find(f"{{{SSD}}}Annotations/{{{SSC}}}Annotation")
+    assert ann.get("type") == "com.opensimulationplatform"
+    algo = ann.find(f"{{{OSP}}}Algorithm/{{{OSP}}}FixedStepAlgorithm")
+    assert algo.get("numWorkerThreads") == "0"
+    assert float(algo.get("baseStepSize")) == interface.DEFAULT_EXPERIMENT["stepSize"]
 
 
 def test_parameter_sets_hold_the_configuration(cfg, ssp):

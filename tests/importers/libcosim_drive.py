@@ -14,6 +14,11 @@ modes (one JSON object each):
   algorithm has libcosimc's default thread pool: libcosim runs initialization in a
   worker thread without a catch and the FMU's fmi2Error there is std::terminate
   (docs/fmu.md 4a); this mode documents that.
+* ``--exported FOLDER``: an archive of ``drymount export-ssp``, extracted to FOLDER,
+  loaded with ``CosimExecution.from_ssp_file`` as it is (its default experiment's
+  OSP annotation: fixed step, no worker thread): 3 steps.
+  ``{"instances": ..., "steps_ok": [...], "messages": [...]}`` (a failed step's
+  error message, else "").
 * ``--nan-input``: a good run of a few steps, then ``u_axial = NaN`` through the
   override manipulator: the FMU refuses the fmi2SetReal (fmi2Error) inside libcosim's
   step, which libcosimc catches: ``cosim_execution_step`` fails and
@@ -200,10 +205,24 @@ def nan_input(fmu: str) -> dict:
                 after=main(fmu))
 
 
+def exported(folder: str) -> dict:
+    """Three steps of an extracted ``drymount export-ssp`` archive, as exported."""
+    log_output_level(CosimLogLevel.WARNING)
+    ex = CosimExecution.from_ssp_file(folder)
+    n = len(ex.slave_infos())
+    steps, messages = [], []
+    for _ in range(3):
+        steps.append(bool(ex.step(1)))
+        messages.append(get_last_error_message() if not steps[-1] else "")
+    return dict(instances=n, steps_ok=steps, messages=messages)
+
+
 if __name__ == "__main__":
     if "--ssp-bad" in sys.argv:
         print(json.dumps(ssp_bad(sys.argv[1],
                                  sys.argv[sys.argv.index("--ssp-bad") + 1:])))
+    elif "--exported" in sys.argv:
+        print(json.dumps(exported(sys.argv[sys.argv.index("--exported") + 1])))
     elif "--nan-input" in sys.argv:
         print(json.dumps(nan_input(sys.argv[1])))
     elif "--bad" in sys.argv:
