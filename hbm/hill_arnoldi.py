@@ -77,7 +77,8 @@ _PARTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def hill_parts(hb: HarmonicBalance) -> HillParts:
-    """:class:`HillParts` of ``hb``, built once per HarmonicBalance."""
+    """:class:`HillParts` of ``hb``, built once per HarmonicBalance (whose matrices
+    are fixed at construction)."""
     parts = _PARTS.get(hb)
     if parts is None:
         I_m = np.eye(hb.m)

@@ -165,3 +165,16 @@ def test_bad_input_names_the_field():
     with pytest.raises(ValueError, match="must be one of auto, numpy, numba"):
         resolve_backend("fortran")
     assert set(BACKENDS) == {"numpy", "numba", "scan", "scalar"}
+
+
+def test_auto_is_numpy_without_numba(monkeypatch):
+    """Without numba (the default install) ``auto`` takes the pure-NumPy march and
+    asking for numba says how to get it."""
+    import hbm.friction_march as fm
+
+    monkeypatch.setattr(fm, "_HAVE_NUMBA", False)
+    assert resolve_backend("auto") == "numpy"
+    monkeypatch.setenv("DRYMOUNT_MARCH", "auto")
+    assert resolve_backend() == "numpy"
+    with pytest.raises(ValueError, match=r"needs numba: pip install 'drymount\[fast"):
+        resolve_backend("numba")
