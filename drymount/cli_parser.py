@@ -139,37 +139,8 @@ def _version() -> str:
         return "(not installed)"
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``drymount`` argument parser (subcommands in ``args.command``)."""
-    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES, MAX_POINTS
-
-    parser = argparse.ArgumentParser(
-        prog="drymount",
-        description=textwrap.dedent("""\
-            drymount: friction-damped engine mounts. An FMI 2.0 mount FMU, a vehicle
-            co-simulation harness and harmonic balance, for the systems of the thesis
-            "Design of an engine mount with dry friction damping".
-
-            CONFIG is a TOML file (docs/config.md) or a preset name."""),
-        epilog=_examples(
-            "drymount demo --out demo                # first look: report in demo/",
-            "drymount presets list",
-            "drymount hbm sdof_halved --out curve.csv --plot curve.png",
-            "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
-            "--plot sweep.png",
-            "drymount build-fmu --out FrictionMount.fmu",
-        ) + "\n\nexit status: 0 success, 1 numerical failure, 2 bad usage or "
-            "configuration (before computing), 130 Ctrl-C, 143 SIGTERM; after 1, 130 "
-            "or 143 what was computed is written, first line '# partial: <reason>' "
-            "(docs/cli.md)",
-        formatter_class=_Formatter)
-    parser.add_argument("--version", action="version",
-                        version=f"drymount {_version()}")
-    parser.add_argument("--traceback", action="store_true",
-                        help="show the Python traceback of an unexpected error")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-
-    # presets ------------------------------------------------------------------
+def _cmd_presets(sub) -> None:
+    """``drymount presets``."""
     p = _add(sub, "presets", "list, show or export the shipped presets",
              """\
              The presets are the thesis's systems as TOML configurations. Every
@@ -202,7 +173,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "default: the stem of PATH")
     q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
 
-    # build-fmu ----------------------------------------------------------------
+
+def _cmd_build_fmu(sub) -> None:
+    """``drymount build-fmu``."""
     p = _add(sub, "build-fmu", "build the FrictionMount FMU (FMI 2.0 co-simulation)",
              """\
              Build FrictionMount.fmu, the mount law as an FMI 2.0 co-simulation FMU
@@ -221,7 +194,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="FMI version of the native build (default 2; the PythonFMU "
                         "build is FMI 2.0 only)")
 
-    # export-ssp ---------------------------------------------------------------
+
+def _cmd_export_ssp(sub) -> None:
+    """``drymount export-ssp``."""
     p = _add(sub, "export-ssp", "SSP 1.0 archive of a configuration's mount FMUs",
              """\
              Write an SSP 1.0 archive: SystemStructure.ssd with one FMU component per
@@ -237,7 +212,11 @@ def build_parser() -> argparse.ArgumentParser:
                         "instead of the PythonFMU build")
     p.add_argument("--fmu", type=_path, default=None, help="pack this FMU instead")
 
-    # hbm ----------------------------------------------------------------------
+
+def _cmd_hbm(sub) -> None:
+    """``drymount hbm``."""
+    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
+
     p = _add(sub, "hbm", "harmonic-balance frequency response (continuation)",
              """\
              Multi-harmonic balance with alternating frequency-time evaluation and
@@ -268,7 +247,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     _hbm_accuracy_args(p)
 
-    # cosim --------------------------------------------------------------------
+
+def _cmd_cosim(sub) -> None:
+    """``drymount cosim``."""
     p = _add(sub, "cosim", "time history co-simulated through the mount FMU",
              """\
              Fixed-step co-simulation of the bodies with one mount FMU instance per
@@ -307,7 +288,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="start-up transient left out of the spectra (default 0 s)")
     _harness_args(p, "cosim")
 
-    # sweep --------------------------------------------------------------------
+
+def _cmd_sweep(sub) -> None:
+    """``drymount sweep``."""
+    from drymount.config import MAX_POINTS
+
     p = _add(sub, "sweep", "stepped-sine sweep of co-simulated steady states",
              """\
              At each frequency, run until the period-to-period change is below the
@@ -351,7 +336,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "(and to guide --refine)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
-    # validate -----------------------------------------------------------------
+
+def _cmd_validate(sub) -> None:
+    """``drymount validate``."""
     p = _add(sub, "validate", "co-simulation through the FMU against harmonic balance",
              """\
              For the single-DOF, quarter-car and 6-DOF presets with friction and the
@@ -375,7 +362,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="scale a mount-law field on the HBM side only "
                         "(proves that the check can fail), e.g. n0=1.5")
 
-    # study --------------------------------------------------------------------
+
+def _cmd_study(sub) -> None:
+    """``drymount study``."""
     p = _add(sub, "study", "the thesis's design studies (Chapter 4)",
              """\
              normal-force  single DOF, transmissibility for a range of n0
@@ -403,7 +392,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true",
                    help="fewer designs and coarser curves (seconds instead of minutes)")
 
-    # fit ----------------------------------------------------------------------
+
+def _cmd_fit(sub) -> None:
+    """``drymount fit``."""
     p = _add(sub, "fit", "mount-law parameters from rig data (CSV with units)",
              """\
              elastic  quasi-static force-deflection curve: fits linear, cubic,
@@ -436,7 +427,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-plot", dest="plot", action="store_false",
                    help="do not draw fit.png")
 
-    # characterise -------------------------------------------------------------
+
+def _cmd_characterise(sub) -> None:
+    """``drymount characterise``."""
     p = _add(sub, "characterise", "dynamic stiffness and loss angle of the mounts",
              """\
              For every mount axis the model deflects: |K*| and loss angle vs
@@ -470,7 +463,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="output folder (default: <name>_characterise)")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
 
-    # static -------------------------------------------------------------------
+
+def _cmd_static(sub) -> None:
+    """``drymount static``."""
     p = _add(sub, "static", "static working point under the engine's weight",
              """\
              Equilibrium of the configuration under gravity (and the [static]
@@ -493,7 +488,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=_path, default=None,
                    help="CSV file (default: <name>_static.csv)")
 
-    # demo ---------------------------------------------------------------------
+
+def _cmd_demo(sub) -> None:
+    """``drymount demo``."""
     p = _add(sub, "demo", "the first-hour demo: FMU, HBM, co-simulation, report",
              """\
              Builds the FMU, computes the HBM curve of the friction-damped quarter car
@@ -504,7 +501,44 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
 
-    # explore, optimize (drymount.design) ------------------------------------------
+
+#: The subcommands in the order of ``drymount --help`` (explore and optimize follow,
+#: from drymount.design.commands).
+_COMMANDS = (_cmd_presets, _cmd_build_fmu, _cmd_export_ssp, _cmd_hbm, _cmd_cosim,
+             _cmd_sweep, _cmd_validate, _cmd_study, _cmd_fit, _cmd_characterise,
+             _cmd_static, _cmd_demo)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``drymount`` argument parser (subcommands in ``args.command``)."""
+    parser = argparse.ArgumentParser(
+        prog="drymount",
+        description=textwrap.dedent("""\
+            drymount: friction-damped engine mounts. An FMI 2.0 mount FMU, a vehicle
+            co-simulation harness and harmonic balance, for the systems of the thesis
+            "Design of an engine mount with dry friction damping".
+
+            CONFIG is a TOML file (docs/config.md) or a preset name."""),
+        epilog=_examples(
+            "drymount demo --out demo                # first look: report in demo/",
+            "drymount presets list",
+            "drymount hbm sdof_halved --out curve.csv --plot curve.png",
+            "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
+            "--plot sweep.png",
+            "drymount build-fmu --out FrictionMount.fmu",
+        ) + "\n\nexit status: 0 success, 1 numerical failure, 2 bad usage or "
+            "configuration (before computing), 130 Ctrl-C, 143 SIGTERM; after 1, 130 "
+            "or 143 what was computed is written, first line '# partial: <reason>' "
+            "(docs/cli.md)",
+        formatter_class=_Formatter)
+    parser.add_argument("--version", action="version",
+                        version=f"drymount {_version()}")
+    parser.add_argument("--traceback", action="store_true",
+                        help="show the Python traceback of an unexpected error")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for add in _COMMANDS:
+        add(sub)
+    # explore, optimize (drymount.design)
     from drymount.design.commands import add_commands
 
     add_commands(sub, _add, _config_arg, _int_at_least)
