@@ -1,4 +1,4 @@
-"""``drymount demo``: the main job of the README, end to end in a couple of minutes.
+"""``drymount demo``: the main job of the README, end to end in seconds.
 
 1. Builds the mount FMU (``dist/FrictionMount.fmu``) and validates it with fmpy.
 2. Computes the harmonic-balance displacement transmissibility (engine / sprung mass,
