@@ -39,6 +39,29 @@ class Residual(NamedTuple):
     dR_domega: np.ndarray | None
 
 
+def _closed_form_choice(closed_form: bool | None, H: int, ax, static: bool) -> bool:
+    """Whether the H = 1 closed forms replace AFT: by default where they apply (H = 1,
+    laws with closed forms, sliders at 0, no static load: the zero slider offset and
+    zero mean deflection they assume); asked for where they do not apply, an error
+    that says why."""
+    offsets = bool(np.any(ax.w_start != 0.0))
+    if closed_form is None:
+        return H == 1 and ax.has_closed_form and not offsets and not static
+    if closed_form:
+        if static:
+            raise ValueError("`closed_form` assumes no static load (zero mean "
+                             "deflection); use closed_form=False (AFT)")
+        if H != 1:
+            raise ValueError(f"`closed_form` needs harmonics == 1, got {H}")
+        if not ax.has_closed_form:
+            raise ValueError("`closed_form`: the `piecewise_asym` law has no "
+                             "closed form; use closed_form=False (AFT)")
+        if offsets:
+            raise ValueError("`closed_form` assumes sliders starting at 0; with "
+                             "`sliders` use closed_form=False (AFT)")
+    return bool(closed_form)
+
+
 class HarmonicBalance:
     """Residual of the harmonic-balance equations of a :class:`hbm.system.System`.
 
@@ -72,24 +95,7 @@ class HarmonicBalance:
         if self.static is not None and sliders is None:
             sliders = self.static.sliders  # relaxed at the working point
         ax = nonlinear_axes(system, sliders)
-        offsets = bool(np.any(ax.w_start != 0.0))
-        if closed_form is None:
-            # the closed forms assume the zero slider offset of the HBM convention
-            # and zero mean deflection
-            closed_form = (H == 1 and ax.has_closed_form and not offsets
-                           and self.static is None)
-        elif closed_form:
-            if self.static is not None:
-                raise ValueError("`closed_form` assumes no static load (zero mean "
-                                 "deflection); use closed_form=False (AFT)")
-            if H != 1:
-                raise ValueError(f"`closed_form` needs harmonics == 1, got {H}")
-            if not ax.has_closed_form:
-                raise ValueError("`closed_form`: the `piecewise_asym` law has no "
-                                 "closed form; use closed_form=False (AFT)")
-            if offsets:
-                raise ValueError("`closed_form` assumes sliders starting at 0; with "
-                                 "`sliders` use closed_form=False (AFT)")
+        closed_form = _closed_form_choice(closed_form, H, ax, self.static is not None)
         if n_samples is None:
             n_samples = default_n_samples(H)
         if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)) \
@@ -113,15 +119,23 @@ class HarmonicBalance:
         self.A0 = np.kron(I_m, K0)
         self.A1 = np.kron(D, C0)
         self.A2 = np.kron(D @ D, system.M)
-        # excitation: f_exc(omega) = e0 + omega e1 + omega^2 e2 (coefficient vectors)
-        e0 = np.zeros((self.m, self.n))
-        e1 = np.zeros((self.m, self.n))
-        e2 = np.zeros((self.m, self.n))
-        exc = system.excitation
-        self.Yax = np.zeros((self.m, ax.n))  # base part of the axis deflections
-        es = np.zeros((self.m, self.n))
+        self._set_excitation(Kb0, Cb0)
+        self.Bt = ax.B  # (n_ax, n)
+        self.BB = np.einsum("ai,aj->aij", ax.B, ax.B)  # (n_ax, n, n)
+        #: factor on the dynamic excitation (load stepping to a first solution; the
+        #: static load stays); 1 normally
+        self.exc_scale = 1.0
+        self._trig = {}
+
+    def _set_excitation(self, Kb0: np.ndarray, Cb0: np.ndarray) -> None:
+        """Coefficient vectors of ``f_exc(omega) = e0 + omega e1 + omega^2 e2``, the
+        static load ``e_static`` and the base part ``Yax`` of the axis deflections
+        (``Kb0``, ``Cb0``: the base's linearised stiffness and damping)."""
+        e0, e1, e2, es = (np.zeros((self.m, self.n)) for _ in range(4))
+        exc = self.system.excitation
+        self.Yax = np.zeros((self.m, self.axes.n))
         if self.static is not None:
-            es[0] = system.static_load  # the static row carries the load
+            es[0] = self.system.static_load  # the static row carries the load
         if exc.kind == "force":
             e0[2] = exc.amplitude
         elif exc.kind == "unbalance":
@@ -130,17 +144,11 @@ class HarmonicBalance:
             Y = np.asarray(exc.amplitude)
             e0[2] = Kb0 @ Y
             e1[1] = Cb0 @ Y
-            self.Yax[2] = -(ax.G @ Y)
+            self.Yax[2] = -(self.axes.G @ Y)
         self.e0, self.e1, self.e2 = e0.ravel(), e1.ravel(), e2.ravel()
         #: the static load (not scaled by ``exc_scale``: load stepping raises the
         #: vibration about the loaded working point)
         self.e_static = es.ravel()
-        self.Bt = ax.B  # (n_ax, n)
-        self.BB = np.einsum("ai,aj->aij", ax.B, ax.B)  # (n_ax, n, n)
-        #: factor on the dynamic excitation (load stepping to a first solution; the
-        #: static load stays); 1 normally
-        self.exc_scale = 1.0
-        self._trig = {}
 
     # ----------------------------------------------------------------------------------
     def excitation(self, omega: float) -> np.ndarray:
