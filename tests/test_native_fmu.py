@@ -21,6 +21,8 @@ import math
 import re
 import zipfile
 
+from dataclasses import dataclass
+
 import numpy as np
 import pytest
 from native_helpers import (
@@ -665,6 +667,44 @@ def test_state_get_set_serialize_replays_identically(driver):
         f.freeFMUstate(s) if d.fmi == 2 else f.freeFMUState(s)
 
 
+@dataclass
+class _MidRun:
+    """An instance's FMU state at step 200 of 400, serialized, and the rows of
+    the second half run from it."""
+
+    state: object
+    blob: bytes
+    second: np.ndarray
+
+
+def _save_mid_run(d, fmi: int, traj, expect: np.ndarray) -> _MidRun:
+    """Steps 0..399 of ``d`` with the state saved at 200; the rows equal ``expect``."""
+    f = d.fmu
+    first = _run_all_axes(d, 0, 200, traj)
+    state = f.getFMUstate() if fmi == 2 else f.getFMUState()
+    blob = f.serializeFMUstate(state) if fmi == 2 else f.serializeFMUState(state)
+    second = _run_all_axes(d, 200, 400, traj)
+    got = np.vstack([first, second])
+    assert np.abs(got - expect).max() <= TOL_REL * np.abs(expect).max()
+    return _MidRun(state, blob, second)
+
+
+def _replay_serialized(other, fmi: int, run: _MidRun, traj):
+    """``run``'s serialized state set into ``other``: the second half replays
+    identically. Returns the deserialized state (to free)."""
+    g = other.fmu
+    restored = (g.deSerializeFMUstate(run.blob) if fmi == 2
+                else g.deserializeFMUState(run.blob))
+    g.setFMUstate(restored) if fmi == 2 else g.setFMUState(restored)
+    assert np.array_equal(_run_all_axes(other, 200, 400, traj), run.second)
+    return restored
+
+
+def _free_states(d, other, fmi: int, state, restored) -> None:
+    for inst, st in ((d.fmu, state), (other.fmu, restored)):
+        inst.freeFMUstate(st) if fmi == 2 else inst.freeFMUState(st)
+
+
 def _run_all_axes(d, k0, k1, traj) -> np.ndarray:
     """Steps k0..k1-1 on every axis: rows of F, Ffr, kt, E_fr per axis, E_fr and the
     committed w per axis after the step."""
@@ -705,22 +745,12 @@ def test_state_with_sliders_restores_mid_trajectory(native):
         d.set(parameter_values(axes))
         d.init()
         f = d.fmu
-        first = _run_all_axes(d, 0, 200, traj)
-        state = f.getFMUstate() if fmi == 2 else f.getFMUState()
-        blob = f.serializeFMUstate(state) if fmi == 2 else f.serializeFMUState(state)
-        second = _run_all_axes(d, 200, 400, traj)
-        got = np.vstack([first, second])
-        assert np.abs(got - expect).max() <= TOL_REL * np.abs(expect).max()
+        run = _save_mid_run(d, fmi, traj, expect)
         assert len(set(_sliders_at(axes[2], traj, 200, 2))) > 10  # apart at 200
-        f.setFMUstate(state) if fmi == 2 else f.setFMUState(state)
-        assert np.array_equal(_run_all_axes(d, 200, 400, traj), second)
-        g = other.fmu
-        restored = (g.deSerializeFMUstate(blob) if fmi == 2
-                    else g.deserializeFMUState(blob))
-        g.setFMUstate(restored) if fmi == 2 else g.setFMUState(restored)
-        assert np.array_equal(_run_all_axes(other, 200, 400, traj), second)
-        f.freeFMUstate(state) if fmi == 2 else f.freeFMUState(state)
-        g.freeFMUstate(restored) if fmi == 2 else g.freeFMUState(restored)
+        f.setFMUstate(run.state) if fmi == 2 else f.setFMUState(run.state)
+        assert np.array_equal(_run_all_axes(d, 200, 400, traj), run.second)
+        restored = _replay_serialized(other, fmi, run, traj)
+        _free_states(d, other, fmi, run.state, restored)
     finally:
         d.close()
         other.close()
@@ -876,19 +906,9 @@ def test_state_with_inclined_axes_restores_mid_trajectory(native):
     try:
         d.set(parameter_values(axes))
         d.init()
-        f, g = d.fmu, other.fmu
-        first = _run_all_axes(d, 0, 200, traj)
-        state = f.getFMUstate() if fmi == 2 else f.getFMUState()
-        blob = f.serializeFMUstate(state) if fmi == 2 else f.serializeFMUState(state)
-        second = _run_all_axes(d, 200, 400, traj)
-        got = np.vstack([first, second])
-        assert np.abs(got - expect).max() <= TOL_REL * np.abs(expect).max()
-        restored = (g.deSerializeFMUstate(blob) if fmi == 2
-                    else g.deserializeFMUState(blob))
-        g.setFMUstate(restored) if fmi == 2 else g.setFMUState(restored)
-        assert np.array_equal(_run_all_axes(other, 200, 400, traj), second)
-        f.freeFMUstate(state) if fmi == 2 else f.freeFMUState(state)
-        g.freeFMUstate(restored) if fmi == 2 else g.freeFMUState(restored)
+        run = _save_mid_run(d, fmi, traj, expect)
+        restored = _replay_serialized(other, fmi, run, traj)
+        _free_states(d, other, fmi, run.state, restored)
     finally:
         d.close()
         other.close()
