@@ -13,6 +13,7 @@ static const char *const KIND_NAMES[ML_N_FRICTION_KINDS] = {"jenkins", "inclined
 ml_axis_params ml_default_params(void)
 {
     ml_axis_params p;
+    in_params q = in_default_params();  /* the inclined element's, in one place */
     p.law = ML_PIECEWISE;
     p.k1 = 91870.0;
     p.kc = 0.0;
@@ -28,12 +29,12 @@ ml_axis_params ml_default_params(void)
     p.spread = 0.0;
     p.fs_ratio = 1.0;
     p.friction_kind = ML_JENKINS;
-    p.theta_deg = 60.0;
-    p.k = 20000.0;
-    p.kf2 = 60000.0;
-    p.mu1 = 0.3;
-    p.mu2 = 0.3;
-    p.preload = 200.0;
+    p.theta_deg = q.theta_deg;
+    p.k = q.k;
+    p.kf2 = q.kf2;
+    p.mu1 = q.mu1;
+    p.mu2 = q.mu2;
+    p.preload = q.preload;
     return p;
 }
 
@@ -67,28 +68,6 @@ void ml_elastic_force(double u, int law, double k1, double kc, double k2,
     *k = k1;
 }
 
-double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new,
-                         double *tangent, int *slipping)
-{
-    double trial = kf * (u - w);
-    if (trial > fs) {
-        *w_new = u - fs / kf;
-        *tangent = 0.0;
-        *slipping = 1;
-        return fs;
-    }
-    if (trial < -fs) {
-        *w_new = u + fs / kf;
-        *tangent = 0.0;
-        *slipping = 1;
-        return -fs;
-    }
-    *w_new = w;
-    *tangent = kf;
-    *slipping = 0;
-    return trial;
-}
-
 double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_neg,
                         double *w_new, double *tangent, int *slipping)
 {
@@ -109,6 +88,14 @@ double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_
     *tangent = kf;
     *slipping = 0;
     return trial;
+}
+
+/* The symmetric element: ml_slider_update with fs_pos = fs_neg = fs (the same
+ * arithmetic as the Python jenkins_update). */
+double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new,
+                         double *tangent, int *slipping)
+{
+    return ml_slider_update(u, w, kf, fs, fs, w_new, tangent, slipping);
 }
 
 ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
