@@ -17,12 +17,12 @@ if __name__ == "__main__":
                         help="FMI version of the native build (default 2)")
     args = parser.parse_args()
     if args.native:
-        from fmu_build.native import build_native_fmu
+        from drymount.fmu_build.native import build_native_fmu
 
         print(build_native_fmu(args.dest, fmi=args.fmi or 2).path)
     elif args.fmi not in (None, 2):
         sys.exit("--fmi 3 needs --native: the PythonFMU build is FMI 2.0 only")
     else:
-        from fmu_build import build_fmu
+        from drymount.fmu_build import build_fmu
 
         print(build_fmu(*([args.dest] if args.dest else [])))

@@ -190,12 +190,12 @@ def _c_aft(lib, np, b, U, kf, fs, reps):
 
 
 def bench_aft(args, np):
-    from fmu_src.mount_law import AxisParameters, MountParameters
-    from hbm import aft as aft_mod
-    from hbm.aft import FourierBasis, aft_forces
-    from hbm.elements import jenkins_periodic, nonlinear_axes
-    from hbm.friction_march import resolve_backend
-    from hbm.systems import sdof
+    from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    from drymount.hbm import aft as aft_mod
+    from drymount.hbm.aft import FourierBasis, aft_forces
+    from drymount.hbm.elements import jenkins_periodic, nonlinear_axes
+    from drymount.hbm.friction_march import resolve_backend
+    from drymount.hbm.systems import sdof
 
     p = AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True, kf=60000.0,
                        mu=1.0, n0=20.0)
@@ -353,12 +353,12 @@ def bench_scaling(args, np):
     """How the AFT, the Hill problem and whole curves scale (docs/performance.md)."""
     import scipy.linalg
 
-    import hbm
+    import drymount.hbm as hbm
     from drymount.config import resolve_config
-    from fmu_src.mount_law import AxisParameters, MountParameters
-    from hbm.aft import FourierBasis, aft_forces, default_n_samples
-    from hbm.elements import nonlinear_axes
-    from hbm.systems import sdof
+    from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    from drymount.hbm.aft import FourierBasis, aft_forces, default_n_samples
+    from drymount.hbm.elements import nonlinear_axes
+    from drymount.hbm.systems import sdof
 
     rep = max(3, min(args.repeat, 5))
     p = AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True, kf=60000.0,

@@ -68,7 +68,7 @@ def build_null_fmu(folder: Path) -> Path:
 
 def raw_loop(system, fmu_path: Path, steps: int) -> float:
     """Microseconds per mount-step of the bare FMI call loop (no harness)."""
-    from vehicle.backends import FMUBackend, Layout
+    from drymount.vehicle.backends import FMUBackend, Layout
 
     layout = Layout.of(system)
     be = FMUBackend(system, layout, fmu_path)
@@ -98,8 +98,8 @@ def raw_loop(system, fmu_path: Path, steps: int) -> float:
 
 def harness_loop(system, backend: str, fmu_path, periods: int) -> float:
     """Microseconds per mount-step of the harness's steady-state loop."""
-    from vehicle.master import Master
-    from vehicle.steady import run_steady
+    from drymount.vehicle.master import Master
+    from drymount.vehicle.steady import run_steady
 
     with Master(system, backend, fmu_path=fmu_path) as m:
         ss = run_steady(m, 5.0, steps_per_period=256, rtol=1e-300,
@@ -108,8 +108,8 @@ def harness_loop(system, backend: str, fmu_path, periods: int) -> float:
 
 
 def systems():
-    from fmu_src.mount_law import AxisParameters, MountParameters
-    from hbm.systems import rigid_engine, sdof
+    from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    from drymount.hbm.systems import rigid_engine, sdof
 
     ax = AxisParameters(law="piecewise", friction=True, n0=10.0)
     s1 = sdof(70.0, MountParameters.from_axial(ax), "unbalance", 0.01)
@@ -175,7 +175,7 @@ def print_native(rows: list[dict]) -> None:
 
 def part2(real_fmu: Path, quick: bool) -> None:
     from drymount.config import list_presets, load_preset
-    from vehicle.sweep import sweep
+    from drymount.vehicle.sweep import sweep
 
     names = list_presets()
     if quick:
@@ -208,8 +208,8 @@ def main(argv=None) -> int:
                     help="part 2 on the first 3 presets only")
     ap.add_argument("--skip-presets", action="store_true", help="part 1 only")
     args = ap.parse_args(argv)
-    from fmu_build import build_fmu
-    from fmu_build.native import build_native_fmu
+    from drymount.fmu_build import build_fmu
+    from drymount.fmu_build.native import build_native_fmu
 
     with tempfile.TemporaryDirectory(prefix="drymount_bench_") as tmp:
         tmp = Path(tmp)

@@ -73,9 +73,9 @@ def main():
 
     import numpy as np
 
-    import hbm
-    from fmu_src.mount_law import AxisParameters, MountParameters
-    from hbm.systems import quarter_car, rigid_engine, sdof
+    import drymount.hbm as hbm
+    from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    from drymount.hbm.systems import quarter_car, rigid_engine, sdof
 
     def fr_axis(n0):
         return AxisParameters(law="linear", k1=91870.0, c=150.0, friction=True,
@@ -197,8 +197,8 @@ def _convergence(hbm, np, s1, opts):
     """Amplitude at the resonance peak against H, at the default AFT sample count and
     at a fixed N = 256 (which separates harmonic truncation from the sampling of the
     stick-slip reversals), and the event-exact time integration at the peak."""
-    from hbm.aft import default_n_samples
-    from hbm.reference import periodic_response
+    from drymount.hbm.aft import default_n_samples
+    from drymount.hbm.reference import periodic_response
     f = np.linspace(5.80, 5.92, 41)
     print("\nsdof preset, fundamental amplitude at the resonance peak "
           "(41 frequencies 5.80-5.92 Hz):")

@@ -40,7 +40,7 @@ class _Hook:
     """Times ``hbm.postprocess._stability`` and keeps the arguments of its last call."""
 
     def __init__(self):
-        import hbm.postprocess as pp
+        import drymount.hbm.postprocess as pp
         self.pp, self.orig = pp, pp._stability
         self.t, self.calls, self.last = 0.0, 0, None
 
@@ -62,7 +62,7 @@ class _Hook:
 
 def _count_methods():
     """Counts of Hill problems by method, by wrapping the schedule's hill_verdict."""
-    import hbm.stability_schedule as ss
+    import drymount.hbm.stability_schedule as ss
     counts = {}
     orig = ss.hill_verdict
 
@@ -76,7 +76,7 @@ def _count_methods():
 
 def _reference(last):
     """Verdicts of the dense problem at every point of the last traced branch."""
-    from hbm.stability_schedule import _stability
+    from drymount.hbm.stability_schedule import _stability
     prob, ys, br = last
     t0 = time.process_time()
     stable, _ = _stability(prob, ys, br, 1, dense=True)
@@ -84,7 +84,7 @@ def _reference(last):
 
 
 def bench_share(args, np, prefix=""):
-    import hbm
+    import drymount.hbm as hbm
     from drymount.config import resolve_config
 
     cfg = resolve_config("six_dof_halved")
@@ -132,7 +132,7 @@ def _previous_schedule(prob, ys, br, stride=16):
     bisection), kept here to count its differences."""
     import numpy as np
 
-    from hbm.stability import is_stable
+    from drymount.hbm.stability import is_stable
     hb, npts = prob.hb, len(ys)
     stable, done = np.ones(npts, bool), np.zeros(npts, bool)
     jac = [(br.jacobian[i][:, :-1] * (prob.rs / prob.xs), prob.x_of(y)[1])
@@ -175,10 +175,10 @@ def _previous_schedule(prob, ys, br, stride=16):
 
 
 def bench_presets(args, np):
-    import hbm
+    import drymount.hbm as hbm
     from drymount.config import resolve_config
-    from hbm.stability import hill_verdict
-    from hbm.stability_schedule import _stability
+    from drymount.hbm.stability import hill_verdict
+    from drymount.hbm.stability_schedule import _stability
 
     print(f"\nVerdicts against the dense problem at every point, H = 7, tol=None; "
           f"{_load()}")
@@ -209,10 +209,10 @@ def bench_presets(args, np):
 
 
 def bench_scaling(args, np):
-    import hbm
+    import drymount.hbm as hbm
     from drymount.config import resolve_config
-    from hbm.hill_arnoldi import MIN_SIZE, central_eigenvalues
-    from hbm.stability import hill_eigenvalues
+    from drymount.hbm.hill_arnoldi import MIN_SIZE, central_eigenvalues
+    from drymount.hbm.stability import hill_eigenvalues
 
     print(f"\nOne Hill problem, ms (CPU, best of 3 over 8 points of the curve); "
           f"{_load()}")

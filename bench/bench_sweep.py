@@ -34,11 +34,11 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-import vehicle  # noqa: E402
+import drymount.vehicle as vehicle  # noqa: E402
 from drymount import api  # noqa: E402
-from vehicle.batch import _Batch, _masters  # noqa: E402
-from vehicle.master import Master  # noqa: E402
-from vehicle.steady import _begin  # noqa: E402
+from drymount.vehicle.batch import _Batch, _masters  # noqa: E402
+from drymount.vehicle.master import Master  # noqa: E402
+from drymount.vehicle.steady import _begin  # noqa: E402
 
 #: Target of item 4: native us per mount-step and frequency in a 30-point batch.
 TARGET_STEP_US = 1.0

@@ -19,8 +19,8 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "api"
 MODULES = ["drymount", "drymount.api", "drymount.measured", "drymount.spectra",
-           "drymount.paths", "hbm.result", "vehicle.sweep", "vehicle.results",
-           "vehicle.sampled"]
+           "drymount.paths", "drymount.hbm.result", "drymount.vehicle.sweep",
+           "drymount.vehicle.results", "drymount.vehicle.sampled"]
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -19,7 +19,32 @@ The names are imported on first use, so ``import drymount`` (and the command lin
 ``python -m drymount.cli``) stays fast.
 """
 
+import types as _types
+
 __all__ = ["Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim"]
+
+
+class _HarmonicBalance(_types.ModuleType):
+    """``drymount.hbm`` is two things: the harmonic-balance package (the folder
+    ``hbm/``, installed as ``drymount.hbm``) and, called, the API function
+    :func:`drymount.api.hbm`. Importing the package binds its name on ``drymount``,
+    so the package's module is made callable rather than the function shadowed."""
+
+    def __call__(self, *args, **kwargs):
+        from drymount.api import hbm as frequency_response
+
+        return frequency_response(*args, **kwargs)
+
+
+def _callable_hbm_package():
+    import importlib
+
+    package = importlib.import_module("drymount.hbm")  # its face imports lazily
+    package.__class__ = _HarmonicBalance
+    return package
+
+
+hbm = _callable_hbm_package()
 
 
 def __getattr__(name):

@@ -280,7 +280,7 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
     progress : bool
         Progress bar on stderr.
     """
-    import hbm as _hbm
+    import drymount.hbm as _hbm
 
     from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
 
@@ -307,7 +307,7 @@ def _check_count(name: str, value, low: int, high: int) -> None:
 def _fmu_kw(backend: str, fmu_path) -> dict:
     if backend != "fmu":
         return {}
-    from fmu_build import default_fmu_path, ensure_fmu
+    from drymount.fmu_build import default_fmu_path, ensure_fmu
 
     if fmu_path is not None:  # a user's FMU (PythonFMU or native): used as it is,
         return {"fmu_path": Path(fmu_path).resolve()}  # never rebuilt (issue 11)
@@ -339,7 +339,7 @@ def sweep(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
         The mount FMU of the ``fmu`` backend (default: built if missing).
     progress : bool
     """
-    import vehicle
+    import drymount.vehicle as vehicle
 
     from drymount.config import SweepSettings
 
@@ -360,7 +360,7 @@ def _inputs(m: Model, freq, road, speed, engine, units):
     """The input of a run: measured road/engine inputs (given, else the
     configuration's ``[cosim.input]``) plus the harmonic excitation at ``freq`` (if
     given); None means the harmonic excitation alone."""
-    import vehicle
+    import drymount.vehicle as vehicle
 
     from drymount.measured import configured_inputs, engine_input, road_input
 
@@ -426,7 +426,7 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
         Units of CSV columns whose header has none (``{"elevation": "mm"}``).
     fmu_path : path-like, optional
     """
-    import vehicle
+    import drymount.vehicle as vehicle
 
     m = _model(model)
     c = m.config.cosim

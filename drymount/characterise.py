@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import save_figure, write_csv
-from fmu_src.mount_law import AXES, AxisParameters, MountParameters
-from hbm.characterise import (
+from drymount.fmu_src.mount_law import AXES, AxisParameters, MountParameters
+from drymount.hbm.characterise import (
     DynamicStiffnessMap,
     dynamic_stiffness,
     time_domain_stiffness,
@@ -103,8 +103,8 @@ def _fmu_names(md_vars, axis: str, field: str) -> str:
 def _axial_parameters(md_vars, axis: AxisParameters) -> dict[str, dict]:
     """``{FMI type: {FMU name: value}}`` of ``axis`` as the FMU's axial axis; a field
     the FMU lacks is skipped only while it has its interface default."""
-    from fmu_src.interface import variable
-    from vehicle.backends import fmu_parameter_values
+    from drymount.fmu_src.interface import variable
+    from drymount.vehicle.backends import fmu_parameter_values
 
     out = {}
     for typ, values in fmu_parameter_values(MountParameters(axis, axis, axis)).items():
@@ -243,7 +243,7 @@ def _check_method(args) -> tuple[str, Path | None]:
         if args.check == "fmu":
             raise
         return "law", None
-    from fmu_build import ensure_fmu
+    from drymount.fmu_build import ensure_fmu
 
     return "fmu", ensure_fmu(args.fmu)
 

@@ -179,7 +179,7 @@ def cmd_build_fmu(args) -> int:
         if args.out.suffix != ".fmu":
             raise UsageError(f"--out: {str(args.out)!r} must end with .fmu")
     if args.native:
-        from fmu_build.native import build_native_fmu
+        from drymount.fmu_build.native import build_native_fmu
 
         build = build_native_fmu(args.out, fmi=args.fmi or 2)
         _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
@@ -190,7 +190,7 @@ def cmd_build_fmu(args) -> int:
     if args.fmi not in (None, 2):
         raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
                          f"FMI 2.0 only")
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
     print(path)
@@ -220,7 +220,7 @@ def cmd_hbm(args) -> int:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
     out = outputs(args, cfg, "hbm")
-    import hbm
+    import drymount.hbm as hbm
 
     try:
         opts = cfg.hbm.options(**{k: getattr(args, k) for k in (
@@ -409,7 +409,7 @@ def cmd_sweep(args) -> int:
         kw["steps_per_period"] = spp
     if backend == "fmu":
         kw["fmu_path"] = fmu_path(args.fmu)
-    import vehicle
+    import drymount.vehicle as vehicle
 
     with partial_on_stop(out, "frequencies"):
         res = vehicle.sweep(cfg.system, freqs, direction=s.direction, backend=backend,

@@ -230,7 +230,7 @@ def fmu_path(path) -> Path:
     when older than drymount's sources, saying so."""
     import zipfile
 
-    from fmu_build import default_fmu_path, ensure_fmu
+    from drymount.fmu_build import default_fmu_path, ensure_fmu
 
     if path is None:
         return ensure_fmu(default_fmu_path(),

@@ -37,10 +37,10 @@ def _log(msg: str) -> None:
 
 def run_demo(out="demo", *, progress: bool = True) -> dict:
     """Run the demo; returns the key numbers (also written to ``demo.md``)."""
-    import hbm
-    import vehicle
+    import drymount.hbm as hbm
+    import drymount.vehicle as vehicle
     from drymount.config import load_preset
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -108,7 +108,7 @@ def _plot(c_orig, c_fric, sw, path: Path) -> None:
 
 def _numbers(fmu, problems, c_orig, c_fric, sw, friction, t_start: float) -> dict:
     """The demo's key numbers: peaks, their reduction, co-simulation vs HBM."""
-    import hbm
+    import drymount.hbm as hbm
 
     tr_o = np.asarray(c_orig.transmissibility)
     tr_f = np.asarray(c_fric.transmissibility)

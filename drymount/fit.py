@@ -25,9 +25,10 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import atomic_write_text, save_figure, write_csv
-from fmu_src.mount_law import AxisParameters
-from hbm.identify import (FIT_LAWS, UNITS, DataError, FitStatus, compare_elastic,
-                          fit_dynamic_stiffness, fit_loops, law_force, loop_model)
+from drymount.fmu_src.mount_law import AxisParameters
+from drymount.hbm.identify import (FIT_LAWS, UNITS, DataError, FitStatus,
+                                   compare_elastic, fit_dynamic_stiffness, fit_loops,
+                                   law_force, loop_model)
 
 __all__ = ["main", "mount_toml", "resolve_mount"]
 
@@ -154,7 +155,7 @@ def _plot_loops(path: Path, tests, elastic, fit, source: str) -> None:
 
 
 def _plot_table(path: Path, points, axis: AxisParameters, source: str) -> None:
-    from hbm.characterise import dynamic_stiffness
+    from drymount.hbm.characterise import dynamic_stiffness
 
     fig, axs = _figure(1, 2, (10.0, 4.2))
     amps = sorted({p.amplitude for p in points})

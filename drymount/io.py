@@ -6,7 +6,7 @@ checked (:func:`check_output_path`) and partial results marked (``# partial:``) 
 :mod:`hbm.io` describes.
 """
 
-from hbm import io as _io
-from hbm.io import *  # noqa: F403 - the same API
+from drymount.hbm import io as _io
+from drymount.hbm.io import *  # noqa: F403 - the same API
 
 __all__ = list(_io.__all__)

@@ -186,7 +186,7 @@ def road_input(system, path, *, speed: float | None = None, units=None,
     vehicle.SampledBase
         Starting at the first sample (time shifted so that it is 0).
     """
-    from vehicle import SampledBase
+    from drymount.vehicle import SampledBase
 
     table = read_measured(path, units)
     t = _road_time(table, speed)
@@ -220,7 +220,7 @@ def engine_input(system, path, *, units=None):
         Forces on the DOFs (accelerations ``a`` become ``M a``); time shifted so that
         the first sample is at 0.
     """
-    from vehicle import SampledForce
+    from drymount.vehicle import SampledForce
 
     table = read_measured(path, units)
     t = table.column("time", "time")

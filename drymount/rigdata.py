@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hbm.identify import DataError, LoopTest, StiffnessPoint
+from drymount.hbm.identify import DataError, LoopTest, StiffnessPoint
 
 __all__ = ["UNITS", "RigTable", "read_table", "read_curve", "read_loops",
            "read_stiffness_table"]

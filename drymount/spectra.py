@@ -57,7 +57,7 @@ class Spectra:
         """Write ``freq_hz``, ``F_<axis>_psd`` (N^2/Hz) and ``<dof>_acc_psd``
         ((m/s^2)^2/Hz or (rad/s^2)^2/Hz); the first line is a ``# `` comment with the
         units."""
-        from vehicle.results import write_csv
+        from drymount.vehicle.results import write_csv
 
         units = ", ".join(f"{d}_acc_psd [({_acc_unit(d)})^2/Hz]"
                           for d in self.dof_names)

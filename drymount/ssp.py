@@ -33,9 +33,9 @@ from xml.etree.ElementTree import (
     tostring,
 )
 
-from fmu_build.native import write_zip
-from fmu_src import interface
-from fmu_src.mount_law import AXES, friction_kind_code, law_code
+from drymount.fmu_build.native import write_zip
+from drymount.fmu_src import interface
+from drymount.fmu_src.mount_law import AXES, friction_kind_code, law_code
 
 __all__ = ["SspExport", "export_ssp", "parameter_set", "system_structure",
            "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OSP"]
@@ -189,7 +189,7 @@ def _fmu_file(native: bool, fmu_path) -> Path:
     if fmu_path is not None:
         return Path(fmu_path)
     if native:
-        from fmu_build.native import (
+        from drymount.fmu_build.native import (
             build_native_fmu,
             default_native_path,
             is_native_fmu,
@@ -199,7 +199,7 @@ def _fmu_file(native: bool, fmu_path) -> Path:
         if not is_native_fmu(path):
             build_native_fmu(path, fmi=2)
         return path
-    from fmu_build import ensure_fmu
+    from drymount.fmu_build import ensure_fmu
 
     return ensure_fmu()
 

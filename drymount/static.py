@@ -21,8 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import write_csv
-from fmu_src.mount_law import AXES, ELASTIC_LAWS
-from hbm.static import StaticStatus, gravity_load, knee_warnings, static_equilibrium
+from drymount.fmu_src.mount_law import AXES, ELASTIC_LAWS
+from drymount.hbm.static import (StaticStatus, gravity_load, knee_warnings,
+                                 static_equilibrium)
 
 __all__ = ["main"]
 

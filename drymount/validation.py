@@ -44,8 +44,8 @@ from pathlib import Path
 import numpy as np
 
 from drymount.io import atomic_write_text, save_figure, write_csv
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.aft import default_n_samples
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.aft import default_n_samples
 
 __all__ = ["Case", "CASES", "CaseResult", "run_case", "run_validation", "main",
            "TOL_REL_PEAK", "hbm_matching", "compared_dofs"]
@@ -226,8 +226,8 @@ def _hbm_matching(system, freqs: np.ndarray, sweep, harmonics: int,
 
     Returns ``(amplitude (n, n_dof), stable (n,), message)``.
     """
-    import hbm
-    from hbm.branches import solve_from_phasors
+    import drymount.hbm as hbm
+    from drymount.hbm.branches import solve_from_phasors
 
     n_dof = system.n_dof
     cands, notes = [], []
@@ -272,7 +272,7 @@ compared_dofs = _compared_dofs
 def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
              fmu_path=None, progress: bool = True) -> CaseResult:
     """Co-simulate and solve HBM for one case; see the module docstring."""
-    import vehicle
+    import drymount.vehicle as vehicle
     from drymount.config import load_preset
 
     t0 = time.perf_counter()
@@ -408,8 +408,8 @@ def run_validation(*, quick: bool = False, out="validation", inject: str | None 
     ``fmu_path``: the FMU to co-simulate (any build with the FrictionMount variables,
     e.g. the native FrictionMountNative.fmu); default dist/FrictionMount.fmu, built if
     missing."""
-    from fmu_build import ensure_fmu
-    from fmu_build.native import is_native_fmu
+    from drymount.fmu_build import ensure_fmu
+    from drymount.fmu_build.native import is_native_fmu
 
     cases = CASES if cases is None else cases
     if fmu_path is None or not is_native_fmu(fmu_path):  # native: used as is

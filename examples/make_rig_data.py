@@ -33,9 +33,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fmu_src.mount_law import AxisParameters, axis_force
-from hbm.characterise import dynamic_stiffness
-from hbm.identify import law_force
+from drymount.fmu_src.mount_law import AxisParameters, axis_force
+from drymount.hbm.characterise import dynamic_stiffness
+from drymount.hbm.identify import law_force
 
 SEED = 20260
 #: Thesis Sec. 2.4 fits of the measured force-deflection curve.

@@ -6,7 +6,7 @@ and the app (``drymount``) can build the FMU without importing each other.
 ``fmu_doc/`` is the FMU's ``documentation/`` folder.
 """
 
-from fmu_build import builder
-from fmu_build.builder import *  # noqa: F403 - the package's API is the builder's
+from drymount.fmu_build import builder
+from drymount.fmu_build.builder import *  # noqa: F403 - the package's API is the builder's
 
 __all__ = list(builder.__all__)

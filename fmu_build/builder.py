@@ -19,7 +19,7 @@ load side by side in one process.
 
 Examples
 --------
->>> from fmu_build import build_fmu
+>>> from drymount.fmu_build import build_fmu
 >>> path = build_fmu("dist/FrictionMount.fmu")        # doctest: +SKIP
 """
 
@@ -34,7 +34,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from fmu_src.interface import CAPABILITIES, MODEL_NAME
+from drymount.fmu_src.interface import CAPABILITIES, MODEL_NAME
 
 __all__ = [
     "FMU_SOURCES",
@@ -108,7 +108,7 @@ __all__ = ["{model}"]
 
 def source_dir() -> Path:
     """The ``fmu_src`` package directory the FMU is built from."""
-    import fmu_src
+    import drymount.fmu_src as fmu_src
 
     return Path(fmu_src.__file__).resolve().parent
 

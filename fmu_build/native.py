@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
-from fmu_src import interface, mount_law
-from fmu_src.mount_law import AXES, LAWS
+from drymount.fmu_src import interface, mount_law
+from drymount.fmu_src.mount_law import AXES, LAWS
 
 __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget",
            "build_native_fmu", "default_native_path", "is_native_fmu",

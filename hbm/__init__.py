@@ -13,12 +13,21 @@ Public API (thesis Chapter 3):
   with event-exact stick-slip, for validation.
 """
 
-from hbm.analysis import frequency_response, solve_frequencies
-from hbm.continuation import Status
-from hbm.linear import linear_frf, natural_frequencies
-from hbm.options import HBMOptions
-from hbm.result import FrequencyResponse
-from hbm.system import Excitation, MountElement, System, Transmissibility
+# The names are imported on first use (PEP 562): ``drymount`` binds this package on
+# import (``drymount.hbm`` is also the API function), so its face must stay light.
+_WHERE = {
+    "frequency_response": "analysis",
+    "solve_frequencies": "analysis",
+    "Status": "continuation",
+    "linear_frf": "linear",
+    "natural_frequencies": "linear",
+    "HBMOptions": "options",
+    "FrequencyResponse": "result",
+    "Excitation": "system",
+    "MountElement": "system",
+    "System": "system",
+    "Transmissibility": "system",
+}
 
 __all__ = [
     "frequency_response",
@@ -33,3 +42,15 @@ __all__ = [
     "Excitation",
     "Transmissibility",
 ]
+
+
+def __getattr__(name):
+    if name in _WHERE:
+        import importlib
+
+        return getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -26,9 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
-from hbm.friction_march import jenkins_aft
-from hbm.inclined import inclined_aft
+from drymount.hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
+from drymount.hbm.friction_march import jenkins_aft
+from drymount.hbm.inclined import inclined_aft
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
 

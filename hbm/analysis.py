@@ -16,12 +16,12 @@ import sys
 
 import numpy as np
 
-from hbm.continuation import Branch, Status, continue_branch, newton
-from hbm.error_estimate import estimate_errors
-from hbm.folds import merge_spurious_pairs
-from hbm.options import MULTI_DOF, HBMOptions
-from hbm.postprocess import postprocess
-from hbm.problem import (
+from drymount.hbm.continuation import Branch, Status, continue_branch, newton
+from drymount.hbm.error_estimate import estimate_errors
+from drymount.hbm.folds import merge_spurious_pairs
+from drymount.hbm.options import MULTI_DOF, HBMOptions
+from drymount.hbm.postprocess import postprocess
+from drymount.hbm.problem import (
     _check_range,
     _chord_error_fn,
     _lam_to_hz,
@@ -31,10 +31,10 @@ from hbm.problem import (
     build_problem,
     resolve_options,
 )
-from hbm.resolution import next_resolution, probe
-from hbm.result import FrequencyResponse, finite_max
-from hbm.segments import Restart, clip, join
-from hbm.system import System
+from drymount.hbm.resolution import next_resolution, probe
+from drymount.hbm.result import FrequencyResponse, finite_max
+from drymount.hbm.segments import Restart, clip, join
+from drymount.hbm.system import System
 
 __all__ = ["frequency_response", "solve_frequencies"]
 
@@ -103,8 +103,8 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
 
     Examples
     --------
-    >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from hbm.systems import sdof
+    >>> from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    >>> from drymount.hbm.systems import sdof
     >>> ax = AxisParameters(law="linear", friction=True, n0=20.0)
     >>> s = sdof(70.0, MountParameters(axial=ax), excitation="force", amplitude=40.0)
     >>> r = frequency_response(s, 2.0, 15.0, harmonics=1)

@@ -15,12 +15,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from hbm.postprocess import postprocess
-from hbm.problem import build_problem, resolve_options
-from hbm.continuation import Branch, Status, newton
-from hbm.result import FrequencyResponse
-from hbm.stability import is_stable
-from hbm.system import System
+from drymount.hbm.postprocess import postprocess
+from drymount.hbm.problem import build_problem, resolve_options
+from drymount.hbm.continuation import Branch, Status, newton
+from drymount.hbm.result import FrequencyResponse
+from drymount.hbm.stability import is_stable
+from drymount.hbm.system import System
 
 __all__ = ["solutions_at", "solve_on_branch", "solve_from_phasors"]
 

@@ -41,9 +41,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from fmu_src.mount_law import AxisParameters, axis_force, initial_sliders, slider_bank
-from hbm.aft import FourierBasis, aft_forces
-from hbm.elements import NonlinearAxes
+from drymount.fmu_src.mount_law import (AxisParameters, axis_force, initial_sliders,
+                                        slider_bank)
+from drymount.hbm.aft import FourierBasis, aft_forces
+from drymount.hbm.elements import NonlinearAxes
 
 __all__ = ["DEFAULT_SAMPLES", "DynamicStiffnessMap", "axis_as_nonlinear",
            "rate_independent_stiffness", "working_deflection", "dynamic_stiffness",

@@ -35,8 +35,8 @@ import math
 
 import numpy as np
 
-from hbm.elements import NonlinearAxes
-from hbm.laws import hbm_law
+from drymount.hbm.elements import NonlinearAxes
+from drymount.hbm.laws import hbm_law
 
 __all__ = ["cubic_coefficients", "gap_coefficients", "jenkins_coefficients",
            "closed_form_forces"]

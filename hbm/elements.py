@@ -24,9 +24,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, slider_bank, slider_update
-from hbm.laws import hbm_law
-from hbm.system import System
+from drymount.fmu_src.mount_law import AXES, slider_bank, slider_update
+from drymount.hbm.laws import hbm_law
+from drymount.hbm.system import System
 
 __all__ = ["NonlinearAxes", "nonlinear_axes", "elastic_remainder",
            "jenkins_periodic", "JenkinsResponse"]

@@ -29,8 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hbm.continuation import ContinuationSettings, newton
-from hbm.result import finite_max
+from drymount.hbm.continuation import ContinuationSettings, newton
+from drymount.hbm.result import finite_max
 
 __all__ = ["ErrorEstimate", "estimate_errors", "curve_quantities", "RICHARDSON",
            "probe_errors", "curve_scale"]

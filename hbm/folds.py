@@ -26,8 +26,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from hbm.continuation import Branch, ContinuationSettings, continue_branch, newton, \
-    tangent_at
+from drymount.hbm.continuation import (Branch, ContinuationSettings, continue_branch,
+                                       newton, tangent_at)
 
 __all__ = ["FREQ_TOL_HZ", "EventKind", "CurveEvent", "locate_folds", "locate_peaks",
            "merge_spurious_pairs", "ZigzagReport"]

@@ -34,7 +34,7 @@ import scipy.sparse.linalg as sla
 from scipy.linalg import lapack
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence
 
-from hbm.residual import HarmonicBalance
+from drymount.hbm.residual import HarmonicBalance
 
 __all__ = ["central_eigenvalues", "hill_parts", "lu_factors", "HillParts", "MIN_SIZE",
            "TOL", "TOL_TIGHT"]

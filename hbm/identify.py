@@ -32,9 +32,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from fmu_src.mount_law import AxisParameters, elastic_force
-from hbm.characterise import DEFAULT_SAMPLES, rate_independent_stiffness
-from hbm.elements import jenkins_periodic
+from drymount.fmu_src.mount_law import AxisParameters, elastic_force
+from drymount.hbm.characterise import DEFAULT_SAMPLES, rate_independent_stiffness
+from drymount.hbm.elements import jenkins_periodic
 
 __all__ = ["FIT_LAWS", "PARAMETERS", "UNITS", "MIN_POINTS", "DataError",
            "FitStatus", "Fit", "ElasticComparison", "LoopTest", "StiffnessPoint",

@@ -30,8 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fmu_src.inclined import (InclinedParameters, inclined_update, relaxed_state,
-                              step_derivatives)
+from drymount.fmu_src.inclined import (InclinedParameters, inclined_update,
+                                       relaxed_state, step_derivatives)
 
 __all__ = ["PeriodicElement", "inclined_periodic", "inclined_aft",
            "normal_force_range"]

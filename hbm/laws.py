@@ -26,7 +26,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from fmu_src.mount_law import ELASTIC_LAWS
+from drymount.fmu_src.mount_law import ELASTIC_LAWS
 
 __all__ = ["HBMLaw", "HBM_LAWS", "ClosedFormTerms", "hbm_law"]
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from hbm.system import System
+from drymount.hbm.system import System
 
 __all__ = ["linear_frf", "natural_frequencies"]
 
@@ -51,8 +51,8 @@ def linear_frf(system: System, freqs_hz, stuck: bool = False) -> np.ndarray:
 
     Examples
     --------
-    >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from hbm.systems import sdof
+    >>> from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    >>> from drymount.hbm.systems import sdof
     >>> mp = MountParameters(axial=AxisParameters(law="linear", k1=1e5, c=0.0))
     >>> s = sdof(100.0, mp, excitation="force", amplitude=1.0)
     >>> float(abs(linear_frf(s, [0.0])[0, 0]))

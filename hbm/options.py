@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
-from hbm.continuation import ContinuationSettings
+from drymount.hbm.continuation import ContinuationSettings
 
 __all__ = ["HBMOptions", "MAX_HARMONICS", "MULTI_DOF_MAX_HARMONICS"]
 

@@ -6,13 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from hbm.continuation import Branch
-from hbm.folds import CurveEvent, locate_folds, locate_peaks
-from hbm.options import HBMOptions
-from hbm.problem import _amplitude_fn, _point_quantities, _Problem, _to_hz
-from hbm.result import FrequencyResponse, MarkedPoint
-from hbm.stability_schedule import _stability
-from hbm.system import System
+from drymount.hbm.continuation import Branch
+from drymount.hbm.folds import CurveEvent, locate_folds, locate_peaks
+from drymount.hbm.options import HBMOptions
+from drymount.hbm.problem import _amplitude_fn, _point_quantities, _Problem, _to_hz
+from drymount.hbm.result import FrequencyResponse, MarkedPoint
+from drymount.hbm.stability_schedule import _stability
+from drymount.hbm.system import System
 
 __all__ = ["postprocess"]
 

@@ -11,11 +11,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from hbm.continuation import newton
-from hbm.linear import linear_frf
-from hbm.options import HBMOptions
-from hbm.residual import HarmonicBalance
-from hbm.system import System
+from drymount.hbm.continuation import newton
+from drymount.hbm.linear import linear_frf
+from drymount.hbm.options import HBMOptions
+from drymount.hbm.residual import HarmonicBalance
+from drymount.hbm.system import System
 
 __all__ = ["build_problem", "resolve_options", "StartSolution"]
 

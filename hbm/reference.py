@@ -30,9 +30,9 @@ from typing import NamedTuple
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from fmu_src.mount_law import AXES, elastic_force
-from hbm.linear import linear_frf
-from hbm.system import System
+from drymount.fmu_src.mount_law import AXES, elastic_force
+from drymount.hbm.linear import linear_frf
+from drymount.hbm.system import System
 
 __all__ = ["ReferenceResult", "periodic_response"]
 

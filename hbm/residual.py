@@ -22,11 +22,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from hbm.aft import FourierBasis, aft_forces, default_n_samples
-from hbm.closed_form import closed_form_forces
-from hbm.elements import nonlinear_axes
-from hbm.static import working_point
-from hbm.system import System
+from drymount.hbm.aft import FourierBasis, aft_forces, default_n_samples
+from drymount.hbm.closed_form import closed_form_forces
+from drymount.hbm.elements import nonlinear_axes
+from drymount.hbm.static import working_point
+from drymount.hbm.system import System
 
 __all__ = ["HarmonicBalance"]
 

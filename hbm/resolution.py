@@ -12,11 +12,11 @@ import math
 
 import numpy as np
 
-from hbm.aft import default_n_samples
-from hbm.error_estimate import curve_scale, probe_errors
-from hbm.options import MAX_HARMONICS, HBMOptions
-from hbm.problem import build_problem
-from hbm.result import FrequencyResponse, finite_max
+from drymount.hbm.aft import default_n_samples
+from drymount.hbm.error_estimate import curve_scale, probe_errors
+from drymount.hbm.options import MAX_HARMONICS, HBMOptions
+from drymount.hbm.problem import build_problem
+from drymount.hbm.result import FrequencyResponse, finite_max
 
 __all__ = ["next_resolution", "probe", "PROBE_POINTS", "PROBE_SPREAD",
            "MAX_PROBES", "PROBE_MARGIN"]

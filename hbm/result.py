@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hbm.continuation import Status
+from drymount.hbm.continuation import Status
 
 __all__ = ["FrequencyResponse", "MarkedPoint", "Status", "finite_max"]
 
@@ -321,7 +321,7 @@ class FrequencyResponse:
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
         cols.append("transmissibility")
-        from hbm.io import atomic_path
+        from drymount.hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(f"# drymount HBM {self.system_name}: folds (extremum of the "
                      f"frequency along the curve) and each DOF's resonance peak "
@@ -350,7 +350,7 @@ class FrequencyResponse:
                    f"fundamental (_amp) and max over the period (_peak); err_* "
                    f"estimated error relative to peak; stable 1/0; "
                    f"folds at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
-        from hbm.io import atomic_path
+        from drymount.hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")
@@ -406,7 +406,7 @@ class FrequencyResponse:
         -------
         matplotlib Axes
         """
-        from hbm.plot import plot_curve, plot_figure
+        from drymount.hbm.plot import plot_curve, plot_figure
 
         if ax is None and quantity == "transmissibility" and label is None \
                 and not kwargs:

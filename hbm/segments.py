@@ -13,8 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from hbm.continuation import Status
-from hbm.result import FrequencyResponse
+from drymount.hbm.continuation import Status
+from drymount.hbm.result import FrequencyResponse
 
 __all__ = ["Restart", "clip", "join"]
 

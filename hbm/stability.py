@@ -27,8 +27,8 @@ from typing import NamedTuple
 import numpy as np
 import scipy.linalg
 
-from hbm.hill_arnoldi import TOL, TOL_TIGHT, central_eigenvalues, hill_parts
-from hbm.residual import HarmonicBalance
+from drymount.hbm.hill_arnoldi import TOL, TOL_TIGHT, central_eigenvalues, hill_parts
+from drymount.hbm.residual import HarmonicBalance
 
 #: A Floquet exponent counts as unstable above RTOL * omega (round-off of the
 #: eigenvalues of neutral exponents).

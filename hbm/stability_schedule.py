@@ -10,10 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hbm.continuation import Branch
-from hbm.hill_arnoldi import lu_factors
-from hbm.problem import _Problem
-from hbm.stability import RTOL, hill_verdict, is_stable
+from drymount.hbm.continuation import Branch
+from drymount.hbm.hill_arnoldi import lu_factors
+from drymount.hbm.problem import _Problem
+from drymount.hbm.stability import RTOL, hill_verdict, is_stable
 
 #: Between two evaluated points a and b with the same verdict, the points between are
 #: given that verdict only if the two margins ``|max Re - threshold| / omega`` add up

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, ELASTIC_LAWS, static_force
-from hbm.system import System
+from drymount.fmu_src.mount_law import AXES, ELASTIC_LAWS, static_force
+from drymount.hbm.system import System
 
 __all__ = ["StaticStatus", "StaticPoint", "gravity_load", "static_equilibrium",
            "working_point", "knee_warnings"]

@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fmu_src.mount_law import AXES, MountParameters
+from drymount.fmu_src.mount_law import AXES, MountParameters
 
 __all__ = ["MountElement", "Excitation", "Transmissibility", "System"]
 

@@ -16,8 +16,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from fmu_src.mount_law import MountParameters
-from hbm.system import Excitation, MountElement, System, Transmissibility
+from drymount.fmu_src.mount_law import MountParameters
+from drymount.hbm.system import Excitation, MountElement, System, Transmissibility
 
 __all__ = ["sdof", "quarter_car", "rigid_engine", "RIGID_DOFS", "skew"]
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import (AXES, LAWS, AxisParameters, axis_force,
+from drymount.fmu_src.mount_law import (AXES, LAWS, AxisParameters, axis_force,
                                initial_sliders, law_code, mean_slider)
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -127,7 +127,7 @@ def worst_relative(ref: Outputs, got: Outputs) -> dict[str, float]:
 def parameter_values(axes: tuple[AxisParameters, ...]) -> dict[str, object]:
     """FMU parameter values ``<axis>_<field>`` of three axes (integer codes for the
     law and, where the law has friction kinds, the friction kind)."""
-    from fmu_src import mount_law
+    from drymount.fmu_src import mount_law
 
     codes = {"law": law_code,
              "friction_kind": getattr(mount_law, "friction_kind_code", None)}
@@ -181,7 +181,7 @@ def need_gcc():
 def build(folder: Path, fmi: int, null: bool = False) -> Path:
     """Build a native FMU into ``folder`` (in this process: the builder only runs gcc
     and writes a zip)."""
-    from fmu_build.native import build_native_fmu
+    from drymount.fmu_build.native import build_native_fmu
 
     need_gcc()
     return build_native_fmu(folder / f"native{fmi}{'null' if null else ''}.fmu",

@@ -98,7 +98,7 @@ def test_hbm_defaults_and_peak_match_the_cli(tmp_path, capsys):
 def test_sweep_and_cosim_default_to_the_configured_backend(monkeypatch):
     """Like the CLI, the backend comes from ``[cosim] backend`` (default ``fmu``),
     not from ``vehicle.sweep``'s own default."""
-    import vehicle
+    import drymount.vehicle as vehicle
 
     seen = {}
 
@@ -126,7 +126,7 @@ def test_sweep_native_runs_and_gives_a_curve():
 
 
 def test_cosim_matches_the_harness_and_the_cli_step():
-    import vehicle
+    import drymount.vehicle as vehicle
 
     m = load("sdof_halved")
     run = cosim(m, 5.0, duration=0.5, backend="native", steps_per_period=200)

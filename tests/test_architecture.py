@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import ast
 import functools
+import re
 import sys
 from pathlib import Path
 
@@ -66,6 +67,16 @@ def _imports(source: str, name: str) -> tuple:
     return tuple(out)
 
 
+#: The lower layers are installed under the ``drymount`` namespace
+#: (``drymount.hbm`` is the folder ``hbm/``); sources are named here by folder.
+_INSTALLED = re.compile(r"^drymount\.(fmu_src|fmu_build|hbm|vehicle)(\.|$)")
+
+
+def _canon(module: str) -> str:
+    """``drymount.hbm.result`` -> ``hbm.result`` (the folder name of the module)."""
+    return _INSTALLED.sub(r"\1\2", module)
+
+
 def _is_package(name: str, sources: dict[str, str]) -> bool:
     return any(m.startswith(name + ".") for m in sources)
 
@@ -79,7 +90,7 @@ def imports_of(name: str, source: str, sources: dict[str, str]
     out = []
     for level, module, names, line in _imports(source, name):
         if names is None:  # import a.b.c
-            out.append((module, line))
+            out.append((_canon(module), line))
             continue
         if level:
             base = package.split(".")
@@ -88,8 +99,8 @@ def imports_of(name: str, source: str, sources: dict[str, str]
         else:
             target = module
         for alias in names:
-            sub = f"{target}.{alias}"
-            out.append((sub if sub in sources else target, line))
+            sub = _canon(f"{target}.{alias}")
+            out.append((sub if sub in sources else _canon(target), line))
     return out
 
 
@@ -179,6 +190,30 @@ def test_layers_point_one_way():
 
 def test_no_module_cycles():
     assert module_cycles(project_sources()) == []
+
+
+def bare_layer_imports(sources: dict[str, str], root: Path = REPO) -> list[str]:
+    """Absolute imports of a lower layer by its folder name (``import hbm``): the
+    installed name is ``drymount.hbm``, and ``hbm`` on PyPI is another project."""
+    bad = []
+    lower = set(LAYERS) - {"drymount"}
+    files = {n: s for n, s in sources.items()}
+    for extra in ("tests", "bench", "examples", "docs"):
+        for path in sorted((root / extra).rglob("*.py")):
+            files[str(path.relative_to(root))] = path.read_text(encoding="utf-8")
+    files["build_fmu.py"] = (root / "build_fmu.py").read_text(encoding="utf-8")
+    for name, src in files.items():
+        for level, module, _, line in _imports(src, name):
+            if level == 0 and module and module.split(".")[0] in lower:
+                bad.append(f"{name}:{line} imports {module} (use drymount.{module})")
+    return bad
+
+
+def test_lower_layers_are_imported_by_their_installed_name():
+    assert bare_layer_imports(project_sources()) == []
+    srcs = _synthetic(**{"vehicle.x": "import hbm.result\n"})
+    assert bare_layer_imports(srcs) == [
+        "vehicle.x:1 imports hbm.result (use drymount.hbm.result)"]
 
 
 # ---------------------------------------------------------------------- the checker

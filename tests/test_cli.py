@@ -213,7 +213,7 @@ def test_presets_export_takes_the_file_stem_as_name(tmp_path, capsys):
 
 
 def test_hbm_linear_preset_matches_exact_frf(tmp_path, capsys):
-    import hbm
+    import drymount.hbm as hbm
 
     out, plot = tmp_path / "curve.csv", tmp_path / "curve.png"
     code, stdout, _ = run(["hbm", "sdof_linear", "--harmonics", "3", "--fmin", "2",
@@ -237,7 +237,7 @@ def test_hbm_linear_preset_matches_exact_frf(tmp_path, capsys):
 
 def test_hbm_numerical_failure_exit_1_keeps_the_points(tmp_path, capsys,
                                                        monkeypatch):
-    import hbm
+    import drymount.hbm as hbm
 
     real = hbm.frequency_response
 
@@ -290,7 +290,7 @@ def test_sweep_native_linear_matches_exact(tmp_path, capsys):
 
 
 def test_sweep_with_hbm_overlay_and_fmu_backend(tmp_path, capsys):
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     build_fmu(tmp_path / "FrictionMount.fmu")  # --fmu is never built (issue 11)
     curve = tmp_path / "curve.csv"
@@ -309,7 +309,7 @@ def test_sweep_with_hbm_overlay_and_fmu_backend(tmp_path, capsys):
 
 def test_sweep_without_steady_state_exit_1_keeps_the_rows(tmp_path, capsys,
                                                           monkeypatch):
-    import vehicle
+    import drymount.vehicle as vehicle
 
     real = vehicle.sweep
 
@@ -330,7 +330,7 @@ def test_sweep_without_steady_state_exit_1_keeps_the_rows(tmp_path, capsys,
 
 
 def test_cosim_native_and_fmu_time_histories(tmp_path, capsys):
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     build_fmu(tmp_path / "FrictionMount.fmu")  # --fmu is never built (issue 11)
     runs = {}

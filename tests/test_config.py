@@ -27,7 +27,7 @@ from drymount.config import (
     preset_text,
     resolve_config,
 )
-from hbm.system import System
+from drymount.hbm.system import System
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -152,7 +152,7 @@ def test_characterise_writes_maps_for_the_presets(tmp_path, preset):
 
 def test_characterise_crosschecks_through_the_fmu(tmp_path, capsys):
     pytest.importorskip("fmpy")
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     fmu = build_fmu(tmp_path / "FrictionMount.fmu")
     assert main(["characterise", "sdof_halved", "--out", str(tmp_path / "ch"),

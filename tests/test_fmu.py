@@ -25,14 +25,14 @@ try:  # fmpy and pythonfmu are declared dependencies: only a broken install lack
     from fmpy.fmi2 import FMU2Slave
     from fmpy.validation import validate_fmu
 
-    from vehicle.fmi_logging import callbacks as fmi_callbacks
+    from drymount.vehicle.fmi_logging import callbacks as fmi_callbacks
 except ImportError as exc:
     pytest.skip(f"the FMU tests need fmpy ({exc}); install the project first: "
                 f"python3 -m pip install -e \".[test]\"", allow_module_level=True)
 
-from fmu_build import (FMU_SOURCES, build_fmu, ensure_fmu, fmu_module_names,
+from drymount.fmu_build import (FMU_SOURCES, build_fmu, ensure_fmu, fmu_module_names,
                        source_dir)
-from fmu_src.mount_law import (AXES, AxisParameters, axis_force,
+from drymount.fmu_src.mount_law import (AXES, AxisParameters, axis_force,
                                friction_kind_name, initial_sliders, law_name)
 
 # The FMU calls the same scalar law with the same floats: equality is expected to be
@@ -225,7 +225,7 @@ def test_model_description_is_the_interface_table(fmu):
     """Every variable of the built FMU is the row of fmu_src.interface with the same
     value reference: name, type, causality, variability, initial, unit, description,
     start; units, capabilities and the default experiment come from the table too."""
-    from fmu_src import interface
+    from drymount.fmu_src import interface
 
     md = fmu[0]
     assert md.modelName == interface.MODEL_NAME
@@ -616,7 +616,7 @@ def test_loader_reports_missing_libpython(c_host, fmu, tmp_path, monkeypatch):
     and the importer's logger gets the reason and the remedy; no crash."""
     import shutil
 
-    from fmu_build import builder as fmu_build
+    from drymount.fmu_build import builder as fmu_build
 
     if not (Path(fmu[1]) / "binaries" / "linux64" / fmu_build.REAL_BINARY).exists():
         pytest.skip("this FMU was built without the linux64 loader (see build.txt)")
@@ -644,7 +644,7 @@ def _loader_fmu(fmu, tmp_path, monkeypatch, location):
     path, soname, prefix) as the Python that built it."""
     import shutil
 
-    from fmu_build import builder as fmu_build
+    from drymount.fmu_build import builder as fmu_build
 
     if not (Path(fmu[1]) / "binaries" / "linux64" / fmu_build.REAL_BINARY).exists():
         pytest.skip("this FMU was built without the linux64 loader (see build.txt)")
@@ -772,7 +772,7 @@ s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu),
 s.instantiate()
 bundled = sys.modules["pythonfmu"].__file__
 s.freeInstance()
-from fmu_build import build_fmu
+from drymount.fmu_build import build_fmu
 out = build_fmu(dest)
 names = zipfile.ZipFile(out).namelist()
 print(bundled)
@@ -861,7 +861,7 @@ INCLINED_OUTPUTS = [f"{name}_{axis}" for axis in AXES
 
 def _inclined_reference(u_steps, v_steps):
     """axis_force stepped by hand per axis, with normal_forces of the new state."""
-    from fmu_src.mount_law import normal_forces
+    from drymount.fmu_src.mount_law import normal_forces
 
     ps = [axis_params(INCLINED_PARAMS, axis) for axis in AXES]
     w = [initial_sliders(p) for p in ps]

@@ -50,7 +50,7 @@ def fmu(tmp_path_factory):
     build (as tests/test_fmu.py's fixture)."""
     from fmpy import extract, read_model_description
 
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     path = build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
     md = read_model_description(str(path))
@@ -200,7 +200,7 @@ def test_bad_parameter_error_at_exit_and_outputs_zero_before(fmu):
 
 
 def test_slave_called_from_python_raises_fmi_call_error():
-    from fmu_src.friction_mount import FMICallError, FrictionMount
+    from drymount.fmu_src.friction_mount import FMICallError, FrictionMount
 
     s = FrictionMount(instance_name="py")
     vr = {v.name: k for k, v in s.vars.items()}
@@ -331,7 +331,7 @@ def driver(request, fmu, tmp_path_factory):
     if request.param == "native":
         from fmpy import extract
 
-        from fmu_build.native import build_native_fmu
+        from drymount.fmu_build.native import build_native_fmu
 
         path = build_native_fmu(tmp_path_factory.mktemp("native") / "native.fmu").path
         unzipdir = extract(str(path), unzipdir=str(tmp_path_factory.mktemp("unzip")))

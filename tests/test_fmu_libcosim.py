@@ -41,7 +41,7 @@ from pathlib import Path
 
 import pytest
 
-from fmu_build import build_fmu
+from drymount.fmu_build import build_fmu
 
 pytest.importorskip("libcosimpy", reason="libcosimpy is not installed (the test extra "
                     "installs it on CPython >= 3.11, linux x86_64)")
@@ -64,7 +64,7 @@ def fmu(request, tmp_path_factory):
     folder = tmp_path_factory.mktemp(request.param)
     if request.param == "pythonfmu":
         return build_fmu(folder / "FrictionMount.fmu")
-    from fmu_build.native import build_native_fmu
+    from drymount.fmu_build.native import build_native_fmu
 
     return build_native_fmu(folder / "FrictionMountNative.fmu").path
 
@@ -203,7 +203,7 @@ def cpp_host(tmp_path_factory) -> Path:
 
 def _law_forces(t: list[float]) -> list[float]:
     """The in-process law along the good run's sine (protocol of libcosim_drive)."""
-    from fmu_src.mount_law import AxisParameters, axis_force
+    from drymount.fmu_src.mount_law import AxisParameters, axis_force
 
     p = AxisParameters(friction=True, n0=GOOD["n0"], kf=GOOD["kf"])
     omega, x, w, forces = 2 * math.pi * GOOD["freq"], GOOD["x"], 0.0, []

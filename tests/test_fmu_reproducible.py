@@ -11,8 +11,8 @@ import zipfile
 
 import pytest
 
-from fmu_build import build_fmu
-from fmu_build.builder import ZIP_DATE_TIME, fmu_guid
+from drymount.fmu_build import build_fmu
+from drymount.fmu_build.builder import ZIP_DATE_TIME, fmu_guid
 
 pytest.importorskip("pythonfmu")
 

@@ -11,11 +11,11 @@ piecewise system.
 import numpy as np
 import pytest
 
-import hbm
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.problem import build_problem
-from hbm.continuation import newton
-from hbm.systems import sdof
+import drymount.hbm as hbm
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.problem import build_problem
+from drymount.hbm.continuation import newton
+from drymount.hbm.systems import sdof
 
 M, K, C, F = 70.0, 91870.0, 150.0, 40.0
 
@@ -131,7 +131,7 @@ NOISE_FLOOR = 0.1
 
 def _resolved_points(r):
     """Indices the estimate re-solved (hbm.analysis._estimate's schedule)."""
-    from hbm.analysis import ESTIMATE_STRIDE, MAX_ESTIMATED
+    from drymount.hbm.analysis import ESTIMATE_STRIDE, MAX_ESTIMATED
     n = r.n_points
     stride = max(ESTIMATE_STRIDE, -(-n // MAX_ESTIMATED))
     return np.array(sorted(set(range(0, n, stride)) | {n - 1}
@@ -323,7 +323,7 @@ def test_failed_start_retried_with_more_samples_and_a_smaller_step():
 
 # --- adaptive defaults that stay affordable ------------------------------------------
 def test_harmonics_cap_by_dof_count():
-    from hbm.options import MAX_HARMONICS, MULTI_DOF_MAX_HARMONICS
+    from drymount.hbm.options import MAX_HARMONICS, MULTI_DOF_MAX_HARMONICS
     o = hbm.HBMOptions()
     assert o.harmonics_cap(1) == o.harmonics_cap(3) == MAX_HARMONICS == 25
     assert o.harmonics_cap(6) == MULTI_DOF_MAX_HARMONICS == 13
@@ -332,7 +332,7 @@ def test_harmonics_cap_by_dof_count():
 
 # errors falling like H^-3 from 0.014 at H = 5: 0.014 (5/H)^3 <= 2.5e-4 needs H >= 19.1
 def test_resolution_predicted_from_two_levels():
-    from hbm.resolution import _fit_level, _rate
+    from drymount.hbm.resolution import _fit_level, _rate
     e = lambda H: 0.014 * (5 / H) ** 3  # noqa: E731
     assert abs(_rate(5, e(5), 11, e(11), 1.5) - 3.0) < 1e-12
     assert _fit_level(5, e(5), 11, e(11), 2.5e-4, 6, 25, 1.5) == 20
@@ -348,14 +348,14 @@ PROBE_SELF_RTOL = 1e-5
 
 
 def test_probe_at_the_curves_resolution_reproduces_its_estimates():
-    from hbm.analysis import _estimate
-    from hbm.resolution import _probe_points
-    from hbm.error_estimate import curve_scale, probe_errors
+    from drymount.hbm.analysis import _estimate
+    from drymount.hbm.resolution import _probe_points
+    from drymount.hbm.error_estimate import curve_scale, probe_errors
     s = friction_system()
     opts = hbm.HBMOptions(tol=None)
     r = hbm.frequency_response(s, 2.0, 15.0, harmonics=5, n_samples=128, options=opts)
     prob = build_problem(s, 2.0, 15.0, 5, 128, False)
-    from hbm.analysis import _trace
+    from drymount.hbm.analysis import _trace
     r, br = _trace(prob, 2.0, 15.0, opts, False)
     _estimate(s, 2.0, 15.0, prob, br, opts, r)
     pts = [i for i in _probe_points(r) if i % 4 == 0]  # re-solved points

@@ -4,11 +4,11 @@ differences, and the Fourier basis."""
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.aft import FourierBasis, aft_forces, default_n_samples
-from hbm.elements import nonlinear_axes
-from hbm.residual import HarmonicBalance
-from hbm.systems import quarter_car, rigid_engine, sdof
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.aft import FourierBasis, aft_forces, default_n_samples
+from drymount.hbm.elements import nonlinear_axes
+from drymount.hbm.residual import HarmonicBalance
+from drymount.hbm.systems import quarter_car, rigid_engine, sdof
 
 # Analytic vs central differences. The laws are piecewise smooth; with generic
 # coefficients no sample sits on a kink, so the only error is the FD truncation and

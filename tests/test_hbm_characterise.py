@@ -11,11 +11,11 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, elastic_force
-from hbm.characterise import (DynamicStiffnessMap, dynamic_stiffness,
+from drymount.fmu_src.mount_law import AxisParameters, elastic_force
+from drymount.hbm.characterise import (DynamicStiffnessMap, dynamic_stiffness,
                               rate_independent_stiffness, time_domain_stiffness,
                               working_deflection)
-from hbm.closed_form import gap_coefficients, jenkins_coefficients
+from drymount.hbm.closed_form import gap_coefficients, jenkins_coefficients
 
 #: Linear spring + damper vs k + i omega c: the issue's bound; measured 0 (exact in
 #: floating point).

@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from fmu_src.mount_law import (AxisParameters, MountParameters, elastic_force,
+from drymount.fmu_src.mount_law import (AxisParameters, MountParameters, elastic_force,
                                jenkins_update)
-from hbm.aft import FourierBasis, aft_forces
-from hbm.closed_form import (closed_form_forces, cubic_coefficients, gap_coefficients,
-                             jenkins_coefficients)
-from hbm.elements import nonlinear_axes
-from hbm.systems import sdof
+from drymount.hbm.aft import FourierBasis, aft_forces
+from drymount.hbm.closed_form import (closed_form_forces, cubic_coefficients,
+                                      gap_coefficients, jenkins_coefficients)
+from drymount.hbm.elements import nonlinear_axes
+from drymount.hbm.systems import sdof
 
 RTOL_QUAD = 1e-9   # closed form vs quad: the requirement; measured <= 2.2e-13
 RTOL_FD = 1e-6     # analytic vs central differences: measured <= 3.3e-9

@@ -6,10 +6,10 @@ import csv
 import numpy as np
 import pytest
 
-import hbm
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.continuation import Status
-from hbm.systems import quarter_car, sdof
+import drymount.hbm as hbm
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.continuation import Status
+from drymount.hbm.systems import quarter_car, sdof
 
 # H = 1 AFT (N = 4096 samples) vs closed forms, relative to the peak amplitude. The
 # AFT's error comes from the kinks of the laws between samples, O(N^-2):
@@ -221,7 +221,7 @@ def test_multiharmonic_convergence_at_peak():
 
 
 def _max_relative_residual(system, r, n_samples):
-    from hbm.residual import HarmonicBalance
+    from drymount.hbm.residual import HarmonicBalance
     hb = HarmonicBalance(system, r.harmonics, n_samples)
     worst = 0.0
     for i in range(r.n_points):

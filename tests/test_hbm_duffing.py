@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-import hbm
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.continuation import Status
-from hbm.systems import sdof
+import drymount.hbm as hbm
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.continuation import Status
+from drymount.hbm.systems import sdof
 
 # m x'' + c x' + k x + kc x^3 = F sin(omega t); values of the thesis's cubic fit
 M, K, KC, C, F = 20.0, 34770.0, 5.708e8, 20.0, 10.0

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import (AxisParameters, MountParameters, axis_force,
+from drymount.fmu_src.mount_law import (AxisParameters, MountParameters, axis_force,
                                elastic_force, jenkins_update)
-from hbm.elements import elastic_remainder, jenkins_periodic, nonlinear_axes
-from hbm.systems import sdof
+from drymount.hbm.elements import elastic_remainder, jenkins_periodic, nonlinear_axes
+from drymount.hbm.systems import sdof
 
 ATOL_LAW = 1e-9  # N; vectorised vs scalar law: same operations, measured 0 to 2e-12
 RTOL_ENERGY = 1e-12  # loop energy from samples vs 4 Fs (X - eps): exact at samples
@@ -101,8 +101,8 @@ def test_axis_force_decomposition():
 def test_every_law_has_hbm_forms_looked_up_by_name():
     """Each law of the fmu_src registry has its HBM forms in hbm.laws; an unknown
     name fails with a message that says where to add it."""
-    from fmu_src.mount_law import ELASTIC_LAWS
-    from hbm.laws import HBM_LAWS, hbm_law
+    from drymount.fmu_src.mount_law import ELASTIC_LAWS
+    from drymount.hbm.laws import HBM_LAWS, hbm_law
 
     assert set(HBM_LAWS) == set(ELASTIC_LAWS)
     with pytest.raises(KeyError, match="hbm.laws.HBM_LAWS"):

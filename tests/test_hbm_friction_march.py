@@ -6,12 +6,12 @@ scalar AFT; the numba backend equals the NumPy one."""
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.aft import FourierBasis, aft_forces
-from hbm.elements import jenkins_periodic, nonlinear_axes
-from hbm.friction_march import (BACKENDS, jenkins_jacobian, jenkins_march,
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.aft import FourierBasis, aft_forces
+from drymount.hbm.elements import jenkins_periodic, nonlinear_axes
+from drymount.hbm.friction_march import (BACKENDS, jenkins_jacobian, jenkins_march,
                                 resolve_backend)
-from hbm.systems import sdof
+from drymount.hbm.systems import sdof
 
 # Same operations on the same floats: measured 0.0 (bitwise); the bound is the brief's.
 ATOL_FORCE = 1e-12  # N
@@ -170,7 +170,7 @@ def test_bad_input_names_the_field():
 def test_auto_is_numpy_without_numba(monkeypatch):
     """Without numba (the default install) ``auto`` takes the pure-NumPy march and
     asking for numba says how to get it."""
-    import hbm.friction_march as fm
+    import drymount.hbm.friction_march as fm
 
     monkeypatch.setattr(fm, "_HAVE_NUMBA", False)
     assert resolve_backend("auto") == "numpy"

@@ -11,11 +11,12 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, axis_force
-from hbm.identify import (PARAMETERS, DataError, FitStatus, LoopTest, StiffnessPoint,
-                          _elastic_jacobian, compare_elastic, fit_dynamic_stiffness,
-                          fit_elastic, fit_loops, law_force)
-from hbm.characterise import dynamic_stiffness
+from drymount.fmu_src.mount_law import AxisParameters, axis_force
+from drymount.hbm.identify import (PARAMETERS, DataError, FitStatus, LoopTest,
+                                   StiffnessPoint, _elastic_jacobian, compare_elastic,
+                                   fit_dynamic_stiffness, fit_elastic, fit_loops,
+                                   law_force)
+from drymount.hbm.characterise import dynamic_stiffness
 
 #: Thesis Sec. 2.4 fits (SI).
 TRUE = {"linear": {"k1": 133000.0},

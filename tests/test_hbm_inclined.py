@@ -9,17 +9,17 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import hbm
-from fmu_src.inclined import inclined_update
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.aft import FourierBasis
-from hbm.branches import solutions_at
-from hbm.inclined import inclined_periodic
-from hbm.options import HBMOptions
-from hbm.problem import build_problem
-from hbm.residual import HarmonicBalance
-from hbm.systems import sdof
-from vehicle import steady_state
+import drymount.hbm as hbm
+from drymount.fmu_src.inclined import inclined_update
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.aft import FourierBasis
+from drymount.hbm.branches import solutions_at
+from drymount.hbm.inclined import inclined_periodic
+from drymount.hbm.options import HBMOptions
+from drymount.hbm.problem import build_problem
+from drymount.hbm.residual import HarmonicBalance
+from drymount.hbm.systems import sdof
+from drymount.vehicle import steady_state
 
 #: periodic march vs the scalar map stepped by hand, N (measured 0)
 MARCH_TOL = 1e-12

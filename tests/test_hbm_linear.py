@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-import hbm
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.systems import quarter_car, rigid_engine, sdof
+import drymount.hbm as hbm
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.systems import quarter_car, rigid_engine, sdof
 
 RTOL_LINEAR = 1e-10  # the requirement; measured <= 8.8e-12
 # PHYSICS.md s. 3: the fit reproduces Table 4.2 "within about 1 %"

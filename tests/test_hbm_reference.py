@@ -9,10 +9,10 @@ slider at w = 0 (PHYSICS.md section 1), so the offsets agree there too.
 import numpy as np
 import pytest
 
-import hbm
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.reference import periodic_response
-from hbm.systems import quarter_car, sdof
+import drymount.hbm as hbm
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.reference import periodic_response
+from drymount.hbm.systems import quarter_car, sdof
 
 RTOL_HBM_VS_TIME = 5e-3  # the requirement; measured <= 7.2e-4 at H = 7 (peak)
 RTOL_REF_LINEAR = 1e-7   # reference on a linear system; measured 1.2e-8 (period tol)

@@ -6,16 +6,16 @@ of evaluations along a curve (``hbm.stability_schedule``)."""
 import numpy as np
 import pytest
 
-import hbm
-import hbm.postprocess as pp
+import drymount.hbm as hbm
+import drymount.hbm.postprocess as pp
 from drymount.config import resolve_config
 from drymount.validation import CASES
-from hbm.analysis import _trace
-from hbm.continuation import _tangent
-from hbm.hill_arnoldi import MIN_SIZE, TOL, TOL_TIGHT, central_eigenvalues
-from hbm.problem import build_problem
-from hbm.stability import Method, hill_eigenvalues, hill_verdict, stability_of
-from hbm.stability_schedule import _det_sign, _stability
+from drymount.hbm.analysis import _trace
+from drymount.hbm.continuation import _tangent
+from drymount.hbm.hill_arnoldi import MIN_SIZE, TOL, TOL_TIGHT, central_eigenvalues
+from drymount.hbm.problem import build_problem
+from drymount.hbm.stability import Method, hill_eigenvalues, hill_verdict, stability_of
+from drymount.hbm.stability_schedule import _det_sign, _stability
 
 #: Found eigenvalues against the nearest dense one, relative to their modulus: the
 #: selected (the Floquet exponents, smallest imaginary parts; measured 7e-11 over this
@@ -164,7 +164,7 @@ def test_branch_records_det_sign_at_every_point():
 def test_verdict_near_the_threshold_is_solved_again_tightly(monkeypatch):
     """Within GUARD times ARPACK's loose bound of the threshold, hill_verdict solves
     again at TOL_TIGHT; its verdict is the dense one on either side of the threshold."""
-    import hbm.stability as stab
+    import drymount.hbm.stability as stab
     prob, br = _solved("six_dof_halved", [6.0], 7, monkeypatch)
     J, w = _jacobian(prob, br, 0)
     ref = stability_of(hill_eigenvalues(prob.hb, J, w), prob.hb.n, w)

@@ -6,7 +6,7 @@ crossing) and short islands near the stability boundary, with fewer evaluations.
 import numpy as np
 import pytest
 
-from hbm.stability_schedule import MARGIN_SLOPE, schedule_verdicts
+from drymount.hbm.stability_schedule import MARGIN_SLOPE, schedule_verdicts
 
 
 def _run(g, det_sign, stride, slope=MARGIN_SLOPE):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from drymount.config import load_preset
-from hbm.static import (StaticStatus, gravity_load, knee_warnings,
+from drymount.hbm.static import (StaticStatus, gravity_load, knee_warnings,
                         static_equilibrium)
 
 G = 9.81

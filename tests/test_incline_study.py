@@ -6,7 +6,7 @@ import math
 import pytest
 
 from drymount.studies.incline import G, MASS, incline_system, run_incline
-from fmu_src.mount_law import static_force
+from drymount.fmu_src.mount_law import static_force
 
 #: static balance k1 u + F(u) + weight = 0 at the working point, N (measured ~1e-13)
 STATIC_TOL = 1e-6

@@ -15,8 +15,8 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.inclined import ContactLost, InclinedParameters, inclined_update
-from fmu_src.mount_law import jenkins_update
+from drymount.fmu_src.inclined import ContactLost, InclinedParameters, inclined_update
+from drymount.fmu_src.mount_law import jenkins_update
 
 #: exact map vs fine-step reference, relative to the peak force (measured 2.2e-16)
 FINE_STEP_TOL = 1e-9

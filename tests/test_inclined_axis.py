@@ -16,13 +16,13 @@ import pytest
 
 from drymount.config import ConfigError, load_preset
 from drymount.paths import override_config
-from fmu_src.inclined import inclined_forces, inclined_update
-from fmu_src.mount_law import (AxisParameters, MountParameters, ParameterError,
+from drymount.fmu_src.inclined import inclined_forces, inclined_update
+from drymount.fmu_src.mount_law import (AxisParameters, MountParameters, ParameterError,
                                axis_force, initial_sliders, mean_slider,
                                normal_forces, static_force)
-from hbm.static import working_point
-from hbm.systems import quarter_car, sdof
-from vehicle.master import Master, simulate
+from drymount.hbm.static import working_point
+from drymount.hbm.systems import quarter_car, sdof
+from drymount.vehicle.master import Master, simulate
 
 #: master (native / FMU) vs the hand-stepped map, N (measured 0: the same operations)
 HAND_TOL = 1e-12
@@ -117,7 +117,7 @@ def test_fmu_rejects_an_invalid_inclined_parameter_naming_it():
 
 
 def test_batch_and_control_refuse_the_inclined_axis():
-    from vehicle.batch import steady_states
+    from drymount.vehicle.batch import steady_states
 
     with pytest.raises(ValueError, match="inclined"):
         steady_states(_sdof(), [5.0])
@@ -152,8 +152,9 @@ def test_quarter_car_with_an_inclined_mount_runs_on_both_backends():
 
 def test_dynamic_stiffness_of_an_inclined_axis_aft_time_march_and_fmu():
     from drymount.characterise import fmu_stiffness
-    from fmu_build import ensure_fmu
-    from hbm.characterise import rate_independent_stiffness, time_domain_stiffness
+    from drymount.fmu_build import ensure_fmu
+    from drymount.hbm.characterise import (rate_independent_stiffness,
+                                           time_domain_stiffness)
 
     U0, X, f = -0.01, 0.003, 5.0
     k_time = time_domain_stiffness(AXIS, f, X, U0, steps_per_period=1024)

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-import vehicle
+import drymount.vehicle as vehicle
 from drymount import cosim, load
 from drymount.measured import engine_input, read_measured, road_input
 from drymount.spectra import spectra

@@ -14,7 +14,7 @@ import random
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import (AxisParameters, ParameterError, axis_force,
+from drymount.fmu_src.mount_law import (AxisParameters, ParameterError, axis_force,
                                initial_sliders, jenkins_update, mean_slider,
                                slider_bank)
 
@@ -180,9 +180,9 @@ def test_parameter_errors_name_field_value_and_rule():
 def test_aft_friction_equals_the_law_marched_to_its_periodic_state(kw):
     """The AFT friction force of a micro-slip / non-symmetric axis equals the law
     (axis_force) marched over the same samples until periodic."""
-    from fmu_src.mount_law import MountParameters
-    from hbm.aft import FourierBasis, aft_forces
-    from hbm.systems import sdof
+    from drymount.fmu_src.mount_law import MountParameters
+    from drymount.hbm.aft import FourierBasis, aft_forces
+    from drymount.hbm.systems import sdof
 
     p = _axis(**kw)
     ax = nonlinear_axes_of(sdof(70.0, MountParameters(axial=p), "force", 1.0))
@@ -199,5 +199,5 @@ def test_aft_friction_equals_the_law_marched_to_its_periodic_state(kw):
 
 
 def nonlinear_axes_of(system):
-    from hbm.elements import nonlinear_axes
+    from drymount.hbm.elements import nonlinear_axes
     return nonlinear_axes(system)

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import (
+from drymount.fmu_src.mount_law import (
     ELASTIC_LAWS,
     LAWS,
     AxisParameters,

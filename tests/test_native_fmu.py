@@ -40,8 +40,8 @@ from native_helpers import (
     worst_relative,
 )
 
-from fmu_src import interface, mount_law
-from fmu_src.mount_law import AXES, axis_force, initial_sliders
+from drymount.fmu_src import interface, mount_law
+from drymount.fmu_src.mount_law import AXES, axis_force, initial_sliders
 
 fmpy = pytest.importorskip("fmpy", reason="pip install -e .[fmu] installs fmpy")
 
@@ -81,7 +81,7 @@ class Driver:
             from fmpy.fmi2 import FMU2Slave
 
             self.fmu = FMU2Slave(guid=md.guid, **kw)
-            from vehicle.fmi_logging import callbacks
+            from drymount.vehicle.fmi_logging import callbacks
 
             cb = callbacks(self._log2)  # one process-wide logger (see that module)
             self._cb = cb
@@ -363,7 +363,7 @@ def test_archive_layout_sources_and_binaries(native):
 
 
 def test_build_is_reproducible_and_tokens_distinct(tmp_path):
-    from fmu_build.native import build_native_fmu
+    from drymount.fmu_build.native import build_native_fmu
 
     a = build_native_fmu(tmp_path / "a.fmu", fmi=2)
     b = build_native_fmu(tmp_path / "b.fmu", fmi=2)
@@ -376,7 +376,7 @@ def test_build_is_reproducible_and_tokens_distinct(tmp_path):
 
 def test_documented_compile_command_builds_the_sources(native, tmp_path):
     """The one-line linux command of documentation/index.html compiles sources/."""
-    from fmu_build.native import COMPILE
+    from drymount.fmu_build.native import COMPILE
 
     fmi, path = native
     zipfile.ZipFile(path).extractall(tmp_path)
@@ -489,7 +489,7 @@ def test_without_setup_experiment_the_first_step_starts_anywhere(native2):
 
 def test_step_size_limit_is_fmi_state_s():
     """The native limits are the PythonFMU's (fmu_src/fmi_state.py)."""
-    from fmu_src import fmi_state
+    from drymount.fmu_src import fmi_state
 
     source = (ROOT / "fmu_src" / "native" / "model.c").read_text()
     defines = dict(re.findall(r"^#define (MD_\w+) (\S+)$", source, re.M))
@@ -569,7 +569,7 @@ def test_outputs_read_zero_with_a_warning_until_parameters_are_valid(driver):
 
 
 def test_invalid_parameters_give_the_pythonfmu_message(driver):
-    from fmu_src.friction_mount import FrictionMount
+    from drymount.fmu_src.friction_mount import FrictionMount
 
     bad = {"axial_k1": -1.0, "radial2_delta": 0.0, "radial1_friction": True,
            "radial1_kf": 0.0, "axial_law": 9}
@@ -597,7 +597,7 @@ def test_invalid_parameters_give_the_pythonfmu_message(driver):
 def test_invalid_micro_slip_parameters_give_the_pythonfmu_message(driver):
     """Bad sliders / spread / fs_ratio: the PythonFMU build's message; once fixed,
     micro-slip and non-symmetric axes initialize."""
-    from fmu_src.friction_mount import FrictionMount
+    from drymount.fmu_src.friction_mount import FrictionMount
 
     bad = {"radial1_friction": True, "radial1_sliders": 65, "axial_friction": True,
            "axial_fs_ratio": -0.5, "radial2_sliders": 0, "radial2_spread": 1.0}
@@ -844,7 +844,7 @@ def test_fmpy_inclined_axes_equal_python_law(native):
 def _contact_lost_message(axes, u_out: float) -> str:
     """The PythonFMU build's message for the axial wedge pulled out to ``u_out``
     (the law's ContactLost, which it must raise there)."""
-    from fmu_src.inclined import ContactLost
+    from drymount.fmu_src.inclined import ContactLost
 
     try:
         axis_force(u_out, 0.0, initial_sliders(axes[0]), axes[0])
@@ -948,7 +948,7 @@ def test_wrong_guid_is_refused(native, tmp_path):
 
 @pytest.fixture(scope="module")
 def python_fmu(tmp_path_factory):
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("pythonfmu") / "FrictionMount.fmu")
 

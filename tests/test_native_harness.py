@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 from native_helpers import ROOT, build
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.master import Master
-from hbm.systems import rigid_engine
-from vehicle.steady import run_steady
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.vehicle.master import Master
+from drymount.hbm.systems import rigid_engine
+from drymount.vehicle.steady import run_steady
 
 pytest.importorskip("fmpy", reason="pip install -e .[fmu] installs fmpy")
 
@@ -72,7 +72,7 @@ def test_steady_state_through_native_fmu_equals_in_process_law(any_native_fmu):
 def test_cli_fmu_option_uses_a_native_fmu_as_is(native_fmu):
     """``--fmu`` with a native FMU never rebuilds it (it is not a PythonFMU build)."""
     from drymount.cli import _fmu_path
-    from fmu_build.native import is_native_fmu
+    from drymount.fmu_build.native import is_native_fmu
 
     before = native_fmu.read_bytes()
     assert is_native_fmu(native_fmu)

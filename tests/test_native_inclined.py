@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, run
 
-from fmu_build.native import CFLAGS, SOURCE_DIR
-from fmu_src.inclined import (
+from drymount.fmu_build.native import CFLAGS, SOURCE_DIR
+from drymount.fmu_src.inclined import (
     ContactLost,
     InclinedParameters,
     inclined_forces,

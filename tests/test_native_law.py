@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, random_axis, run
 
-from fmu_build.native import CFLAGS, SOURCE_DIR
-from fmu_src import mount_law
-from fmu_src.mount_law import (LAWS, AxisParameters, axis_force, initial_sliders,
-                               mean_slider)
+from drymount.fmu_build.native import CFLAGS, SOURCE_DIR
+from drymount.fmu_src import mount_law
+from drymount.fmu_src.mount_law import (LAWS, AxisParameters, axis_force,
+                                        initial_sliders, mean_slider)
 
 #: Agreement required between C and Python, relative to the force (or stiffness)
 #: scale of the samples. Measured: 0 (bit-identical) for every law.

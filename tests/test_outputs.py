@@ -293,7 +293,7 @@ def test_config_name_cannot_leave_the_working_dir(tmp_path, capsys, monkeypatch)
 
 def test_user_fmu_is_never_rebuilt(tmp_path, capsys, monkeypatch):
     """An FMU older than drymount's sources given with --fmu is used as it is."""
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     monkeypatch.chdir(tmp_path)
     mine = build_fmu(tmp_path / "mine" / "Mine.fmu")
@@ -327,7 +327,7 @@ def test_default_fmu_is_built_and_said(tmp_path, capsys, monkeypatch):
 def test_fmu_error_mid_sweep_writes_partial(tmp_path, capsys, monkeypatch):
     """An FMU failure at the 3rd frequency: exit 1, the first two rows written under
     a '# partial:' line, the previous complete file replaced only by that."""
-    import vehicle.steady as steady
+    import drymount.vehicle.steady as steady
 
     monkeypatch.chdir(tmp_path)
     real = steady.run_steady
@@ -336,11 +336,11 @@ def test_fmu_error_mid_sweep_writes_partial(tmp_path, capsys, monkeypatch):
     def failing(m, f, **kw):
         calls.append(f)
         if len(calls) == 3:
-            from vehicle.backends import FMUError
+            from drymount.vehicle.backends import FMUError
             raise FMUError("mount", 1.25, "fmi2DoStep failed (injected)")
         return real(m, f, **kw)
 
-    monkeypatch.setattr(sys.modules["vehicle.sweep"], "run_steady", failing)
+    monkeypatch.setattr(sys.modules["drymount.vehicle.sweep"], "run_steady", failing)
     code, _, err = run(["sweep", "sdof_halved", "--points", "5", "--backend",
                         "native", "-q", "--out", "s.csv"], capsys)
     assert code == 1, err
@@ -353,7 +353,7 @@ def test_fmu_error_mid_sweep_writes_partial(tmp_path, capsys, monkeypatch):
 
 
 def test_hbm_numerical_failure_is_marked_partial(tmp_path, capsys, monkeypatch):
-    import hbm
+    import drymount.hbm as hbm
 
     monkeypatch.chdir(tmp_path)
     real = hbm.frequency_response
@@ -380,7 +380,7 @@ def test_hbm_numerical_failure_is_marked_partial(tmp_path, capsys, monkeypatch):
 def test_cosim_failure_writes_the_steps_computed(tmp_path, capsys, monkeypatch):
     """A divergence in the 2nd block of rows: exit 1, the 1st block written under a
     '# partial:' line (same rows as a complete run)."""
-    from vehicle import master
+    from drymount.vehicle import master
 
     monkeypatch.chdir(tmp_path)
     argv = ["cosim", "sdof_halved", "--freq", "5", "--backend", "native",

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from drymount.config import load_preset
-from hbm.linear import natural_frequencies
+from drymount.hbm.linear import natural_frequencies
 
 #: Table 4.2, Hz, by axis.
 TABLE_4_2 = {"x": 6.10, "y": 5.82, "z": 7.07, "alpha": 12.03, "beta": 11.59,

@@ -10,7 +10,7 @@ import pytest
 
 from drymount.studies import semi_active as sa
 from drymount.studies.common import load_system
-from vehicle import CrankInput, CrankRunUp
+from drymount.vehicle import CrankInput, CrankRunUp
 
 #: same formula, arrays vs the constant-speed input: measured 0
 EXACT = 1e-12
@@ -71,7 +71,7 @@ def test_study_outputs_and_passive_choice(small, tmp_path):
 
 
 def test_hbm_schedule_picks_the_smallest_transmissibility():
-    import hbm
+    import drymount.hbm as hbm
 
     system = load_system("quarter_car_halved")
     grid = (3.0, 30.0)

@@ -18,8 +18,8 @@ from native_helpers import build, random_trajectory
 
 from drymount.config import load_preset
 from drymount.ssp import OSP, SSC, SSD, SSV, export_ssp
-from fmu_src import interface
-from fmu_src.mount_law import AXES, axis_force, law_code
+from drymount.fmu_src import interface
+from drymount.fmu_src.mount_law import AXES, axis_force, law_code
 
 #: Ecos's forces against the law, relative to the force scale. The arithmetic is the
 #: same (measured: 0.0 for every mount, native and PythonFMU FMU); the energy sum's
@@ -41,7 +41,7 @@ def ssp(request, cfg, tmp_path_factory):
     if request.param == "native":
         fmu = build(folder, 2)
     else:
-        from fmu_build import build_fmu
+        from drymount.fmu_build import build_fmu
 
         fmu = build_fmu(folder / "FrictionMount.fmu")
     return export_ssp(cfg, folder / "six_dof.ssp", fmu_path=fmu)

@@ -9,10 +9,10 @@ sliders relaxed there) against the HBM with the load in its static row. Runtime 
 import numpy as np
 import pytest
 
-import hbm
+import drymount.hbm as hbm
 from drymount.cli import main
 from drymount.config import load_config, preset_text
-from vehicle.steady import steady_state
+from drymount.vehicle.steady import steady_state
 
 G = 9.81
 K1, K2, DELTA = 45935.0, 256900.0, 0.01225
@@ -70,7 +70,7 @@ def test_hbm_about_the_working_point_matches_cosimulation(preset, freqs):
 
 def test_cosimulation_through_the_fmu_starts_at_the_working_point(tmp_path):
     pytest.importorskip("fmpy")
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     fmu = build_fmu(tmp_path / "FrictionMount.fmu")
     s = _loaded("sdof_halved")

@@ -16,7 +16,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-import hbm
+import drymount.hbm as hbm
 from drymount import studies
 from drymount.studies import (
     ENGINE_EXCITATION,
@@ -222,7 +222,7 @@ def test_one_crank_model_for_time_domain_and_hbm():
     (hbm.crank): the second-order Fourier coefficients of the time-domain force and
     moment equal the HBM unbalance excitation at omega = 2 w (force: cosine, moment:
     sine; the HBM applies both as one amplitude vector)."""
-    from vehicle.inputs import CrankInput
+    from drymount.vehicle.inputs import CrankInput
 
     s = engine_excited(load_system("six_dof_original"))
     inp = CrankInput(s, 3000.0)

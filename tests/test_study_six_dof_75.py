@@ -13,7 +13,7 @@ import pytest
 
 from drymount.studies import run_six_dof_75
 from drymount.studies.six_dof_75 import DESIGNS, _systems
-from hbm import linear_frf
+from drymount.hbm import linear_frf
 
 #: HBM points as written to the CSV (10 digits) vs the stuck linear FRF: measured
 #: 3.7e-10 (the Newton tolerance).

@@ -11,11 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle import FMUError
-from vehicle.master import Master
-from hbm.systems import rigid_engine, sdof
-from vehicle.steady import run_steady
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.vehicle import FMUError
+from drymount.vehicle.master import Master
+from drymount.hbm.systems import rigid_engine, sdof
+from drymount.vehicle.steady import run_steady
 
 ROOT = Path(__file__).resolve().parents[1]
 POSITIONS = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
@@ -23,7 +23,7 @@ POSITIONS = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
 

@@ -8,12 +8,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle
+import drymount.vehicle as vehicle
 from drymount import api
-from fmu_src.mount_law import AxisParameters, MountParameters, axis_force
-from hbm.systems import sdof
-from vehicle.batch import VectorLaw, steady_states
-from vehicle.steady import steady_state
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters, axis_force
+from drymount.hbm.systems import sdof
+from drymount.vehicle.batch import VectorLaw, steady_states
+from drymount.vehicle.steady import steady_state
 
 #: The vectorised law performs the scalar law's floating-point operations in the same
 #: order: measured difference 0 (bit for bit); the bar set for a second implementation.
@@ -142,7 +142,7 @@ def test_batched_steady_states_group_by_steps_per_period():
     """Below 1 / (256 dt_limit) a period needs more than 256 steps: frequencies with
     different steps per period run in separate lock-step groups (here 512, 366 and
     256 steps) and come back in the order given."""
-    from vehicle.master import Master
+    from drymount.vehicle.master import Master
 
     s = api.load("sdof_halved").system
     f_256 = 1.0 / (256 * Master(s, "native").dt_limit())
@@ -156,7 +156,7 @@ def test_batched_steady_states_group_by_steps_per_period():
 def test_stopped_batched_sweep_keeps_the_converged_frequencies(monkeypatch):
     """A stop (here an error after the second converged frequency) hands the caller
     the frequencies that converged, on the exception."""
-    import vehicle.batch as vb
+    import drymount.vehicle.batch as vb
 
     real = vb._analyse
     calls = []

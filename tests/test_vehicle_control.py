@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.systems import sdof
-from vehicle.control import Limits, OnOffControl, ScheduledControl
-from vehicle.master import Master
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.systems import sdof
+from drymount.vehicle.control import Limits, OnOffControl, ScheduledControl
+from drymount.vehicle.master import Master
 
 #: the FMU evaluates the same law with the same inputs: measured 0 (bit-identical)
 RTOL_FMU = 1e-12

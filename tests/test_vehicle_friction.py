@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.master import Master
-from hbm.systems import quarter_car, rigid_engine, sdof
-from vehicle.steady import run_steady, steady_state
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.vehicle.master import Master
+from drymount.hbm.systems import quarter_car, rigid_engine, sdof
+from drymount.vehicle.steady import run_steady, steady_state
 
 #: Issue 4: co-simulation and in-process backend agree within 0.1 %. They run the
 #: same arithmetic (the FMU calls the same law), measured equal to the last bit.
@@ -30,7 +30,7 @@ POSITIONS = [(-0.5, 0.25, 0.0), (0.5, 0.25, 0.0), (0.0, -0.25, -0.5)]
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
 
@@ -127,7 +127,7 @@ def test_sweep_keeps_fmu_instances_alive(fmu_path, monkeypatch):
     frees every instance at the end."""
     from fmpy.fmi2 import FMU2Slave
 
-    import vehicle
+    import drymount.vehicle as vehicle
 
     calls = {"instantiate": 0, "free": 0, "terminate": 0}
     orig = {k: getattr(FMU2Slave, k) for k in ("instantiate", "freeInstance",

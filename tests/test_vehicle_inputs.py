@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle import simulate
-from vehicle.inputs import (
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.vehicle import simulate
+from drymount.vehicle.inputs import (
     BaseSine,
     BumpRoad,
     CrankInput,
@@ -20,7 +20,7 @@ from vehicle.inputs import (
     SweptSineRoad,
     iso8608_gd0,
 )
-from hbm.systems import quarter_car, rigid_engine, sdof
+from drymount.hbm.systems import quarter_car, rigid_engine, sdof
 
 #: Series of eq. 1.3 against exact slider-crank kinematics: the force keeps
 #: A2 = R/l, whose truncation is lambda^2/4 = 2.2 % of the second order (measured
@@ -212,7 +212,7 @@ def test_simulated_crank_response_equals_linear_frf():
 def test_random_road_time_history_through_the_fmu(tmp_path):
     """Quarter car with a friction mount on an ISO 8608 class C road at 20 m/s: the
     FMU and the in-process law give the same history; friction energy only grows."""
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     fmu = build_fmu(tmp_path / "FrictionMount.fmu")
     ax = AxisParameters(law="piecewise", k1=45935.0, k2=256900.0, friction=True,

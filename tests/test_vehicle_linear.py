@@ -12,10 +12,10 @@ import math
 import numpy as np
 import pytest
 
-from fmu_src.mount_law import AxisParameters, MountParameters
-from vehicle.master import Master
-from hbm.systems import quarter_car, rigid_engine, sdof
-from vehicle.steady import run_steady, steady_state
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.vehicle.master import Master
+from drymount.hbm.systems import quarter_car, rigid_engine, sdof
+from drymount.vehicle.steady import run_steady, steady_state
 
 #: Issue 4 target at the default step (256 steps per period); measured worst
 #: 1.5e-4 (SDOF), 4.9e-4 (quarter car), see vehicle.master.
@@ -31,7 +31,7 @@ F_N_SDOF = math.sqrt(91870.0 / 70.0) / (2 * math.pi)  # 5.77 Hz
 
 @pytest.fixture(scope="module")
 def fmu_path(tmp_path_factory):
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     return build_fmu(tmp_path_factory.mktemp("fmu") / "FrictionMount.fmu")
 
@@ -157,7 +157,7 @@ def test_second_order_convergence_in_step_size():
 
 def test_backends_give_identical_linear_histories(fmu_path):
     """simulate(): the FMU and the in-process law produce the same time history."""
-    from vehicle import simulate
+    from drymount.vehicle import simulate
 
     system = sdof_force()
     a = simulate(system, 7.0, 0.3, backend="native")

@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import vehicle
+import drymount.vehicle as vehicle
 from drymount import api
-from vehicle.refine import hbm_targets, refine_targets
+from drymount.vehicle.refine import hbm_targets, refine_targets
 
 #: The issue's bar: a 30-point sweep with refinement reads the HBM peak within 1 %.
 #: Measured: +0.15 % with 8 extra points, -0.04 % with 4 guided by the HBM curve

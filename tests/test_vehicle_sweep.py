@@ -9,9 +9,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-import vehicle
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.systems import sdof
+import drymount.vehicle as vehicle
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.systems import sdof
 
 # Cubic-spring SDOF (thesis fit k1 = 34 770 N/m, kc = 5.708e8 N/m^3, Sec. 2.4) with
 # c = 150 N s/m and an unbalance f0 = 0.05 kg m: large enough for the response to
@@ -133,7 +133,7 @@ def test_sweep_rejects_bad_input():
 @pytest.mark.slow
 def test_cubic_jump_through_the_fmu_with_fine_steps(tmp_path):
     """The same hysteresis through FrictionMount.fmu with 0.1 Hz steps."""
-    from fmu_build import build_fmu
+    from drymount.fmu_build import build_fmu
 
     fmu = build_fmu(tmp_path / "FrictionMount.fmu")
     system = cubic_sdof()

@@ -26,7 +26,7 @@ from .inputs import (
     SumInput,
     SweptSineRoad,
 )
-from hbm.systems import quarter_car, rigid_engine, sdof
+from drymount.hbm.systems import quarter_car, rigid_engine, sdof
 
 from .master import DivergenceError, Master, simulate
 from .results import TimeHistory

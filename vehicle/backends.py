@@ -38,8 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fmu_src.interface import by_causality
-from fmu_src.mount_law import (AXES, axis_force, friction_kind_code,
+from drymount.fmu_src.interface import by_causality
+from drymount.fmu_src.mount_law import (AXES, axis_force, friction_kind_code,
                                initial_sliders, law_code, mean_slider)
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
@@ -196,7 +196,7 @@ class _Backend:
         The first command is rate-limited from the axis's ``n0``; the applied forces
         are kept in :attr:`control_log` (:class:`vehicle.control.ControlLog`).
         """
-        from vehicle.control import ControlLog
+        from drymount.vehicle.control import ControlLog
 
         L, names = self.layout, [e.name for e in self.system.elements]
         cols = L.columns()
@@ -358,10 +358,10 @@ class FMUBackend(_Backend):
         super().__init__(system, layout)
         from fmpy import extract, read_model_description
 
-        from vehicle import fmi_logging
+        from drymount.vehicle import fmi_logging
 
         if fmu_path is None:
-            from fmu_build import ensure_fmu
+            from drymount.fmu_build import ensure_fmu
             fmu_path = ensure_fmu()
         self.fmu_path = str(fmu_path)
         self._fmus = []        # FMU2Slave objects (library loaded)
@@ -425,7 +425,7 @@ class FMUBackend(_Backend):
 
         name = el.name
         if md.fmiVersion.startswith("3"):  # e.g. FrictionMountNative3.fmu
-            from vehicle.fmi3_adapter import FMU3Adapter
+            from drymount.vehicle.fmi3_adapter import FMU3Adapter
 
             fmu = FMU3Adapter(md, self._unzipdir, name, self._logger)
         else:
@@ -600,7 +600,7 @@ class FMUBackend(_Backend):
                 except Exception as exc:
                     _log.warning("freeing %s failed: %s", fmu.instanceName, exc)
         if getattr(self, "_callbacks", None) is not None:
-            from vehicle import fmi_logging
+            from drymount.vehicle import fmi_logging
 
             fmi_logging.release(self._callbacks)  # every instance is freed by now
         if self._unzipdir is not None:

@@ -35,7 +35,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from fmu_src.mount_law import AxisParameters
+from drymount.fmu_src.mount_law import AxisParameters
 
 from .master import Master
 from .steady import (

@@ -31,8 +31,8 @@ Inputs
 
 Examples
 --------
->>> from fmu_src.mount_law import AxisParameters, MountParameters
->>> from hbm.systems import quarter_car
+>>> from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+>>> from drymount.hbm.systems import quarter_car
 >>> mount = MountParameters.from_axial(AxisParameters(law="linear"))
 >>> qc = quarter_car(70, 230, 30, 15000, 1000, 200000, 0, mount, 0.01)
 >>> road = RandomRoad(qc, "C", speed=20.0, seed=1)
@@ -47,7 +47,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from hbm.crank import DEFAULT_ENGINE, CrankMechanism
+from drymount.hbm.crank import DEFAULT_ENGINE, CrankMechanism
 
 __all__ = [
     "Input",

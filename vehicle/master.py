@@ -64,7 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from hbm.static import working_point
+from drymount.hbm.static import working_point
 
 from .backends import Layout, make_backend
 from .inputs import HarmonicInput, Input
@@ -561,8 +561,8 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
 
     Examples
     --------
-    >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from hbm.systems import sdof
+    >>> from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    >>> from drymount.hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
     >>> th = simulate(s, 10.0, 0.5, backend="native")

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hbm import io as _io
-from hbm.io import atomic_path
+from drymount.hbm import io as _io
+from drymount.hbm.io import atomic_path
 
 __all__ = ["TimeHistory", "atomic_path", "dof_unit", "write_csv"]
 

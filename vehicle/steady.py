@@ -363,8 +363,8 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
 
     Examples
     --------
-    >>> from fmu_src.mount_law import AxisParameters, MountParameters
-    >>> from hbm.systems import sdof
+    >>> from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+    >>> from drymount.hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
     >>> ss = steady_state(s, 5.0, backend="native")

@@ -343,7 +343,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
     options = dict(steps_per_period=steps_per_period, rtol=rtol,
                    min_periods=min_periods, max_periods=max_periods)
     if backend == "fmu" and fmu_path is None:
-        from fmu_build import ensure_fmu
+        from drymount.fmu_build import ensure_fmu
         fmu_path = ensure_fmu()
     from tqdm import tqdm
 

@@ -21,7 +21,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from fmu_src.mount_law import AXES
+from drymount.fmu_src.mount_law import AXES
 from drymount.config.checks import _Checker, _show, _type_name
 
 __all__ = ["ControlSettings", "CONTROL_KINDS", "parse_control"]
@@ -68,7 +68,7 @@ class ControlSettings:
         ``frequency(t)``: the excitation frequency (Hz) at time ``t`` that a
         ``scheduled`` table is looked up with (required for that kind).
         """
-        from vehicle.control import Limits, OnOffControl, ScheduledControl
+        from drymount.vehicle.control import Limits, OnOffControl, ScheduledControl
 
         limits = Limits(self.n_min, self.n_max, self.rate_max)
         if self.kind == "scheduled":

@@ -29,7 +29,7 @@ from drymount.config.systems import (
     _check_support,
     _settings,
 )
-from hbm.static import StaticStatus, static_equilibrium
+from drymount.hbm.static import StaticStatus, static_equilibrium
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -9,8 +9,8 @@ from dataclasses import fields, replace
 
 import numpy as np
 
-from fmu_src.interface import parameter_unit
-from fmu_src.mount_law import (AXES, ELASTIC_LAWS, FRICTION_KINDS, LAWS,
+from drymount.fmu_src.interface import parameter_unit
+from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, FRICTION_KINDS, LAWS,
                                AxisParameters, MountParameters)
 from drymount.config.checks import (
     _as_float,

@@ -6,9 +6,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fmu_src.mount_law import AXES
-from hbm.options import HBMOptions
-from hbm.system import System
+from drymount.fmu_src.mount_law import AXES
+from drymount.hbm.options import HBMOptions
+from drymount.hbm.system import System
 
 from drymount.config.static import StaticSettings
 

@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from drymount.config.checks import _Checker, _join, _show, _type_name
-from hbm.static import gravity_load
-from hbm.system import System
+from drymount.hbm.static import gravity_load
+from drymount.hbm.system import System
 
 __all__ = ["VERTICAL", "StaticSettings", "vertical_dofs", "static_settings",
            "static_load"]

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hbm import systems as models
-from hbm.system import System
+from drymount.hbm import systems as models
+from drymount.hbm.system import System
 from drymount.config.checks import (
     _Checker,
     _show,

@@ -64,7 +64,7 @@ def _best(space: DesignSpace, results, k: int) -> list:
 
 
 def _check_one(cfg, space: DesignSpace, r) -> CheckResult:
-    import vehicle
+    import drymount.vehicle as vehicle
     from drymount.config import config_from_dict
     from drymount.validation import compared_dofs, hbm_matching
 

@@ -149,7 +149,7 @@ def evaluate_design(doc: dict, space: DesignSpace, index: int, values, *,
     the configuration's problems, a continuation that stopped gives FAILED with the
     values of the partial curve and its message.
     """
-    import hbm
+    import drymount.hbm as hbm
     from drymount.config import ConfigError, config_from_dict
     from drymount.design.space import apply_values
     from drymount.paths import PathError

@@ -21,7 +21,7 @@ __all__ = ["write_report", "compare_designs", "reproduce_options"]
 def compare_designs(cfg, space, values):
     """HBM curves of the configuration as written and with ``values``:
     ``(before, after)`` frequency responses over the design band."""
-    import hbm
+    import drymount.hbm as hbm
     from drymount.config import config_from_dict
 
     after_cfg = config_from_dict(apply_values(cfg.data, space.variables, values),

@@ -236,7 +236,7 @@ def apply_values(doc: dict, variables, values) -> dict:
     axes) by the angle about the body axis: ``O' = O R^T``, starting from the file's
     orientation or the model's default (axial = z).
     """
-    from hbm.systems import DEFAULT_ORIENTATION
+    from drymount.hbm.systems import DEFAULT_ORIENTATION
 
     new = copy.deepcopy(doc)
     for var, x in zip(variables, values, strict=True):

@@ -17,10 +17,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-import hbm
-from fmu_src.mount_law import AXES, MountParameters, jenkins_update
-from hbm.crank import DEFAULT_ENGINE, CrankMechanism
-from hbm.system import Excitation, MountElement, System, Transmissibility
+import drymount.hbm as hbm
+from drymount.fmu_src.mount_law import AXES, MountParameters, jenkins_update
+from drymount.hbm.crank import DEFAULT_ENGINE, CrankMechanism
+from drymount.hbm.system import Excitation, MountElement, System, Transmissibility
 
 __all__ = [
     "StudyError", "load_system", "with_normal_force", "with_friction_of",

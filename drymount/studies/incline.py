@@ -24,15 +24,15 @@ from pathlib import Path
 import numpy as np
 
 from drymount.studies.output import md_table, new_figure, progress_bar, save_fig
-from fmu_src.inclined import axis_normal_forces, relaxed_state
-from fmu_src.mount_law import AxisParameters, MountParameters, ParameterError
-from hbm import frequency_response
-from hbm.branches import solutions_at
-from hbm.inclined import normal_force_range
-from hbm.options import HBMOptions
-from hbm.problem import build_problem
-from hbm.static import working_point
-from hbm.systems import sdof
+from drymount.fmu_src.inclined import axis_normal_forces, relaxed_state
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters, ParameterError
+from drymount.hbm import frequency_response
+from drymount.hbm.branches import solutions_at
+from drymount.hbm.inclined import normal_force_range
+from drymount.hbm.options import HBMOptions
+from drymount.hbm.problem import build_problem
+from drymount.hbm.static import working_point
+from drymount.hbm.systems import sdof
 
 __all__ = ["run_incline", "InclineDesign", "incline_system"]
 

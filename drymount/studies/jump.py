@@ -21,7 +21,7 @@ from drymount.studies.output import (
     system_values,
     write_curves,
 )
-from hbm.system import System
+from drymount.hbm.system import System
 
 JUMP_PRESET = "sdof_cubic"
 JUMP_BAND_HZ = (1.0, 20.0)
@@ -76,7 +76,7 @@ class _FrequencyStep:
 
 
 def _frequency_step_input(system: System, profile: _FrequencyStep):
-    from vehicle.inputs import Input
+    from drymount.vehicle.inputs import Input
 
     U = np.asarray(system.excitation.amplitude, dtype=float)
 
@@ -146,7 +146,7 @@ def _sweep_grid(fold: _Fold, step: float) -> np.ndarray:
 
 def _sweeps(system: System, freqs, progress: bool, failures: list) -> dict:
     """direction -> ``vehicle.sweep`` result (native backend), up and down."""
-    import vehicle
+    import drymount.vehicle as vehicle
 
     sweeps = {}
     for direction in progress_bar(("up", "down"), "jump sweeps", progress):
@@ -174,7 +174,7 @@ class _StepRun:
 def _frequency_step(system: System, jump_up: Jump, f_lo: float, step: float
                     ) -> _StepRun:
     """Ramp onto the upper branch, hold, step the frequency past the fold."""
-    import vehicle
+    import drymount.vehicle as vehicle
 
     f1 = jump_up.f_before_hz - JUMP_STEP_BELOW_HZ
     f2 = jump_up.f_after_hz + JUMP_STEP_ABOVE_HZ

@@ -27,8 +27,8 @@ from drymount.studies.output import (
     save_fig,
     write_curves,
 )
-from fmu_src.mount_law import AxisParameters, MountParameters
-from hbm.system import System
+from drymount.fmu_src.mount_law import AxisParameters, MountParameters
+from drymount.hbm.system import System
 
 __all__ = ["THESIS_FITS", "run_laws"]
 

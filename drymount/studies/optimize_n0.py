@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-import hbm
+import drymount.hbm as hbm
 from drymount.io import atomic_write_text, write_csv
 from drymount.studies.common import (
     band_rms,
@@ -29,7 +29,7 @@ from drymount.studies.output import (
     save_fig,
     system_values,
 )
-from hbm.system import System
+from drymount.hbm.system import System
 
 #: Band of objective (a), the peak transmissibility, Hz (the normal-force study band).
 OPT_PEAK_BAND_HZ = NORMAL_FORCE_SPEC.band_hz

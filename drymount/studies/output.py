@@ -17,7 +17,7 @@ import numpy as np
 
 from drymount.io import save_figure, write_csv
 from drymount.studies.common import RESTART_FACTOR, DesignResult
-from hbm.system import System
+from drymount.hbm.system import System
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -34,14 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-import hbm
+import drymount.hbm as hbm
 from drymount.io import atomic_write_text, write_csv
 from drymount.studies.common import engine_excited, load_system
 from drymount.studies.output import md_table, new_figure, progress_bar, save_fig
-from fmu_src.mount_law import AXES, MountParameters
-from hbm.system import Excitation, System, Transmissibility
-from vehicle import CrankRunUp, Master, RandomRoad
-from vehicle.control import Limits, OnOffControl, ScheduledControl
+from drymount.fmu_src.mount_law import AXES, MountParameters
+from drymount.hbm.system import Excitation, System, Transmissibility
+from drymount.vehicle import CrankRunUp, Master, RandomRoad
+from drymount.vehicle.control import Limits, OnOffControl, ScheduledControl
 
 #: Models of the study: (label, preset, engine DOF).
 MODELS = (("quarter car", "quarter_car_halved", "engine"),

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-import hbm
+import drymount.hbm as hbm
 from drymount.io import atomic_write_text, write_csv
 from drymount.studies.common import (
     ENGINE_EXCITATION,
@@ -41,8 +41,8 @@ from drymount.studies.output import (
     save_fig,
     write_curves,
 )
-from fmu_src.mount_law import AXES
-from hbm.system import Excitation, System
+from drymount.fmu_src.mount_law import AXES
+from drymount.hbm.system import Excitation, System
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -38,7 +38,7 @@ from drymount.studies.output import (
     save_fig,
     write_curves,
 )
-from hbm.system import Excitation
+from drymount.hbm.system import Excitation
 
 __all__ = ["DESIGNS", "run_six_dof_75"]
 

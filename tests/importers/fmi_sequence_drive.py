@@ -28,7 +28,7 @@ from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 
-from vehicle.fmi_logging import callbacks, release
+from drymount.vehicle.fmi_logging import callbacks, release
 
 OUTPUTS = ("F_axial", "Ffr_axial", "kt_axial", "E_fr_axial", "E_fr", "F_radial1")
 

@@ -58,7 +58,7 @@ CYCLES = 3
 
 
 def main(fmu: str) -> dict:
-    from fmu_src.mount_law import AxisParameters, axis_force
+    from drymount.fmu_src.mount_law import AxisParameters, axis_force
 
     log_output_level(CosimLogLevel.WARNING)
     ex = CosimExecution.from_step_size(step_size=int(round(H * 1e9)))
