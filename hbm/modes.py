@@ -38,13 +38,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drymount.hbm.continuation import Status, continue_branch, newton
+from drymount.hbm.continuation import Branch, Status, continue_branch, newton
 from drymount.hbm.linear import natural_frequencies
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.residual import HarmonicBalance
 from drymount.hbm.system import System
 
 __all__ = ["NonlinearMode", "NonlinearModes", "linear_modes", "nonlinear_modes",
+           "modes_at_amplitudes",
            "default_amplitude_range"]
 
 #: Newton's residual tolerance of the EPMC (scaled rows are O(1); the forced
@@ -428,22 +429,16 @@ def nonlinear_modes(system: System, mode="all", amplitude_range=None, *,
     H = opts.harmonics if harmonics is None else harmonics
     rng = _check_amplitudes(amplitude_range)
     chosen = _select(system, mode)
-    settings = dataclasses.replace(opts.continuation_settings(),
-                                   tol_residual=min(opts.tol_residual, TOL_RESIDUAL))
+    settings = _settings(opts)
     out = []
     hb = None
     for lm in chosen:
-        N = opts.n_samples if n_samples is None else n_samples
-        hb = HarmonicBalance(system, H, N, closed_form)
-        labels, rows = _contacts(hb)
-        prob = _ModeProblem(hb, lm)
+        hb, prob, labels, rows = _setup(system, lm, H, n_samples, closed_form, opts)
         a0, a1 = rng if rng is not None else default_amplitude_range(system, lm)
         lam0, lam1 = math.log10(a0), math.log10(a1)
-        start = dataclasses.replace(settings, max_newton=max(4 * settings.max_newton,
-                                                             50))
-        y0, ok, its, msg = newton(prob, prob.guess(lam0), start, fixed=prob.n_psi + 2)
+        y0, ok, its, msg = newton(prob, prob.guess(lam0), _start_settings(settings),
+                                  fixed=prob.n_psi + 2)
         if not ok:
-            from drymount.hbm.continuation import Branch
             br = Branch(status=Status.NO_START, n_newton=its,
                         message=f"no periodic motion at a = {a0:.4g} ({msg})")
             out.append(_branch_mode(prob, [], br, rows, labels))
@@ -455,5 +450,67 @@ def nonlinear_modes(system: System, mode="all", amplitude_range=None, *,
         else:
             br.message = br.message.replace("lam = ", "log10 a = ")
         out.append(_branch_mode(prob, br.y, br, rows, labels))
+    return NonlinearModes(system.name, tuple(system.dof_names), out, int(H),
+                          0 if hb is None or hb.closed_form else hb.n_samples)
+
+
+def _settings(opts: HBMOptions):
+    return dataclasses.replace(opts.continuation_settings(),
+                               tol_residual=min(opts.tol_residual, TOL_RESIDUAL))
+
+
+def _start_settings(settings):
+    """More Newton iterations for a first solution from the linearised mode."""
+    return dataclasses.replace(settings, max_newton=max(4 * settings.max_newton, 50))
+
+
+def _setup(system, lm, H, n_samples, closed_form, opts):
+    """``(hb, problem, contact labels, contact rows)`` of one mode."""
+    N = opts.n_samples if n_samples is None else n_samples
+    hb = HarmonicBalance(system, H, N, closed_form)
+    labels, rows = _contacts(hb)
+    return hb, _ModeProblem(hb, lm), labels, rows
+
+
+def modes_at_amplitudes(system: System, amplitudes, mode="all", *,
+                        harmonics: int | None = None, n_samples: int | None = None,
+                        closed_form: bool | None = None,
+                        options: HBMOptions | None = None) -> NonlinearModes:
+    """The EPMC solutions at given modal amplitudes (natural parametrisation).
+
+    Each amplitude (ascending, kg^0.5 m) is solved by Newton from the secant
+    prediction of the two before (the first from the linearised mode). Does not
+    follow a turn in amplitude; stops a mode at its first failure (``success``
+    False, the points so far). Other parameters as :func:`nonlinear_modes`.
+    """
+    a = np.atleast_1d(np.asarray(amplitudes, dtype=float))
+    if a.ndim != 1 or a.size == 0 or not np.all(np.isfinite(a)) or np.any(a <= 0) \
+            or np.any(np.diff(a) <= 0):
+        raise ValueError(f"`amplitudes` must be ascending finite modal amplitudes "
+                         f"> 0 (kg^0.5 m), got {amplitudes!r}")
+    opts = HBMOptions() if options is None else options
+    H = opts.harmonics if harmonics is None else harmonics
+    chosen = _select(system, mode)
+    settings = _start_settings(_settings(opts))
+    out, hb = [], None
+    for lm in chosen:
+        hb, prob, labels, rows = _setup(system, lm, H, n_samples, closed_form, opts)
+        br, ys = Branch(), []
+        for lam in np.log10(a):
+            g = prob.guess(lam) if not ys else ys[-1].copy()
+            if len(ys) >= 2:
+                g = ys[-1] + (ys[-1] - ys[-2]) * (lam - ys[-1][-1]) / (
+                    ys[-1][-1] - ys[-2][-1])
+            g[-1] = lam
+            y, ok, its, msg = newton(prob, g, settings, fixed=prob.n_psi + 2)
+            br.n_newton += its
+            if not ok:
+                br.status = Status.NO_CONVERGENCE
+                br.message = f"no convergence at a = {10 ** lam:.6g} ({msg})"
+                break
+            ys.append(y)
+        else:
+            br.success, br.message = True, "solved at every amplitude"
+        out.append(_branch_mode(prob, ys, br, rows, labels))
     return NonlinearModes(system.name, tuple(system.dof_names), out, int(H),
                           0 if hb is None or hb.closed_form else hb.n_samples)
