@@ -16,6 +16,7 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
     static    static working point under the engine's weight (knee warnings)
     explore   sample a configuration's [design] space (grid, LHS, Sobol)
     optimize  differential evolution on a configuration's [design] space
+    modes     nonlinear modes (EPMC): frequency and damping against amplitude
 
 A CONFIG argument is a TOML file (``docs/config.md``) or a preset name
 (``drymount presets list``).
@@ -488,6 +489,12 @@ def cmd_optimize(args) -> int:
     return run(args, _load, UsageError)
 
 
+def cmd_modes(args) -> int:
+    from drymount.modes_cmd import cmd_modes as run
+
+    return run(args, _load, UsageError)
+
+
 COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
@@ -503,6 +510,7 @@ COMMANDS = {
     "static": cmd_static,
     "explore": cmd_explore,
     "optimize": cmd_optimize,
+    "modes": cmd_modes,
 }
 
 

@@ -542,4 +542,8 @@ def build_parser() -> argparse.ArgumentParser:
     from drymount.design.commands import add_commands
 
     add_commands(sub, _add, _config_arg, _int_at_least)
+    # modes (drymount.modes_cmd)
+    from drymount.modes_cmd import add_command as add_modes
+
+    add_modes(sub, _add, _config_arg, _int_at_least, _positive_float, _path)
     return parser

@@ -45,7 +45,7 @@ from drymount.hbm.residual import HarmonicBalance
 from drymount.hbm.system import System
 
 __all__ = ["NonlinearMode", "NonlinearModes", "linear_modes", "nonlinear_modes",
-           "modes_at_amplitudes",
+           "modes_at_amplitudes", "select_modes", "LinearMode",
            "default_amplitude_range"]
 
 #: Newton's residual tolerance of the EPMC (scaled rows are O(1); the forced
@@ -252,6 +252,12 @@ class NonlinearModes:
         return all(m.success for m in self.modes)
 
     @property
+    def freq_hz(self) -> np.ndarray:
+        """Frequencies of every point of every mode, Hz (concatenated)."""
+        return np.concatenate([m.freq_hz for m in self.modes]) if self.modes \
+            else np.zeros(0)
+
+    @property
     def message(self) -> str:
         return "; ".join(f"mode {m.index} ({m.label}): {m.message}" for m in self.modes)
 
@@ -317,8 +323,8 @@ class NonlinearModes:
 
 
 def _contacts(hb: HarmonicBalance):
-    """``(labels, [(axis, [(k, fs_pos, fs_neg), ...]), ...])`` of the friction axes
-    marched by slider banks (macro- and micro-slip; the inclined element is left out)."""
+    """``(labels, [(axis, [(k, fs_pos, fs_neg), ...]), ...])`` of the friction
+    axes marched by slider banks (macro- and micro-slip; not the inclined element)."""
     ax = hb.axes
     rows = [(a, ax.banks[a]) for a in range(ax.n) if ax.banks[a]]
     return tuple(ax.labels[a] for a, _ in rows), rows
@@ -368,7 +374,9 @@ def _check_amplitudes(amplitude_range) -> tuple[float, float] | None:
     return a0, a1
 
 
-def _select(system: System, mode) -> list[LinearMode]:
+def select_modes(system: System, mode) -> list[LinearMode]:
+    """The linearised modes ``mode`` names ('all', a 1-based number, or the DOF
+    that dominates it); ValueError naming the value and what is allowed."""
     lin = linear_modes(system)
     if mode is None or mode == "all":
         chosen = lin
@@ -428,28 +436,44 @@ def nonlinear_modes(system: System, mode="all", amplitude_range=None, *,
     opts = HBMOptions() if options is None else options
     H = opts.harmonics if harmonics is None else harmonics
     rng = _check_amplitudes(amplitude_range)
-    chosen = _select(system, mode)
+    chosen = select_modes(system, mode)
     settings = _settings(opts)
-    out = []
-    hb = None
+    out, hb = [], None
     for lm in chosen:
         hb, prob, labels, rows = _setup(system, lm, H, n_samples, closed_form, opts)
         a0, a1 = rng if rng is not None else default_amplitude_range(system, lm)
-        lam0, lam1 = math.log10(a0), math.log10(a1)
-        y0, ok, its, msg = newton(prob, prob.guess(lam0), _start_settings(settings),
-                                  fixed=prob.n_psi + 2)
-        if not ok:
-            br = Branch(status=Status.NO_START, n_newton=its,
-                        message=f"no periodic motion at a = {a0:.4g} ({msg})")
-            out.append(_branch_mode(prob, [], br, rows, labels))
-            continue
-        br = continue_branch(prob, y0, lam1, settings, lam_start=lam0)
-        br.n_newton += its
-        if br.success:
-            br.message = "reached the end of the amplitude range"
-        else:
-            br.message = br.message.replace("lam = ", "log10 a = ")
+        try:
+            br = _trace(prob, a0, a1, settings)
+        except KeyboardInterrupt as exc:   # the points so far, for the caller
+            br = getattr(exc, "branch", None) or Branch()
+            br.message = f"interrupted at a = {10 ** br.y[-1][-1]:.4g}" if br.y \
+                else "interrupted"
+            out.append(_branch_mode(prob, br.y, br, rows, labels))
+            exc.partial_result = _result(system, out, H, hb)
+            raise
         out.append(_branch_mode(prob, br.y, br, rows, labels))
+    return _result(system, out, H, hb)
+
+
+def _trace(prob: _ModeProblem, a0: float, a1: float, settings) -> Branch:
+    """The branch of one mode from modal amplitude ``a0`` to ``a1``: a first
+    solution by Newton from the linearised mode, then arc length in log10 a."""
+    lam0, lam1 = math.log10(a0), math.log10(a1)
+    y0, ok, its, msg = newton(prob, prob.guess(lam0), _start_settings(settings),
+                              fixed=prob.n_psi + 2)
+    if not ok:
+        return Branch(status=Status.NO_START, n_newton=its,
+                      message=f"no periodic motion at a = {a0:.4g} ({msg})")
+    br = continue_branch(prob, y0, lam1, settings, lam_start=lam0)
+    br.n_newton += its
+    if br.success:
+        br.message = "reached the end of the amplitude range"
+    else:
+        br.message = br.message.replace("lam = ", "log10 a = ")
+    return br
+
+
+def _result(system, out, H, hb) -> NonlinearModes:
     return NonlinearModes(system.name, tuple(system.dof_names), out, int(H),
                           0 if hb is None or hb.closed_form else hb.n_samples)
 
@@ -490,7 +514,7 @@ def modes_at_amplitudes(system: System, amplitudes, mode="all", *,
                          f"> 0 (kg^0.5 m), got {amplitudes!r}")
     opts = HBMOptions() if options is None else options
     H = opts.harmonics if harmonics is None else harmonics
-    chosen = _select(system, mode)
+    chosen = select_modes(system, mode)
     settings = _start_settings(_settings(opts))
     out, hb = [], None
     for lm in chosen:
@@ -512,5 +536,4 @@ def modes_at_amplitudes(system: System, amplitudes, mode="all", *,
         else:
             br.success, br.message = True, "solved at every amplitude"
         out.append(_branch_mode(prob, ys, br, rows, labels))
-    return NonlinearModes(system.name, tuple(system.dof_names), out, int(H),
-                          0 if hb is None or hb.closed_form else hb.n_samples)
+    return _result(system, out, H, hb)
