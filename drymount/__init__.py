@@ -13,7 +13,8 @@ The public API (documented in :mod:`drymount.api`, units SI)::
 - :func:`hbm`, :func:`sweep` -> :class:`Curve` (``freq_hz``, ``transmissibility``,
   ``peak(dof)``, ``to_csv``, ``plot``);
 - :func:`cosim` -> :class:`CosimResult` (measured road/engine inputs, ``spectra``,
-  ``to_csv``, ``plot``); :class:`Peak`.
+  ``to_csv``, ``plot``); :class:`Peak`;
+- :func:`modes` -> nonlinear modes (EPMC): frequency and damping against amplitude.
 
 The names are imported on first use, so ``import drymount`` (and the command line,
 ``python -m drymount.cli``) stays fast.
@@ -21,7 +22,8 @@ The names are imported on first use, so ``import drymount`` (and the command lin
 
 import types as _types
 
-__all__ = ["Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim"]
+__all__ = ["Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim",
+           "modes"]
 
 
 class _HarmonicBalance(_types.ModuleType):

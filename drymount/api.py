@@ -26,7 +26,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim"]
+__all__ = ["Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim",
+           "modes"]
 
 
 @dataclass(frozen=True)
@@ -293,6 +294,44 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
                                          n_samples=n_samples,
                                          options=m.config.hbm.options(),
                                          progress=progress), "hbm")
+
+
+def modes(model, mode="all", amplitude_range=None, *, harmonics: int | None = None,
+          n_samples: int | None = None):
+    """Nonlinear modes by EPMC (``drymount modes``): frequency (Hz) and modal damping
+    ratio ``xi / (2 omega)`` of each mode against modal amplitude
+    ``a = sqrt(Q1^H M Q1)`` (kg^0.5 m; m for a single DOF of 1 kg).
+
+    Parameters
+    ----------
+    model : Model, or a TOML file or preset name
+    mode : 'all', int or str
+        'all', a 1-based mode number (ascending linearised frequency, contacts
+        stuck) or the DOF that dominates the mode (e.g. ``"z"``).
+    amplitude_range : (float, float), optional
+        Modal amplitudes ``A0 < A1``, kg^0.5 m (default: per mode, 0.1 to 10 times
+        the deflections where the nonlinearities act).
+    harmonics, n_samples : int, optional
+        H and AFT samples (default: ``[hbm]`` of the configuration).
+
+    Returns
+    -------
+    hbm.modes.NonlinearModes
+        ``modes`` (one :class:`hbm.modes.NonlinearMode` each: ``amplitude``,
+        ``freq_hz``, ``damping_ratio``, ``harmonics``, ``slipping``), ``to_csv``,
+        ``plot``.
+    """
+    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
+    from drymount.hbm.modes import nonlinear_modes
+
+    _check_count("harmonics", harmonics, 1, MAX_HARMONICS)
+    _check_count("n_samples", n_samples, 3, MAX_N_SAMPLES)
+    m = _model(model)
+    h = m.config.hbm
+    return nonlinear_modes(m.system, mode, amplitude_range,
+                           harmonics=h.harmonics if harmonics is None else harmonics,
+                           n_samples=h.n_samples if n_samples is None else n_samples,
+                           options=h.options())
 
 
 def _check_count(name: str, value, low: int, high: int) -> None:

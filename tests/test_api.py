@@ -14,7 +14,8 @@ import drymount
 from drymount import CosimResult, Curve, Model, Peak, cosim, hbm, load, sweep
 
 REPO = Path(__file__).resolve().parents[1]
-PUBLIC = {"Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim"}
+PUBLIC = {"Model", "Peak", "Curve", "CosimResult", "load", "hbm", "sweep", "cosim",
+          "modes"}
 #: The API and the CLI run the same computation: the printed peak (4 significant
 #: digits) must match the API's value to its rounding.
 PRINT_RTOL = 5e-4
