@@ -89,7 +89,8 @@ def default_amplitude_range(system: System, mode: LinearMode) -> tuple[float, fl
 
     The mode's largest nonlinear-axis deflection per unit modal amplitude ``g`` and the
     axes' characteristic deflections (slip displacement ``Fs / kf``, knee ``delta``,
-    ``sqrt(k1 / kc)`` of a cubic law): ``a0 = 0.1 u_min / g``, ``a1 = 10 u_max / g``;
+    ``sqrt(k1 / kc)`` of a cubic law, ``mu1 preload / kf`` of an inclined element,
+    an order of magnitude): ``a0 = 0.1 u_min / g``, ``a1 = 10 u_max / g``;
     a linear system gets ``(1e-4, 1e-2)`` (its modes do not depend on amplitude)."""
     hb = HarmonicBalance(system, 1, closed_form=False)
     ax = hb.axes
@@ -106,6 +107,9 @@ def default_amplitude_range(system: System, mode: LinearMode) -> tuple[float, fl
             chars.append(ax.delta[a])
         if ax.law[a] == "cubic" and ax.kc[a] > 0:
             chars.append(math.sqrt(ax.k1[a] / ax.kc[a]) if ax.k1[a] > 0 else 1e-3)
+        for row, ip in ax.inclined:   # order of its slip: mu1 preload / kf
+            if row == a and ip.kf > 0:
+                chars.append(ip.mu1 * ip.preload / ip.kf)
     chars = [c for c in chars if c > 0 and math.isfinite(c)]
     if not chars:
         return 1e-4, 1e-2
@@ -132,6 +136,15 @@ class _ModeProblem:
             self.X_static[:n] = hb.static.q
         self.Mphi = M @ mode.phi
         hb.exc_scale = 0.0  # autonomous: no dynamic excitation (static load stays)
+
+    def tol_floor(self, a: float) -> float:
+        """Round-off of the scaled residual at modal amplitude ``a``: with a static
+        load the residual carries ``eps |f_static|`` however small the vibration
+        (divided by ``a`` in the scaled rows); 0 without one."""
+        es = np.abs(self.hb.e_static)
+        if not np.any(es):
+            return 0.0
+        return 1e3 * np.finfo(float).eps * float(np.max(self.row_s * es.max())) / a
 
     def unpack(self, y):
         """``(X, omega, xi, a)`` of ``y``."""
@@ -459,6 +472,8 @@ def _trace(prob: _ModeProblem, a0: float, a1: float, settings) -> Branch:
     """The branch of one mode from modal amplitude ``a0`` to ``a1``: a first
     solution by Newton from the linearised mode, then arc length in log10 a."""
     lam0, lam1 = math.log10(a0), math.log10(a1)
+    settings = dataclasses.replace(settings, tol_residual=max(settings.tol_residual,
+                                                              prob.tol_floor(a0)))
     y0, ok, its, msg = newton(prob, prob.guess(lam0), _start_settings(settings),
                               fixed=prob.n_psi + 2)
     if not ok:
@@ -520,13 +535,15 @@ def modes_at_amplitudes(system: System, amplitudes, mode="all", *,
     for lm in chosen:
         hb, prob, labels, rows = _setup(system, lm, H, n_samples, closed_form, opts)
         br, ys = Branch(), []
+        settings_k = dataclasses.replace(settings, tol_residual=max(
+            settings.tol_residual, prob.tol_floor(float(a[0]))))
         for lam in np.log10(a):
             g = prob.guess(lam) if not ys else ys[-1].copy()
             if len(ys) >= 2:
                 g = ys[-1] + (ys[-1] - ys[-2]) * (lam - ys[-1][-1]) / (
                     ys[-1][-1] - ys[-2][-1])
             g[-1] = lam
-            y, ok, its, msg = newton(prob, g, settings, fixed=prob.n_psi + 2)
+            y, ok, its, msg = newton(prob, g, settings_k, fixed=prob.n_psi + 2)
             br.n_newton += its
             if not ok:
                 br.status = Status.NO_CONVERGENCE

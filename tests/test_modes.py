@@ -235,3 +235,19 @@ def test_csv_and_plot(tmp_path):
     assert float(row[3]) == pytest.approx(r.modes[0].freq_hz[-1], rel=1e-11)
     r.plot(tmp_path / "modes.png")
     assert (tmp_path / "modes.png").stat().st_size > 1000
+
+
+def test_static_load_mode_starts_and_its_stuck_damping_is_viscous():
+    """sdof_inclined vibrates about its loaded working point: the residual carries
+    the round-off of the static load, which the Newton tolerance allows for (without
+    it no start at small amplitude). Stuck, the element adds no damping: the EPMC
+    damping of one DOF is then exactly ``c / (2 m omega)``."""
+    system = load_preset("sdof_inclined").system
+    assert system.has_static_load
+    r = nonlinear_modes(system, harmonics=3)
+    m = r.modes[0]
+    assert m.success, m.message
+    _, C = system.linearized(stuck=True)
+    w0 = 2 * np.pi * m.freq_hz[0]
+    assert abs(m.damping_ratio[0] - C[0, 0] / (2 * system.M[0, 0] * w0)) < 1e-9
+    assert m.damping_ratio.max() > 0.1   # the inclined contact slips and damps
