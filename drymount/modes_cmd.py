@@ -70,6 +70,10 @@ def _summary(res) -> list[str]:
                 f"{m.amplitude[-1]:.3g}; damping ratio {m.damping_ratio[0]:.4g} to "
                 f"{m.damping_ratio[-1]:.4g}, largest {m.damping_ratio[k]:.4g} at a = "
                 f"{m.amplitude[k]:.3g}")
+        dom = list(dict.fromkeys(res.dominant(m)))
+        if dom != [m.label]:
+            text += (f"; dominated by {' then '.join(dom)} along the branch (the "
+                     f"mode changes character or interacts with another)")
         for c, name in enumerate(m.contacts):
             slip = m.slipping[:, c]
             if slip.any():

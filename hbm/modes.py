@@ -235,6 +235,13 @@ class NonlinearMode:
         """Fundamental amplitude of each DOF, shape (P, n), m or rad."""
         return np.hypot(self.harmonics[:, 1], self.harmonics[:, 2])
 
+    def kinetic_shares(self, M: np.ndarray) -> np.ndarray:
+        """Each DOF's share of the fundamental's kinetic energy
+        ``(Qc1_j (M Qc1)_j + Qs1_j (M Qs1)_j) / a^2``, shape (P, n)."""
+        c, s = self.harmonics[:, 1], self.harmonics[:, 2]
+        e = c * (c @ M) + s * (s @ M)
+        return e / e.sum(axis=1, keepdims=True)
+
     @property
     def slipping(self) -> np.ndarray:
         """Whether each contact slips, shape (P, n_contacts)."""
@@ -259,6 +266,16 @@ class NonlinearModes:
     modes: list
     harmonics: int
     n_samples: int
+    M: np.ndarray | None = None
+
+    def dominant(self, mode: NonlinearMode) -> list[str]:
+        """Per point, the DOF with the largest share of the fundamental's kinetic
+        energy (the mode's ``label`` at small amplitude; another DOF where the mode
+        changes character or interacts with another mode)."""
+        if not len(mode.amplitude):
+            return []
+        share = mode.kinetic_shares(self.M)
+        return [self.dof_names[j] for j in np.argmax(share, axis=1)]
 
     @property
     def success(self) -> bool:
@@ -276,7 +293,8 @@ class NonlinearModes:
 
     def columns(self) -> list[str]:
         H = self.harmonics
-        cols = ["mode", "label", "amplitude", "freq_hz", "damping_ratio", "xi"]
+        cols = ["mode", "label", "dominant", "amplitude", "freq_hz", "damping_ratio",
+                "xi"]
         cols += [f"{d}_amp" for d in self.dof_names]
         names = ["0"] + [f"{p}{k}" for k in range(1, H + 1) for p in ("c", "s")]
         cols += [f"{d}_{h}" for h in names for d in self.dof_names]
@@ -285,7 +303,8 @@ class NonlinearModes:
         return cols
 
     def to_csv(self, path: str | os.PathLike) -> None:
-        """One row per mode and amplitude: ``mode, label, amplitude (kg^0.5 m),
+        """One row per mode and amplitude: ``mode, label, dominant`` (the DOF that
+        dominates the point's kinetic energy), ``amplitude (kg^0.5 m),
         freq_hz, damping_ratio, xi (1/s), <dof>_amp`` (fundamental, m or rad), the
         harmonics ``<dof>_0, <dof>_c1, <dof>_s1, ...`` (m or rad) and ``<contact>_slip``
         (above 1: slips). The first line is a ``# `` comment with the method."""
@@ -299,8 +318,9 @@ class NonlinearModes:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")
             for m in self.modes:
+                dom = self.dominant(m)
                 for i in range(len(m.amplitude)):
-                    vals = [str(m.index), m.label]
+                    vals = [str(m.index), m.label, dom[i]]
                     num = [m.amplitude[i], m.freq_hz[i], m.damping_ratio[i], m.xi[i],
                            *m.dof_amplitude[i], *m.harmonics[i].ravel(),
                            *m.slip_ratio[i]]
@@ -490,7 +510,8 @@ def _trace(prob: _ModeProblem, a0: float, a1: float, settings) -> Branch:
 
 def _result(system, out, H, hb) -> NonlinearModes:
     return NonlinearModes(system.name, tuple(system.dof_names), out, int(H),
-                          0 if hb is None or hb.closed_form else hb.n_samples)
+                          0 if hb is None or hb.closed_form else hb.n_samples,
+                          system.M)
 
 
 def _settings(opts: HBMOptions):

@@ -227,12 +227,13 @@ def test_csv_and_plot(tmp_path):
     lines = out.read_text().splitlines()
     assert lines[0].startswith("# drymount modes sdof: EPMC, H=3")
     head = lines[1].split(",")
-    assert head[:7] == ["mode", "label", "amplitude", "freq_hz", "damping_ratio", "xi",
-                        "x_amp"]
+    assert head[:8] == ["mode", "label", "dominant", "amplitude", "freq_hz",
+                        "damping_ratio", "xi", "x_amp"]
     assert head[-1] == "mount_axial_slip"
     assert len(lines) == 2 + len(r.modes[0].amplitude)
     row = lines[-1].split(",")
-    assert float(row[3]) == pytest.approx(r.modes[0].freq_hz[-1], rel=1e-11)
+    assert row[2] == "x"
+    assert float(row[4]) == pytest.approx(r.modes[0].freq_hz[-1], rel=1e-11)
     r.plot(tmp_path / "modes.png")
     assert (tmp_path / "modes.png").stat().st_size > 1000
 

@@ -36,8 +36,9 @@ def test_modes_writes_csv_plot_and_summary(tmp_path, capsys):
     assert "mount_axial slips from a =" in text
     lines = out.read_text().splitlines()
     assert lines[0].startswith("# drymount modes sdof_halved: EPMC, H=1 (closed forms)")
-    assert lines[1].startswith("mode,label,amplitude,freq_hz,damping_ratio,xi,x_amp")
-    f0 = float(lines[2].split(",")[3])
+    assert lines[1].startswith("mode,label,dominant,amplitude,freq_hz,damping_ratio,"
+                               "xi,x_amp")
+    f0 = float(lines[2].split(",")[4])
     assert f0 == pytest.approx(np.sqrt((45935.0 + 60000.0) / 70.0) / (2 * np.pi),
                                rel=1e-10)
     assert png.stat().st_size > 1000
