@@ -68,3 +68,29 @@ def test_api_equals_the_module():
     np.testing.assert_array_equal(r.modes[0].damping_ratio, ref.modes[0].damping_ratio)
     with pytest.raises(ValueError, match="`harmonics` must be an integer in"):
         drymount.modes("sdof_halved", harmonics=0)
+
+
+def test_interrupt_writes_the_points_so_far(tmp_path, capsys, monkeypatch):
+    """Ctrl-C during the continuation: exit 130 and the points computed so far in
+    the CSV, marked partial."""
+    import drymount.hbm.modes as modes_mod
+
+    real = modes_mod.continue_branch
+
+    def interrupted_after_5(*args, **kw):
+        calls = []
+
+        def callback(lam):
+            calls.append(lam)
+            if len(calls) == 5:
+                raise KeyboardInterrupt
+        return real(*args, callback=callback, **kw)
+
+    monkeypatch.setattr(modes_mod, "continue_branch", interrupted_after_5)
+    out = tmp_path / "m.csv"
+    code, _, err = run(["modes", "sdof_halved", "-H", "1", "--out", str(out)], capsys)
+    assert code == 130, err
+    lines = out.read_text().splitlines()
+    assert lines[0].startswith("# partial: ") and "6 points computed" in lines[0]
+    assert lines[1].startswith("# drymount modes sdof_halved")
+    assert len(lines) == 3 + 6   # the start point and the 5 accepted steps
