@@ -152,8 +152,14 @@ def cmd_presets(args) -> int:
         raise UsageError(f"{args.path} exists; use --force to overwrite it")
     _check_out(args.path, "PATH")
     name = args.as_name if args.as_name is not None else args.path.stem
-    atomic_write_text(args.path, _with_name(text, name))
-    _info(f"wrote {args.path} (preset {args.name}, named {name!r})")
+    text = _with_name(text, name)
+    if args.mount is not None:
+        from drymount.config.splice import with_mount
+
+        text = with_mount(text, args.mount)
+    atomic_write_text(args.path, text)
+    mount = f", [mount] from {args.mount}" if args.mount is not None else ""
+    _info(f"wrote {args.path} (preset {args.name}, named {name!r}{mount})")
     return EXIT_OK
 
 
