@@ -501,8 +501,9 @@ def _cmd_demo(sub) -> None:
              """\
              Builds the FMU, computes the HBM curve of the friction-damped quarter car
              against the original mount, co-simulates a few frequencies through the FMU
-             and writes demo.md with plots and CSV files. A few seconds on 2 cores
-             (3 s measured, the FMU build included).""",
+             and writes demo.md with plots and CSV files. About 10 s on 2 cores
+             (8-10 s measured on an idle machine, the FMU build included; up to
+             30 s on a loaded one).""",
              ["drymount demo", "drymount demo --out /tmp/demo"])
     p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")
