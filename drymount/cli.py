@@ -180,6 +180,8 @@ def _with_name(text: str, name: str) -> str:
 
 
 def cmd_build_fmu(args) -> int:
+    from drymount.io import shown_path
+
     if args.out is not None:
         _check_out(args.out, "--out")
         if args.out.suffix != ".fmu":
@@ -191,7 +193,7 @@ def cmd_build_fmu(args) -> int:
         _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
               f"{', '.join(build.missing_platforms)} (sources and the compile command "
               f"are in the FMU)")
-        print(build.path)
+        print(shown_path(build.path))
         return EXIT_OK
     if args.fmi not in (None, 2):
         raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
@@ -199,7 +201,7 @@ def cmd_build_fmu(args) -> int:
     from drymount.fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
-    print(path)
+    print(shown_path(path))
     return EXIT_OK
 
 
