@@ -26,14 +26,14 @@ def dof_unit(name: str) -> str:
 def plain_log_ticks(ax) -> None:
     """Plain tick labels (``6``, ``0.02``, ``1e-05``) on the log axes of ``ax``, not
     Matplotlib's ``6x10^0``: labels at 1, 2, 5 x 10^k where the axis spans at most
-    two decades, at the decades otherwise (call it after the data are drawn)."""
+    three decades, at the decades otherwise (call it after the data are drawn)."""
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
     for axis, scale, (lo, hi) in ((ax.xaxis, ax.get_xscale(), ax.get_xlim()),
                                   (ax.yaxis, ax.get_yscale(), ax.get_ylim())):
         if scale != "log" or not (0 < lo < hi):
             continue
-        subs = (1.0, 2.0, 5.0) if np.log10(hi / lo) <= 2.0 else (1.0,)
+        subs = (1.0, 2.0, 5.0) if np.log10(hi / lo) <= 3.0 else (1.0,)
         axis.set_major_locator(LogLocator(base=10, subs=subs))
         axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         axis.set_minor_formatter(NullFormatter())

@@ -36,6 +36,10 @@ def new_figure(**kwargs) -> Figure:
 
 
 def save_fig(fig: Figure, path: Path, dpi: int = DPI) -> None:
+    from drymount.hbm.plot import plain_log_ticks
+
+    for ax in fig.axes:
+        plain_log_ticks(ax)  # 5 and 0.2 on log axes, not 5x10^0
     save_figure(fig, path, dpi=dpi)
 
 
