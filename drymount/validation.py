@@ -344,12 +344,13 @@ def _dense_curves(system, case: Case) -> dict:
 def _plot_dense(ax, res: CaseResult, i: int) -> None:
     """The continuous HBM curves of DOF ``i``: stable solid, unstable dotted."""
     for h, (f, amp, stable) in res.dense.items():
-        color, style = ("C0", "-") if h == res.case.harmonics else ("C2", "--")
+        main = h == res.case.harmonics  # drawn over the H = 1 reference
+        color, style, lw, z = ("C0", "-", 1.4, 3) if main else ("C2", "--", 0.9, 2)
         a = amp[:, i]
-        ax.plot(f, np.where(stable, a, np.nan), style, color=color, lw=1.2,
+        ax.plot(f, np.where(stable, a, np.nan), style, color=color, lw=lw, zorder=z,
                 label=f"HBM H={h}, continuous")
         if not stable.all():
-            ax.plot(f, np.where(stable, np.nan, a), ":", color=color, lw=1.0,
+            ax.plot(f, np.where(stable, np.nan, a), ":", color=color, lw=lw, zorder=z,
                     label=f"HBM H={h}, unstable")
 
 
