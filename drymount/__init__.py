@@ -16,8 +16,10 @@ The public API (documented in :mod:`drymount.api`, units SI)::
   ``to_csv``, ``plot``); :class:`Peak`;
 - :func:`modes` -> nonlinear modes (EPMC): frequency and damping against amplitude.
 
-The names are imported on first use, so ``import drymount`` (and the command line,
-``python -m drymount.cli``) stays fast.
+The names are imported on first use: ``import drymount`` loads neither NumPy nor SciPy
+(0.04 s measured). The command line does (every command reads a configuration, whose
+checks use the harmonic-balance package): ``drymount --version`` takes 0.6-1 s on 2
+cores.
 """
 
 import types as _types

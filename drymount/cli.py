@@ -153,8 +153,14 @@ def cmd_presets(args) -> int:
         raise UsageError(f"{args.path} exists; use --force to overwrite it")
     _check_out(args.path, "PATH")
     name = args.as_name if args.as_name is not None else args.path.stem
-    atomic_write_text(args.path, _with_name(text, name))
-    _info(f"wrote {args.path} (preset {args.name}, named {name!r})")
+    text = _with_name(text, name)
+    if args.mount is not None:
+        from drymount.config.splice import with_mount
+
+        text = with_mount(text, args.mount)
+    atomic_write_text(args.path, text)
+    mount = f", [mount] from {args.mount}" if args.mount is not None else ""
+    _info(f"wrote {args.path} (preset {args.name}, named {name!r}{mount})")
     return EXIT_OK
 
 
@@ -175,6 +181,8 @@ def _with_name(text: str, name: str) -> str:
 
 
 def cmd_build_fmu(args) -> int:
+    from drymount.io import shown_path
+
     if args.out is not None:
         _check_out(args.out, "--out")
         if args.out.suffix != ".fmu":
@@ -186,7 +194,7 @@ def cmd_build_fmu(args) -> int:
         _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
               f"{', '.join(build.missing_platforms)} (sources and the compile command "
               f"are in the FMU)")
-        print(build.path)
+        print(shown_path(build.path))
         return EXIT_OK
     if args.fmi not in (None, 2):
         raise UsageError(f"`--fmi` {args.fmi} needs --native: the PythonFMU build is "
@@ -194,7 +202,7 @@ def cmd_build_fmu(args) -> int:
     from drymount.fmu_build import build_fmu
 
     path = build_fmu(args.out) if args.out is not None else build_fmu()
-    print(path)
+    print(shown_path(path))
     return EXIT_OK
 
 

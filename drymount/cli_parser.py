@@ -164,6 +164,8 @@ def _cmd_presets(sub) -> None:
                                     "it into your own configuration.",
                         epilog=_examples(
                             "drymount presets export sdof_halved mine.toml",
+                            "drymount presets export sdof_halved mine.toml --mount "
+                            "fit/mount.toml",
                             "drymount hbm mine.toml"),
                         formatter_class=_Formatter)
     q.add_argument("name", metavar="NAME", help="preset name")
@@ -172,6 +174,9 @@ def _cmd_presets(sub) -> None:
                    help="the configuration's `name` (output files start with it); "
                         "default: the stem of PATH")
     q.add_argument("--force", action="store_true", help="overwrite PATH if it exists")
+    q.add_argument("--mount", type=_path, default=None, metavar="FILE",
+                   help="replace the preset's [mount] tables by those of FILE (the "
+                        "mount.toml of `drymount fit`); single-mount presets only")
 
 
 def _cmd_build_fmu(sub) -> None:
@@ -415,9 +420,10 @@ def _cmd_fit(sub) -> None:
     p.add_argument("--law", default="auto",
                    choices=("auto", "linear", "cubic", "piecewise", "piecewise_asym"),
                    help="elastic: the law to write (default: lowest AIC)")
-    p.add_argument("--c", type=float, default=0.0, metavar="N_S_PER_M",
+    p.add_argument("--c", type=float, default=None, metavar="N_S_PER_M",
                    help="elastic: viscous damping to write into mount.toml (a "
-                        "quasi-static curve does not identify it)")
+                        "quasi-static curve does not identify it; without --c it is "
+                        "left out, marked unknown)")
     p.add_argument("--mount", default=None, metavar="TOML_OR_PRESET",
                    help="loops/table: the elastic law, from the [mount] table of a "
                         "file (e.g. the mount.toml of `fit elastic`) or a preset")
@@ -495,8 +501,9 @@ def _cmd_demo(sub) -> None:
              """\
              Builds the FMU, computes the HBM curve of the friction-damped quarter car
              against the original mount, co-simulates a few frequencies through the FMU
-             and writes demo.md with plots and CSV files. A few seconds on 2 cores
-             (3 s measured, the FMU build included).""",
+             and writes demo.md with plots and CSV files. About 10 s on 2 cores
+             (8-10 s measured on an idle machine, the FMU build included; up to
+             30 s on a loaded one).""",
              ["drymount demo", "drymount demo --out /tmp/demo"])
     p.add_argument("--out", type=_path, default=Path("demo"), help="report folder")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress output")

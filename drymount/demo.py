@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from drymount.io import atomic_write_text, save_figure
+from drymount.io import atomic_write_text, save_figure, shown_path
 
 __all__ = ["run_demo", "main"]
 
@@ -51,7 +51,8 @@ def run_demo(out="demo", *, progress: bool = True) -> dict:
 
     fmu = build_fmu()
     problems = validate_fmu(str(fmu))
-    _log(f"    {fmu} ({'fmpy validate: no problem' if not problems else problems})")
+    _log(f"    {shown_path(fmu)} ("
+         f"{'fmpy validate: no problem' if not problems else problems})")
 
     _log("2/4 harmonic balance: original mount and halved mount with friction")
     original = load_preset("quarter_car_original").system
@@ -134,7 +135,7 @@ def _report(numbers: dict, fmu, problems, c_orig, c_fric, friction) -> str:
     lines = [
         "# drymount demo: engine on a quarter car, original vs friction-damped mount",
         "",
-        f"- FMU: `{fmu}`; `fmpy validate`: "
+        f"- FMU: `{shown_path(fmu)}`; `fmpy validate`: "
         f"{'no problem' if not problems else '; '.join(problems)}",
         f"- Original mount (preset `quarter_car_original`): peak transmissibility "
         f"{numbers['peak_original']:.3f} at {numbers['peak_original_hz']:.2f} Hz",

@@ -35,8 +35,11 @@ __all__ = ["main", "mount_toml", "resolve_mount"]
 KINDS = ("elastic", "loops", "table")
 
 
-def resolve_mount(spec) -> AxisParameters:
-    """The ``[mount]`` law of a TOML file (fragment or configuration) or a preset."""
+def resolve_mount(spec, need_c: bool = True) -> AxisParameters:
+    """The ``[mount]`` law of a TOML file (fragment or configuration) or a preset.
+
+    ``need_c=False`` (a fit that identifies c) accepts a table without ``c`` (the
+    ``mount.toml`` of ``fit elastic`` without ``--c``) and takes c = 0 for it."""
     from drymount.config import ConfigError, list_presets, mount_from_table, preset_text
     from drymount.config.loading import parse_toml
 
@@ -52,7 +55,10 @@ def resolve_mount(spec) -> AxisParameters:
     if not isinstance(data.get("mount"), dict):
         raise ConfigError(["no [mount] table (a `drymount fit elastic` fragment or a "
                            "single-mount configuration is needed)"], source)
-    return mount_from_table(data["mount"], source)
+    table = data["mount"]
+    if not need_c and "c" not in table:
+        table = {**table, "c": 0.0}  # not used: the fit identifies c
+    return mount_from_table(table, source)
 
 
 def _num(x: float) -> str:
@@ -62,8 +68,9 @@ def _num(x: float) -> str:
 
 
 def mount_toml(axis: AxisParameters, header: str, stderr: dict,
-               notes: dict | None = None) -> str:
-    """``[mount]`` (and ``[mount.friction]``) TOML text of ``axis`` with comments."""
+               notes: dict | None = None, c_known: bool = True) -> str:
+    """``[mount]`` (and ``[mount.friction]``) TOML text of ``axis`` with comments;
+    ``c_known=False`` leaves c out (a comment says it is unknown and how to set it)."""
     notes = notes or {}
     used = {"linear": ("k1",), "cubic": ("k1", "kc"),
             "piecewise": ("k1", "k2", "delta"),
@@ -81,7 +88,10 @@ def mount_toml(axis: AxisParameters, header: str, stderr: dict,
 
     out = [f"# {h}" for h in header.splitlines()] + ["[mount]", f'law = "{axis.law}"']
     out += [line(n, getattr(axis, n), UNITS[n]) for n in used]
-    out.append(line("c", axis.c, UNITS["c"]))
+    out.append(line("c", axis.c, UNITS["c"]) if c_known else
+               "# c (N s/m) unknown: a quasi-static curve does not identify it; add "
+               "`c = ...` here\n# (or rerun with --c) or fit it from loops (`drymount "
+               "fit loops DATA --mount this file`)")
     if axis.friction:
         out += ["", "[mount.friction]",
                 "# macro-slip (Jenkins) element; mu = 1 makes n0 the slip force Fs",
@@ -195,12 +205,15 @@ def _elastic(args, out: Path) -> AxisParameters:
     _fits_csv(out / "fit.csv", cmp.fits, chosen, str(args.data))
     if args.plot:
         _plot_curve(out / "fit.png", u, F, cmp, chosen, str(args.data))
-    axis = AxisParameters(law=chosen.model, c=args.c, **chosen.params)
+    c_known = args.c is not None
+    axis = AxisParameters(law=chosen.model, c=args.c if c_known else 0.0,
+                          **chosen.params)
     why = "lowest AIC" if args.law == "auto" else "chosen with --law"
     header = (f"Fitted by `drymount fit elastic {args.data}`: law {chosen.model} "
               f"({why}), R^2 = {chosen.r2:.6f}, AIC = {chosen.aic:.2f}")
     text = mount_toml(axis, header, chosen.stderr, notes={
-        "c": "not identified by a quasi-static curve (--c); fit it from loops"})
+        "c": "not identified by a quasi-static curve (--c); fit it from loops"},
+        c_known=c_known)
     atomic_write_text(out / "mount.toml", text)
     return axis
 
@@ -208,7 +221,7 @@ def _elastic(args, out: Path) -> AxisParameters:
 def _friction(args, out: Path) -> AxisParameters:
     from drymount.rigdata import read_loops, read_stiffness_table
 
-    elastic = resolve_mount(args.mount)
+    elastic = resolve_mount(args.mount, need_c=args.fix_c)
     if args.kind == "loops":
         data = read_loops(args.data)
         fit = fit_loops(data, elastic, fit_c=not args.fix_c)

@@ -23,6 +23,11 @@ __all__ = ["Spectra", "spectra"]
 _ROTATIONS = ("alpha", "beta", "gamma")
 
 
+#: Decades below each panel's largest PSD that the plot shows (a Welch PSD of a
+#: co-simulation reaches round-off 15-20 decades down; that is not information).
+PLOT_DECADES = 8
+
+
 def _acc_unit(dof: str) -> str:
     return "rad/s^2" if dof in _ROTATIONS else "m/s^2"
 
@@ -69,29 +74,41 @@ class Spectra:
         return write_csv(path, header, cols, comment)
 
     def plot(self, path=None):
-        """Two log-log panels: force PSDs and acceleration PSDs against frequency;
-        saved atomically to ``path`` if given. Returns the matplotlib Figure."""
+        """Log-log panels against frequency: the force PSDs, then the acceleration
+        PSDs, one panel per unit ((m/s^2)^2/Hz for translations, (rad/s^2)^2/Hz for
+        rotations); each y axis spans the panel's largest value down
+        :data:`PLOT_DECADES` decades. Saved atomically to ``path`` if given. Returns
+        the matplotlib Figure."""
         from matplotlib.figure import Figure
 
+        from drymount.hbm.plot import plain_log_ticks
         from drymount.io import atomic_path
 
-        fig = Figure(figsize=(8, 6.5))
-        ax1, ax2 = fig.add_subplot(2, 1, 1), fig.add_subplot(2, 1, 2)
+        groups = [(f"{self.title}: PSD of transmitted mount forces",
+                   "force PSD [N^2/Hz]",
+                   [(f"F {n}", self.force_psd[:, j])
+                    for j, n in enumerate(self.force_names)])]
+        for unit, what in (("m/s^2", "translations"), ("rad/s^2", "rotations")):
+            curves = [(d, self.acceleration_psd[:, j])
+                      for j, d in enumerate(self.dof_names) if _acc_unit(d) == unit]
+            if curves:
+                groups.append((f"{self.title}: PSD of engine accelerations, {what}",
+                               f"acceleration PSD [({unit})^2/Hz]", curves))
+        fig = Figure(figsize=(8, 3.1 * len(groups) + 0.5), layout="constrained")
         f = self.freq_hz[1:]  # 0 Hz has no place on a log axis
-        for j, name in enumerate(self.force_names):
-            ax1.loglog(f, self.force_psd[1:, j], lw=0.8, label=f"F {name}")
-        for j, name in enumerate(self.dof_names):
-            ax2.loglog(f, self.acceleration_psd[1:, j], lw=0.8,
-                       label=f"{name} [({_acc_unit(name)})^2/Hz]")
-        ax1.set_title(f"{self.title}: PSD of transmitted mount forces", fontsize=10)
-        ax1.set_ylabel("force PSD [N^2/Hz]")
-        ax2.set_title(f"{self.title}: PSD of engine accelerations", fontsize=10)
-        ax2.set_ylabel("acceleration PSD")
-        ax2.set_xlabel("frequency [Hz]")
-        for ax in (ax1, ax2):
+        for k, (title, ylabel, curves) in enumerate(groups):
+            ax = fig.add_subplot(len(groups), 1, k + 1)
+            top = max((float(np.max(y[1:])) for _, y in curves), default=0.0)
+            for label, y in curves:
+                ax.loglog(f, np.where(y[1:] > 0, y[1:], np.nan), lw=0.8, label=label)
+            if top > 0:
+                ax.set_ylim(top * 10.0 ** -PLOT_DECADES, top * 3.0)
+            ax.set_title(title, fontsize=10)
+            ax.set_ylabel(ylabel)
             ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=7, ncol=2)
-        fig.tight_layout()
+            ax.legend(fontsize=7, ncol=3)
+            plain_log_ticks(ax)
+        ax.set_xlabel("frequency [Hz]")
         if path is not None:
             with atomic_path(path) as tmp:
                 fig.savefig(tmp, dpi=120)

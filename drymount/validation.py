@@ -137,6 +137,9 @@ class CaseResult:
         Wall time of the case.
     curves : dict
         Per direction: frequencies and amplitudes for the plot.
+    dense : dict
+        The plot's continuous HBM curves over the band (arc-length continuation at
+        the case's H and N, and at H = 1): ``{H: (freq_hz, amplitude, stable)}``.
     """
 
     case: Case
@@ -148,6 +151,7 @@ class CaseResult:
     curves: dict = field(default_factory=dict)
     message: str = ""
     dof_names: tuple = ()
+    dense: dict = field(default_factory=dict)
 
 
 def parse_inject(spec: str) -> tuple[str, float]:
@@ -311,6 +315,7 @@ def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
                     errs1.append(err1)
         res.curves[direction] = dict(freq_hz=np.asarray(f), cosim=a_co, hbm=a_h,
                                      hbm1=a_h1, stable=stable, dofs=dofs)
+    res.dense = _dense_curves(system_hbm, case)
     res.max_err = max(errs) if errs else float("nan")
     res.max_err_h1 = max(errs1) if errs1 else float("nan")
     res.passed = bool(errs) and res.max_err <= TOL_REL_PEAK
@@ -320,11 +325,42 @@ def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
     return res
 
 
+def _dense_curves(system, case: Case) -> dict:
+    """The continuous HBM curves the plot draws under the validation points: arc-length
+    continuation over the case's band at its H and N (fixed, as the points) and at
+    H = 1; what a curve that stops early covered is kept."""
+    import drymount.hbm as hbm
+    from drymount.hbm.options import HBMOptions
+
+    out = {}
+    for h, n in ((case.harmonics, case.n_samples), (1, None)):
+        resp = hbm.frequency_response(system, case.fmin_hz, case.fmax_hz, harmonics=h,
+                                      n_samples=n, options=HBMOptions(tol=None))
+        out[h] = (np.asarray(resp.freq_hz), np.asarray(resp.amplitude),
+                  np.asarray(resp.stable, dtype=bool))
+    return out
+
+
+def _plot_dense(ax, res: CaseResult, i: int) -> None:
+    """The continuous HBM curves of DOF ``i``: stable solid, unstable dotted."""
+    for h, (f, amp, stable) in res.dense.items():
+        main = h == res.case.harmonics  # drawn over the H = 1 reference
+        color, style, lw, z = ("C0", "-", 1.4, 3) if main else ("C2", "--", 0.9, 2)
+        a = amp[:, i]
+        ax.plot(f, np.where(stable, a, np.nan), style, color=color, lw=lw, zorder=z,
+                label=f"HBM H={h}, continuous")
+        if not stable.all():
+            ax.plot(f, np.where(stable, np.nan, a), ":", color=color, lw=lw, zorder=z,
+                    label=f"HBM H={h}, unstable")
+
+
 def _plot_case(res: CaseResult, path: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from drymount.hbm.plot import plain_log_ticks
 
     dofs = next(iter(res.curves.values()))["dofs"]
     ncol = min(3, len(dofs))
@@ -333,12 +369,11 @@ def _plot_case(res: CaseResult, path: Path) -> None:
     fig, axes = plt.subplots(nrow, ncol, figsize=size, squeeze=False)
     dof_names = res.dof_names
     for ax, i in zip(axes.flat, dofs, strict=False):
-        for direction, c in res.curves.items():
+        _plot_dense(ax, res, i)
+        for k, (direction, c) in enumerate(res.curves.items()):
             mark = "o" if direction == "up" else "s"
-            ax.plot(c["freq_hz"], c["hbm"][:, i], "-", color="C0",
-                    label=f"HBM H={res.case.harmonics} ({direction})")
-            ax.plot(c["freq_hz"], c["hbm1"][:, i], "--", color="C2",
-                    label=f"HBM H=1 ({direction})")
+            ax.plot(c["freq_hz"], c["hbm"][:, i], ".", color="C0", ms=4,
+                    label=None if k else f"HBM H={res.case.harmonics}, compared")
             ax.plot(c["freq_hz"], c["cosim"][:, i], mark, mfc="none", color="C3",
                     label=f"co-simulation, FMU ({direction})")
         unit = "rad" if dof_names[i] in _ROTATIONS else "m"
@@ -346,6 +381,7 @@ def _plot_case(res: CaseResult, path: Path) -> None:
         ax.set_xlabel("frequency [Hz]")
         ax.set_ylabel(f"fundamental amplitude [{unit}]")
         ax.set_yscale("log")
+        plain_log_ticks(ax)
         ax.grid(True, which="both", alpha=0.3)
     for ax in list(axes.flat)[len(dofs):]:
         ax.axis("off")

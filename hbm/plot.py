@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_curve", "plot_figure", "dof_unit", "title"]
+__all__ = ["plot_curve", "plot_figure", "dof_unit", "title", "plain_log_ticks"]
 
 #: DOF names measured in rad (rotations of the rigid engine); the others in m.
 ROTATIONS = ("alpha", "beta", "gamma", "phi", "theta", "psi")
@@ -21,6 +21,22 @@ ROTATIONS = ("alpha", "beta", "gamma", "phi", "theta", "psi")
 
 def dof_unit(name: str) -> str:
     return "rad" if name in ROTATIONS else "m"
+
+
+def plain_log_ticks(ax) -> None:
+    """Plain tick labels (``6``, ``0.02``, ``1e-05``) on the log axes of ``ax``, not
+    Matplotlib's ``6x10^0``: labels at 1, 2, 5 x 10^k where the axis spans at most
+    three decades, at the decades otherwise (call it after the data are drawn)."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    for axis, scale, (lo, hi) in ((ax.xaxis, ax.get_xscale(), ax.get_xlim()),
+                                  (ax.yaxis, ax.get_yscale(), ax.get_ylim())):
+        if scale != "log" or not (0 < lo < hi):
+            continue
+        subs = (1.0, 2.0, 5.0) if np.log10(hi / lo) <= 3.0 else (1.0,)
+        axis.set_major_locator(LogLocator(base=10, subs=subs))
+        axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.set_minor_formatter(NullFormatter())
 
 
 def title(fr) -> str:
@@ -82,6 +98,7 @@ def plot_curve(fr, ax, quantity: str = "transmissibility", dof: str | None = Non
     ax.set_ylabel(_ylabel(fr, quantity, name))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize="small")
+    plain_log_ticks(ax)
     return ax
 
 

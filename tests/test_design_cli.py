@@ -64,7 +64,7 @@ def test_fit_elastic_recovers_the_thesis_fit(tmp_path, law, capsys):
 def test_fitted_fragment_is_a_configuration_mount(tmp_path):
     out = tmp_path / "el"
     assert main(["fit", "elastic", str(DATA / "rig_piecewise.csv"), "--out", str(out),
-                 "--law", "piecewise_asym", "--no-plot"]) == 0
+                 "--law", "piecewise_asym", "--no-plot", "--c", "150"]) == 0
     text = ('model = "sdof"\n[sdof]\nmass = 70.0\n[excitation]\nkind = "unbalance"\n'
             'amplitude = 0.03\n' + (out / "mount.toml").read_text())
     cfg = load_config(text)
@@ -196,7 +196,7 @@ def test_units_in_the_header_are_converted(tmp_path):
     (tmp_path / "mm.csv").write_text(text)
     for name, src in (("si", DATA / "rig_piecewise.csv"), ("mm", tmp_path / "mm.csv")):
         assert main(["fit", "elastic", str(src), "--out", str(tmp_path / name),
-                     "--no-plot"]) == 0
+                     "--no-plot", "--c", "150"]) == 0
     a, b = _mount(tmp_path / "si"), _mount(tmp_path / "mm")
     for k in ("k1", "k2", "delta"):
         assert getattr(b, k) == pytest.approx(getattr(a, k), rel=1e-9)

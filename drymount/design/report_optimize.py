@@ -134,6 +134,27 @@ def _table_before_after(space, base, best) -> list[str]:
     return lines
 
 
+#: A variable within this fraction of its range from a bound counts as on the bound.
+BOUND_RTOL = 1e-3
+
+
+def bound_notices(space, values) -> list[str]:
+    """One sentence per continuous variable whose optimum sits on a bound of its range:
+    the optimum there is the bound's, not the objective's (widen the range)."""
+    out = []
+    for v, x in zip(space.variables, values, strict=True):
+        if getattr(v, "is_list", False):
+            continue
+        tol = BOUND_RTOL * (v.upper - v.lower)
+        for side, bound in (("lower", v.lower), ("upper", v.upper)):
+            if abs(x - bound) <= tol:
+                out.append(f"**On a bound**: `{v.name}` = {x:.5g} is at its {side} "
+                           f"bound {bound:g} (within {BOUND_RTOL:g} of its range): the "
+                           f"objective may improve beyond it; widen `bounds` if the "
+                           f"design allows.")
+    return out
+
+
 def write_report(cfg, space, res, out, backend) -> None:
     """Write ``summary.md``, ``convergence.png`` and ``response.png`` into ``out``."""
     from drymount.design.evaluate import evaluate_design
@@ -160,6 +181,8 @@ def write_report(cfg, space, res, out, backend) -> None:
              f"Best: evaluation {res.best.index} ({res.best.status.value}, feasible "
              f"{res.best.feasible}), `{o.name}` = {res.value:.5g} [{o.unit}]. "
              f"\"As written\" is the configuration without the design changes.", ""]
+    notices = bound_notices(space, res.best.values)
+    lines += [*notices, ""] if notices else []
     lines += _table_before_after(space, base, res.best) + [""]
     lines += _table_dofs(before, after, cfg.system)
     if sets:

@@ -24,6 +24,7 @@ from drymount.studies.normal_force import NORMAL_FORCE_SPEC
 from drymount.studies.output import (
     log_axes,
     md_table,
+    md_text,
     new_figure,
     progress_bar,
     save_fig,
@@ -331,7 +332,7 @@ def _summary_optimize(r, figs) -> str:
         f"- (a) `peak`: {r['objectives']['peak']};",
         f"- (b) `rms`: {r['objectives']['rms']};",
         f"- (c) `peak_isolated`: {r['objectives']['peak_isolated']}; the RMS (b) "
-        f"grows with n0 on the grid: {r['rms_increasing']}.",
+        f"grows with n0 on the grid: {md_text(r['rms_increasing'])}.",
         "",
         f"Search: n0 in {r['bounds_N'][0]:g}-{r['bounds_N'][1]:g} N, grid scan then "
         "`scipy.optimize.minimize_scalar(method='bounded')` between the neighbours of "

@@ -36,6 +36,10 @@ def new_figure(**kwargs) -> Figure:
 
 
 def save_fig(fig: Figure, path: Path, dpi: int = DPI) -> None:
+    from drymount.hbm.plot import plain_log_ticks
+
+    for ax in fig.axes:
+        plain_log_ticks(ax)  # 5 and 0.2 on log axes, not 5x10^0
     save_figure(fig, path, dpi=dpi)
 
 
@@ -147,12 +151,38 @@ def progress_bar(items, desc: str, progress: bool):
                 file=sys.stderr)
 
 
+def md_text(value) -> str:
+    """``value`` as prose for a Markdown summary, not a Python repr: ``yes``/``no``
+    for a bool, numbers with ``:.6g``, sequences as ``a, b`` (nested in parentheses),
+    mappings as ``key: value, ...``."""
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, dict):
+        return ", ".join(f"{k}: {md_text(v)}" for k, v in value.items())
+    if isinstance(value, (list, tuple, np.ndarray)):
+        items = [md_text(v) for v in value]
+        nested = any(isinstance(v, (list, tuple, np.ndarray)) for v in value)
+        return ", ".join(f"({t})" for t in items) if nested else ", ".join(items)
+    return str(value)
+
+
 def system_values(system: System) -> str:
-    """One line with the mount values and excitation of a one-mount system."""
+    """One line with the mount values and excitation of a one-mount system (the
+    friction element's values only if it has one; each law's own parameters)."""
     axes = system.elements[0].params.axes
     p = next((ax for ax in axes if ax.friction), axes[0])
     exc = system.excitation
-    return (f"law {p.law}, k1 = {p.k1:.6g} N/m, k2 = {p.k2:.6g} N/m, "
-            f"delta = {p.delta:.6g} m, c = {p.c:.6g} N s/m, kf = {p.kf:.6g} N/m, "
-            f"mu = {p.mu:.6g}; masses {np.diag(system.M).tolist()} kg; excitation "
-            f"{exc.kind} {np.asarray(exc.amplitude).tolist()}")
+    law = {"linear": ("k1",), "cubic": ("k1", "kc")}.get(
+        p.law, ("k1", "k2", "delta") + (("delta_neg",) if p.law.endswith("asym")
+                                        else ()))
+    units = {"k1": "N/m", "k2": "N/m", "kc": "N/m^3", "delta": "m", "delta_neg": "m"}
+    parts = [f"law {p.law}"] + [f"{k} = {getattr(p, k):.6g} {units[k]}" for k in law]
+    parts.append(f"c = {p.c:.6g} N s/m")
+    if p.friction:
+        parts += [f"kf = {p.kf:.6g} N/m", f"mu = {p.mu:.6g}"]
+    else:
+        parts.append("no friction")
+    return (", ".join(parts) + f"; masses {md_text(np.diag(system.M))} kg; "
+            f"excitation {exc.kind} {md_text(np.asarray(exc.amplitude))}")

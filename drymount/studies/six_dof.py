@@ -33,6 +33,7 @@ from drymount.studies.output import (
     DPI_SIX_PANEL,
     log_axes,
     md_table,
+    md_text,
     n0_colors,
     new_figure,
     notes_md,
@@ -420,13 +421,15 @@ def _summary_six_dof(r, figs, dofs) -> str:
     lines = [
         "# Study six-dof: rigid engine on three mounts",
         "",
-        f"HBM with H = {r['harmonics']}; n0 in {r['normal_forces_N']} N on every "
+        f"HBM with H = {r['harmonics']}; n0 in {md_text(r['normal_forces_N'])} N on "
+        "every "
         f"friction element ({', '.join(f'{m} {a}' for m, a in r['friction_axes'])}); "
-        f"mount positions {r['mount_positions_m']} m (Table 4.1).",
+        f"mount positions {md_text(r['mount_positions_m'])} m (Table 4.1).",
         "",
         "## Mount deflection input (Figs. 4.11-4.34)",
         "",
-        f"Chassis attachment points moved by {r['base_amplitude_m']} m (x, y, z) "
+        f"Chassis attachment points moved by {md_text(r['base_amplitude_m'])} m "
+        "(x, y, z) "
         "sin(omega t), in phase.",
         "",
         f"Peak ratio of the good design (halved mounts, n0 = {r['good_n0_N']:g} N) to "
@@ -461,7 +464,8 @@ def _summary_six_dof(r, figs, dofs) -> str:
         "",
         "## Relocating mount 3 (Figs. 4.41-4.44)",
         "",
-        f"Mount 3 moved from {r['relocated_from_m']} m to {r['relocated_to_m']} m; "
+        f"Mount 3 moved from ({md_text(r['relocated_from_m'])}) m to "
+        f"({md_text(r['relocated_to_m'])}) m; "
         "original mounts, engine excitation.",
         "",
         md_table(["mount 3 at", "beta peak reduction by n0 = "
