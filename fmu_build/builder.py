@@ -49,9 +49,11 @@ __all__ = [
     "source_dir",
 ]
 
-#: Files of ``fmu_src`` copied into the FMU, byte for byte.
-FMU_SOURCES = ("mount_law.py", "elastic_laws.py", "inclined.py", "interface.py",
-               "fmi_state.py", "friction_mount.py")
+#: Files of ``fmu_src`` copied into the FMU, byte for byte: every module of the
+#: folder (a new friction element's module ships without an edit here).
+FMU_SOURCES = tuple(sorted(
+    p.name for p in Path(__file__).resolve().parents[1].joinpath("fmu_src").glob("*.py")
+    if p.name != "__init__.py"))
 #: C source of the linux64 loader in front of pythonfmu's binary (see
 #: :func:`compile_loader`).
 LOADER_SOURCE = "fmu_loader.c"

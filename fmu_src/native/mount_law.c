@@ -461,12 +461,24 @@ static int inclined_problems(const ml_axis_params *p, const char *prefix, char *
     return added;
 }
 
+/* "`<prefix><name>` must be finite and >= 0" (strict: "> 0") if value breaks it. */
+static void finite_problem(const char *name, double value, int strict,
+                           const char *prefix, char *buf, size_t size, int *count)
+{
+    char text[256], val[40];
+    if (finite_and(value, strict))
+        return;
+    ml_repr_double(value, val, sizeof val);
+    snprintf(text, sizeof text, "`%s%s` must be finite and %s, got %s", prefix, name,
+             strict ? "> 0" : ">= 0", val);
+    ml_append_problem(buf, size, count, text);
+}
+
 int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                      size_t size)
 {
-    struct { const char *name; double value; int strict; } checks[9];
     char text[256], val[40];
-    int count = 0, i, kind_ok;
+    int count = 0, kind_ok;
     if (size)
         buf[0] = '\0';
     if (p->law < 0 || p->law >= ML_N_LAWS) {
@@ -481,29 +493,22 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                  "got %d", prefix, KIND_NAMES[0], KIND_NAMES[1], p->friction_kind);
         ml_append_problem(buf, size, &count, text);
     }
-    checks[0].name = "k1"; checks[0].value = p->k1; checks[0].strict = 0;
-    checks[1].name = "kc"; checks[1].value = p->kc; checks[1].strict = 0;
-    checks[2].name = "k2"; checks[2].value = p->k2; checks[2].strict = 0;
-    checks[3].name = "delta"; checks[3].value = p->delta; checks[3].strict = 1;
-    checks[4].name = "delta_neg"; checks[4].value = p->delta_neg; checks[4].strict = 1;
-    checks[5].name = "c"; checks[5].value = p->c; checks[5].strict = 0;
-    checks[6].name = "mu"; checks[6].value = p->mu; checks[6].strict = 0;
-    checks[7].name = "n0"; checks[7].value = p->n0; checks[7].strict = 0;
-    checks[8].name = "fs_ratio"; checks[8].value = p->fs_ratio; checks[8].strict = 0;
-    for (i = 0; i < 9; ++i) {
-        if (finite_and(checks[i].value, checks[i].strict))
-            continue;
-        ml_repr_double(checks[i].value, val, sizeof val);
-        snprintf(text, sizeof text, "`%s%s` must be finite and %s, got %s", prefix,
-                 checks[i].name, checks[i].strict ? "> 0" : ">= 0", val);
-        ml_append_problem(buf, size, &count, text);
-    }
+    /* the order of the Python checks: the law's fields, then the Jenkins
+     * element's fields in their declared order (fmu_src/jenkins.py) */
+    finite_problem("k1", p->k1, 0, prefix, buf, size, &count);
+    finite_problem("kc", p->kc, 0, prefix, buf, size, &count);
+    finite_problem("k2", p->k2, 0, prefix, buf, size, &count);
+    finite_problem("delta", p->delta, 1, prefix, buf, size, &count);
+    finite_problem("delta_neg", p->delta_neg, 1, prefix, buf, size, &count);
+    finite_problem("c", p->c, 0, prefix, buf, size, &count);
     if (!isfinite(p->kf) || (p->friction && p->kf <= 0) || p->kf < 0) {
         ml_repr_double(p->kf, val, sizeof val);
         snprintf(text, sizeof text, "`%skf` must be finite and %s, got %s", prefix,
                  p->friction ? "> 0 when friction is on" : ">= 0", val);
         ml_append_problem(buf, size, &count, text);
     }
+    finite_problem("mu", p->mu, 0, prefix, buf, size, &count);
+    finite_problem("n0", p->n0, 0, prefix, buf, size, &count);
     if (p->sliders < 1 || p->sliders > ML_MAX_SLIDERS) {
         snprintf(text, sizeof text, "`%ssliders` must be an integer from 1 to %d (the "
                  "number of Jenkins elements of the micro-slip element), got %d",
@@ -516,6 +521,7 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                  "of the sliders' slip displacements / eps), got %s", prefix, val);
         ml_append_problem(buf, size, &count, text);
     }
+    finite_problem("fs_ratio", p->fs_ratio, 0, prefix, buf, size, &count);
     if (kind_ok && ml_is_inclined(p))
         count += inclined_problems(p, prefix, buf, size, count);
     return count;

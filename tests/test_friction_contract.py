@@ -1,0 +1,90 @@
+"""The friction-element contract (fmu_src.friction) and its registry: every
+registered element keeps the contract, and the consumers' tables follow from the
+declarations."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import fields
+
+import numpy as np
+import pytest
+
+from drymount.fmu_src import interface
+from drymount.fmu_src.friction import (FRICTION_ELEMENTS, ElementStep,
+                                       element_fields)
+from drymount.fmu_src.mount_law import (AxisParameters, axis_force, conform_state,
+                                        initial_sliders, slider_position)
+
+#: One axis per element (and variant) with friction on.
+AXES_BY_KIND = {
+    "jenkins": AxisParameters(friction=True, n0=20.0),
+    "jenkins non-symmetric": AxisParameters(friction=True, n0=20.0, fs_ratio=0.6),
+    "jenkins micro-slip": AxisParameters(friction=True, n0=20.0, sliders=5,
+                                         spread=0.5, fs_ratio=0.8),
+    "inclined": AxisParameters(friction=True, friction_kind="inclined"),
+}
+
+
+def test_every_registered_element_has_an_axis_here():
+    assert {p.friction_kind for p in AXES_BY_KIND.values()} == set(FRICTION_ELEMENTS)
+
+
+def test_axis_fields_are_the_registered_fields():
+    names = [f.name for f in fields(AxisParameters)]
+    assert names[:8] == ["law", "k1", "kc", "k2", "delta", "delta_neg", "c",
+                         "friction"]
+    assert set(names[8:]) == {"friction_kind"} | {f.name for f in element_fields()}
+    rows = {name for name, *_ in interface.ALL_PARAMETER_FIELDS}
+    assert rows == set(names)
+    for f in element_fields():   # the FMU's row carries the declared unit and text
+        var = interface.variable(f"axial_{f.name}")
+        assert (var.type, var.unit) == (f.type, f.unit)
+        assert f.description in var.description
+
+
+@pytest.mark.parametrize("kind", list(AXES_BY_KIND))
+def test_step_keeps_the_contract(kind):
+    """start/position round trip, state size, a random walk: the step's force and
+    tangent against axis_force, finite-difference dF/du on stuck steps, energy >= 0,
+    a flat copy of every state restores it (the FMU's saved state)."""
+    p = AXES_BY_KIND[kind]
+    el = p.element
+    w = el.start(p, 1e-4)
+    assert slider_position(p, w) == 1e-4
+    flat = (w,) if isinstance(w, float) else tuple(w)
+    assert len(flat) == el.state_size(p)
+    rng = np.random.default_rng(7)
+    u = np.cumsum(rng.normal(0.0, 2e-4, 300)) - 2e-3
+    state = initial_sliders(p, float(u[0]))
+    stuck = 0
+    for x in u[1:].tolist():
+        r = p.friction_step(state, x, 0.0, p.n0, 1e-3)
+        assert isinstance(r, ElementStep) and r.dissipated >= 0.0
+        assert math.isfinite(r.force) and math.isfinite(r.df_du)
+        ref = axis_force(x, 0.0, state, p)
+        assert ref.friction_force == r.force and ref.dissipated == r.dissipated
+        if not r.slipping:
+            stuck += 1
+            h = 1e-9
+            f_hi = p.friction_step(state, x + h, 0.0, p.n0, 1e-3).force
+            f_lo = p.friction_step(state, x - h, 0.0, p.n0, 1e-3).force
+            if not p.friction_step(state, x + h, 0.0, p.n0, 1e-3).slipping and \
+                    not p.friction_step(state, x - h, 0.0, p.n0, 1e-3).slipping:
+                assert (f_hi - f_lo) / (2 * h) == pytest.approx(r.df_du, rel=1e-5)
+        state = r.state
+        flat = [state] if isinstance(state, float) else list(state)
+        assert conform_state(p, flat) == state
+    assert stuck > 0
+
+
+def test_lost_contact_and_normal_input():
+    """Elements that read n: n < 0 means Fs = 0; the others ignore n."""
+    for p in AXES_BY_KIND.values():
+        w = initial_sliders(p)
+        r_neg = axis_force(0.002, 0.0, w, p, -5.0)
+        r_n0 = axis_force(0.002, 0.0, w, p)
+        if p.element.uses_normal_input:
+            assert r_neg.friction_force == 0.0 and r_n0.friction_force != 0.0
+        else:
+            assert r_neg == r_n0
