@@ -253,6 +253,6 @@ JENKINS = FrictionElement(
     normal_forces=_normal_forces,
     # the HBM's closed forms and vector law know the symmetric macro-slip element;
     # its per-slider AFT march any bank of sliders
-    fast_form=lambda p: "jenkins" if p.sliders == 1 and p.fs_ratio == 1.0
+    fast_form=lambda p: "symmetric_slider" if p.sliders == 1 and p.fs_ratio == 1.0
     else "slider_bank",
 )

@@ -172,7 +172,7 @@ class _Axis:
     def general_friction(self) -> bool:
         """Whether friction is on and is not the symmetric macro-slip element (the
         closed forms and the event-exact reference know only that one)."""
-        return self.friction and self.fast_form != "jenkins"
+        return self.friction and self.fast_form != "symmetric_slider"
 
     @property
     def fast_form(self) -> str | None:

@@ -173,7 +173,7 @@ def friction_columns(axes) -> dict:
     other element for the generic march (:mod:`hbm.generic_march`)."""
     form = [p.fast_form if p.fast_form in HBM_FAST_FORMS else
             ("generic" if p.friction else None) for p in axes]
-    sliders = [f in ("jenkins", "slider_bank") for f in form]
+    sliders = [f in ("symmetric_slider", "slider_bank") for f in form]
     return dict(
         kf=np.array([p.kf if s else 0.0 for p, s in zip(axes, sliders)], dtype=float),
         fs=np.array([p.fs if s else 0.0 for p, s in zip(axes, sliders)], dtype=float),

@@ -27,7 +27,7 @@ __all__ = ["HBM_FAST_FORMS", "generic_periodic", "generic_aft", "MAX_PASSES"]
 
 #: The fast forms the HBM holds: ``hbm.friction_march`` (one symmetric slider, with
 #: its closed form), ``hbm.aft._aft_banks`` (banks of sliders) and ``hbm.inclined``.
-HBM_FAST_FORMS = ("jenkins", "slider_bank", "inclined")
+HBM_FAST_FORMS = ("symmetric_slider", "slider_bank", "inclined")
 #: passes over the period at most (two suffice for an element that settles at once)
 MAX_PASSES = 20
 #: the state at the period's end repeats when its position changes by less than this

@@ -87,7 +87,7 @@ VECTOR_ELASTIC = {"linear": _linear, "cubic": _cubic, "piecewise": _piecewise,
                   "piecewise_asym": _piecewise_asym}
 #: The friction fast forms (``AxisParameters.fast_form``) :class:`VectorLaw` ports:
 #: the symmetric return map of one slider (kf, Fs = mu n0).
-VECTOR_FRICTION = ("jenkins",)
+VECTOR_FRICTION = ("symmetric_slider",)
 
 
 def _vectorised(p) -> bool:
