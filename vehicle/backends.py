@@ -363,7 +363,7 @@ class FMUBackend(_Backend):
         super().__init__(system, layout)
         from fmpy import extract, read_model_description
 
-        from drymount.vehicle import fmi_logging
+        import drymount.vehicle.fmi_logging as fmi_logging
 
         if fmu_path is None:
             from drymount.fmu_build import ensure_fmu
@@ -605,7 +605,7 @@ class FMUBackend(_Backend):
                 except Exception as exc:
                     _log.warning("freeing %s failed: %s", fmu.instanceName, exc)
         if getattr(self, "_callbacks", None) is not None:
-            from drymount.vehicle import fmi_logging
+            import drymount.vehicle.fmi_logging as fmi_logging
 
             fmi_logging.release(self._callbacks)  # every instance is freed by now
         if self._unzipdir is not None:
