@@ -8,6 +8,7 @@ import numpy as np
 
 from drymount.fmu_src.friction import element_fields
 from drymount.fmu_src.mount_law import AXES
+from drymount.hbm.options import MAX_HARMONICS as _HBM_MAX_HARMONICS
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.system import System
 
@@ -24,9 +25,8 @@ EXCITATION_KINDS = {
 BACKENDS = ("fmu", "native")
 DIRECTIONS = ("up", "down")
 SPACINGS = ("linear", "log")
-#: Largest number of harmonics accepted (a sanity bound: H = 7 already converges the
-#: friction systems to 1e-3; 50 harmonics cost ~50x more per Newton step).
-MAX_HARMONICS = 50
+#: Largest number of harmonics accepted: the HBM's one bound (hbm.options).
+MAX_HARMONICS = _HBM_MAX_HARMONICS
 #: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
 #: sharpest kink of the friction law at H = 50 many times over).
 MAX_N_SAMPLES = 8192
