@@ -191,6 +191,9 @@ class FrictionElement:
         the element with these parameters that a consumer may hold (the HBM's
         vectorised AFT forms, the batched harness's vector law); None: consumers
         march the step.
+    c_port : str or None
+        The name of its ``const ml_element`` in ``fmu_src/native/`` (the C port the
+        native FMU is built with; None: none, the native build refuses the element).
     params : callable or None
         ``params(p)``: the element's own parameter object, built once per checked
         axis and kept as ``p.element_params`` (None: the axis itself).
@@ -211,6 +214,7 @@ class FrictionElement:
     relaxed_force: Callable = _no_static_force
     params: Callable | None = None
     fast_form: Callable = _no_fast_form
+    c_port: str | None = None
 
     def field_problems(self, p, prefix: str = "") -> list[str]:
         """Every rule broken by the element's fields of ``p`` that are not checked

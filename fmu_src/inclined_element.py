@@ -103,4 +103,5 @@ INCLINED = FrictionElement(
     relaxed_force=lambda u, p: relaxed_force(u, p.element_params),
     params=inclined_parameters,
     fast_form=lambda p: "inclined",
+    c_port="ml_inclined",
 )

@@ -255,4 +255,5 @@ JENKINS = FrictionElement(
     # its per-slider AFT march any bank of sliders
     fast_form=lambda p: "symmetric_slider" if p.sliders == 1 and p.fs_ratio == 1.0
     else "slider_bank",
+    c_port="ml_jenkins",
 )

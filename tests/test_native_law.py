@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, random_axis, run
 
-from drymount.fmu_build.native import CFLAGS, SOURCE_DIR
+from drymount.fmu_build.native import CFLAGS, write_law_sources
 from drymount.fmu_src import mount_law
 from drymount.fmu_src.mount_law import (LAWS, AxisParameters, axis_force,
                                         initial_sliders, mean_slider)
@@ -50,12 +50,14 @@ class Params(ctypes.Structure):
 
 @pytest.fixture(scope="module")
 def law(tmp_path_factory):
-    """mount_law.c (with inclined.c, the inclined element) compiled with the FMU's
-    flags into a shared library."""
+    """The C law (mount_law.c with one file per friction element, the messages and
+    the generated element table) compiled with the FMU's flags into a shared
+    library."""
     need_gcc()
-    lib = tmp_path_factory.mktemp("law") / "libmountlaw.so"
+    folder = tmp_path_factory.mktemp("law")
+    lib = folder / "libmountlaw.so"
     proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
-                SOURCE_DIR / "mount_law.c", SOURCE_DIR / "inclined.c", "-lm"])
+                *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(lib))
     dll.ml_axis_force.restype = Result
