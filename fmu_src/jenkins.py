@@ -34,6 +34,7 @@ from typing import NamedTuple
 from .friction import ElementStep, Field, FrictionElement, finite_rule
 
 __all__ = ["JENKINS", "MAX_SLIDERS", "SliderStep", "jenkins_update", "slider_update",
+           "contact_normal_forces",
            "slider_bank", "iwan_update"]
 
 #: Largest number of sliders of a micro-slip (Iwan) element.
@@ -203,7 +204,7 @@ def _position(w) -> float:
     return w
 
 
-def _normal_forces(p, w, n: float) -> tuple[float, float]:
+def contact_normal_forces(p, w, n: float) -> tuple[float, float]:
     """The contact's normal force ``Fs / mu`` (``Fs = mu max(n, 0)``; ``n0`` if
     mu = 0) and 0, as the C port computes it."""
     if p.mu > 0:
@@ -250,7 +251,7 @@ JENKINS = FrictionElement(
     start=_start,
     position=_position,
     stuck_stiffness=lambda p: p.kf,
-    normal_forces=_normal_forces,
+    normal_forces=contact_normal_forces,
     # the HBM's closed forms and vector law know the symmetric macro-slip element;
     # its per-slider AFT march any bank of sliders
     fast_form=lambda p: "symmetric_slider" if p.sliders == 1 and p.fs_ratio == 1.0
