@@ -182,9 +182,8 @@ static void jenkins_start(const ml_axis_params *p, double w, double *state)
         state[i] = w;
 }
 
-/* jenkins._normal_forces: Fs / mu (n0 if mu = 0) and 0. */
-static void jenkins_normal_forces(const ml_axis_params *p, const double *w, double fs,
-                                  double *n1, double *n2)
+void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double fs,
+                              double *n1, double *n2)
 {
     (void)w;
     *n1 = p->mu > 0 ? fs / p->mu : p->n0;
@@ -193,4 +192,4 @@ static void jenkins_normal_forces(const ml_axis_params *p, const double *w, doub
 
 const ml_element ml_jenkins = {
     "jenkins", 0, jenkins_state_size, jenkins_start, ml_mean_slider, jenkins_step,
-    jenkins_normal_forces, NULL};
+    ml_contact_normal_forces, NULL};

@@ -122,6 +122,11 @@ void ml_relaxed_state(const ml_axis_params *p, double u, double *w);
 void ml_normal_forces(const ml_axis_params *p, const double *w, double fs, double *n1,
                       double *n2);
 
+/* jenkins.contact_normal_forces: the contact's normal force Fs / mu (n0 if mu = 0)
+ * and 0 (w unused). */
+void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double fs,
+                              double *n1, double *n2);
+
 /* mount_law.mean_slider of the n positions w: the common position when all are
  * equal, else their exactly rounded sum (math.fsum) / n. */
 double ml_mean_slider(const double *w, int n);
