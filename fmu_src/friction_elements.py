@@ -2,9 +2,10 @@
 (``<axis>_friction_kind``): one line per element. Append new elements at the end
 (the FMU's codes and value references of the earlier ones stay)."""
 
+from .dahl import DAHL
 from .friction import register_element
 from .inclined_element import INCLINED
 from .jenkins import JENKINS
 
-for _element in (JENKINS, INCLINED):
+for _element in (JENKINS, INCLINED, DAHL):
     register_element(_element)

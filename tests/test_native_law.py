@@ -149,7 +149,7 @@ BAD = [
 KINDS = getattr(mount_law, "FRICTION_KINDS", ("jenkins",))
 if "inclined" in KINDS:
     BAD += [
-        {"friction_kind": 2},
+        {"friction_kind": len(KINDS)},  # one past the last registered element
         {"friction_kind": -1, "law": 5},
         {"friction": True, "friction_kind": "inclined", "theta_deg": 95.0,
          "kf2": 0.0},
