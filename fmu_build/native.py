@@ -78,9 +78,8 @@ DARWIN_FOLDER = {2: "darwin64", 3: "aarch64-darwin (or x86_64-darwin)"}
 
 _C_TYPE = {"Real": "MD_REAL", "Integer": "MD_INTEGER", "Boolean": "MD_BOOLEAN"}
 _FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
-#: The per-axis parameter fields model.c stores (md_field), the Jenkins/Iwan element's
-#: and the inclined element's (the interface table carries the latter once the axis
-#: has friction kinds).
+#: The per-axis parameter fields model.c stores (md_field): the elastic law's and
+#: every field of the registered friction elements (ml_axis_params).
 _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
            "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind", "theta_deg",
            "k", "kf2", "mu1", "mu2", "preload")
@@ -292,8 +291,8 @@ def _header_attributes(target: NativeTarget, token: str) -> dict[str, str]:
     return {"fmiVersion": f"{target.fmi}.0", "modelName": interface.MODEL_NAME,
             key: token,
             "description": ("Friction-damped engine mount (native C build): elastic "
-                            "law + viscous damping + macro-slip (Jenkins) friction "
-                            "element on three local axes"
+                            "law + viscous damping + a friction element "
+                            "(<axis>_friction_kind) on three local axes"
                             + (" -- NULL MODEL, no physics" if target.null else "")),
             "author": "drymount", "generationTool": "drymount fmu_build.native",
             "variableNamingConvention": "flat"}
@@ -465,8 +464,8 @@ def _documentation(target: NativeTarget, missing: list[str]) -> bytes:
 values and default experiment as the PythonFMU build (FrictionMount.fmu), the mount law
 ported to C99. It needs only the C standard library and libm: no Python.</p>
 <p>Variables per axis (axial, radial1, radial2): parameters &lt;axis&gt;_law, _k1, _kc,
-_k2, _delta, _delta_neg, _c, _friction, _kf, _mu, _n0, _sliders, _spread, _fs_ratio
-(micro-slip and non-symmetric friction); inputs u_, v_, n_; outputs F_, Ffr_, kt_,
+_k2, _delta, _delta_neg, _c, _friction, _friction_kind and the fields of the friction
+elements (as in the PythonFMU build); inputs u_, v_, n_; outputs F_, Ffr_, kt_,
 slip_, E_fr_; the output E_fr and the locals w_ (slider positions, settable also
 between steps, as in the PythonFMU build).</p>
 {missing_text}

@@ -191,7 +191,7 @@ class FrictionMount(Fmi2Slave):
 
     author = "drymount"
     description = ("Friction-damped engine mount: elastic law + viscous damping + "
-                   "macro-slip (Jenkins) friction element on three local axes")
+                   "a friction element (<axis>_friction_kind) on three local axes")
     version = FMU_VERSION
     license = "MIT"
 
