@@ -217,6 +217,16 @@ class _Axis:
     def to_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
+    def __reduce__(self):
+        # pickled (process pools) and copied by its fields: the bound step and the
+        # element are rebuilt from the registry, not pickled (closures)
+        return (_rebuild_axis, (self.to_dict(),))
+
+
+def _rebuild_axis(values: dict):
+    """``AxisParameters(**values)`` (unpickling)."""
+    return AxisParameters(**values)
+
 
 def _axis_fields():
     """The dataclass fields of :class:`AxisParameters`: the elastic law's, the

@@ -123,3 +123,17 @@ def test_generic_march_equals_the_fast_forms(kind):
     assert float(np.max(np.abs(F2 - F1))) <= RTOL_GENERIC_F * scale
     jscale = float(np.max(np.abs(J1)))
     assert float(np.max(np.abs(J2 - J1))) <= RTOL_GENERIC_JAC * jscale
+
+
+@pytest.mark.parametrize("kind", list(AXES_BY_KIND))
+def test_axis_pickles_and_copies_by_its_fields(kind):
+    """Process pools pickle the system: an axis travels as its fields and comes back
+    with its element's step bound again (a closure is not picklable)."""
+    import copy
+    import pickle
+
+    p = AXES_BY_KIND[kind]
+    for q in (pickle.loads(pickle.dumps(p)), copy.deepcopy(p), copy.copy(p)):
+        assert q == p and q.friction_step is not None
+        w = initial_sliders(q, 1e-4)
+        assert axis_force(2e-3, 0.1, w, q) == axis_force(2e-3, 0.1, w, p)
