@@ -141,8 +141,8 @@ def fmu_stiffness(fmu_path, axis: AxisParameters, freq_hz: float, X: float,
     vr = {n: v.valueReference for n, v in names.items()}
     try:
         fmu.instantiate()
-        # every parameter of the axial axis in the interface table (micro-slip and
-        # the inclined element included)
+        # every parameter of the axial axis in the interface table (the fields of
+        # every registered friction element included)
         for typ, values in _axial_parameters(names, axis).items():
             setter = {"Real": fmu.setReal, "Integer": fmu.setInteger,
                       "Boolean": fmu.setBoolean}[typ]

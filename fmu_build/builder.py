@@ -3,10 +3,10 @@
 pythonfmu runs the FMU's Python code inside the importing process, where module names
 are global: a bundled module whose name the host (or a second FMU) already imported is
 silently replaced by that copy (PythonFMU issue 228). The builder therefore never ships
-``fmu_src`` under its own name. It copies ``fmu_src/mount_law.py``,
-``fmu_src/elastic_laws.py``, ``fmu_src/inclined.py``, ``fmu_src/interface.py``,
-``fmu_src/fmi_state.py`` and ``fmu_src/friction_mount.py`` (``FMU_SOURCES``) byte
-for byte into a package named
+``fmu_src`` under its own name. It copies every module of ``fmu_src`` but its
+package file (``FMU_SOURCES``: the law, the registries and their elements, the
+interface table, the FMI state rules and the slave) byte for byte into a package
+named
 
     drymount_mount_<version>_<hash8>/      hash8 = first 8 hex digits of the SHA-256
                                            of the version and the source bytes
@@ -49,9 +49,11 @@ __all__ = [
     "source_dir",
 ]
 
-#: Files of ``fmu_src`` copied into the FMU, byte for byte.
-FMU_SOURCES = ("mount_law.py", "elastic_laws.py", "inclined.py", "interface.py",
-               "fmi_state.py", "friction_mount.py")
+#: Files of ``fmu_src`` copied into the FMU, byte for byte: every module of the
+#: folder (a new friction element's module ships without an edit here).
+FMU_SOURCES = tuple(sorted(
+    p.name for p in Path(__file__).resolve().parents[1].joinpath("fmu_src").glob("*.py")
+    if p.name != "__init__.py"))
 #: C source of the linux64 loader in front of pythonfmu's binary (see
 #: :func:`compile_loader`).
 LOADER_SOURCE = "fmu_loader.c"
@@ -379,8 +381,8 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
         Version tag (see :func:`fmu_module_names`); a different tag gives different
         module names, so FMUs of two versions load side by side.
     model : str
-        A key of :data:`MODELS`: ``"FrictionMount"`` (the inclined element of Ch. 5 is a
-        friction kind of its axes).
+        A key of :data:`MODELS`: ``"FrictionMount"`` (every registered friction
+        element is a friction kind of its axes).
 
     Returns
     -------

@@ -61,7 +61,7 @@ from .interface import (
 from .mount_law import (AXES, FRICTION_KINDS, LAWS, AxisParameters, axis_force,
                         conform_state, friction_kind_code, friction_kind_name,
                         initial_sliders, law_code, law_name, mean_slider,
-                        normal_forces)
+                        normal_forces, slider_position)
 
 try:  # written by fmu_build into the FMU's package; absent in the repository
     from . import FMU_VERSION
@@ -191,7 +191,7 @@ class FrictionMount(Fmi2Slave):
 
     author = "drymount"
     description = ("Friction-damped engine mount: elastic law + viscous damping + "
-                   "macro-slip (Jenkins) friction element on three local axes")
+                   "a friction element (<axis>_friction_kind) on three local axes")
     version = FMU_VERSION
     license = "MIT"
 
@@ -215,6 +215,9 @@ class FrictionMount(Fmi2Slave):
         self._n_set = [False, False, False]  # n follows <axis>_n0 until set
         self._w = [0.0, 0.0, 0.0]
         self._e = [0.0, 0.0, 0.0]  # committed dissipated energy per axis, J
+        # the increment the trial outputs span (s): the last step's size, 0 before
+        # the first (read by rate-dependent friction elements only)
+        self._dt = 0.0
         self._res = [None, None, None]
         self._axes = None  # per-axis checked AxisParameters, see _prepare()
         self._mode = Mode.INSTANTIATED  # FMI state (fmi_state.Mode)
@@ -246,7 +249,7 @@ class FrictionMount(Fmi2Slave):
                     (lambda value, a=name: self._set_parameter(a, value)))
         j = AXES.index(axis)
         if quantity == "w":
-            return ((lambda: mean_slider(self._w[j])),
+            return ((lambda: self._position(j)),
                     (lambda value: self._set_sliders(j, value)))
         inputs = {"u": self._u, "v": self._v}
         if quantity in inputs:
@@ -283,24 +286,23 @@ class FrictionMount(Fmi2Slave):
         self._res[j] = None
 
     def _set_sliders(self, j: int, value: float) -> None:
-        """``w_<axis>`` = value: every slider of the axis at ``value`` (m); an
-        inclined element relaxed at the deflection ``value``."""
-        n = getattr(self, f"{AXES[j]}_sliders")
-        multi = isinstance(n, int) and not isinstance(n, bool) and n > 1
-        self._w[j] = tuple([float(value)] * n) if multi else value
+        """``w_<axis>`` = value: the axis's friction element relaxed at ``value``
+        (m; every slider there). Before the parameters are checked the number is
+        kept and becomes the element's state in _prepare (conform_state)."""
+        self._w[j] = value
         if self._axes is not None:  # checked parameters: the state of the axis's kind
             self._w[j] = initial_sliders(self._axes[j], value)
         self._res[j] = None
 
-    def _slip_force(self, j: int) -> float:
-        """Fs = mu * max(n, 0) of axis ``j`` (a negative normal force means lost
-        contact)."""
-        n = self._n[j]
-        return self._axes[j].mu * n if n > 0.0 else 0.0
+    def _position(self, j: int) -> float:
+        """``w_<axis>``: the element's position of the committed state."""
+        if self._axes is None:
+            return mean_slider(self._w[j])
+        return slider_position(self._axes[j], self._w[j])
 
     def _normal_output(self, j: int) -> tuple[float, float]:
         """``(N, N2)`` of axis ``j`` at the trial state (mount_law.normal_forces)."""
-        return normal_forces(self._axes[j], self._axis(j)[_W], self._slip_force(j))
+        return normal_forces(self._axes[j], self._axis(j)[_W], self._n[j])
 
     def _set_normal_force(self, j: int, value: float) -> None:
         self._n[j] = value
@@ -386,7 +388,7 @@ class FrictionMount(Fmi2Slave):
                 f"u_{axis}={u!r}, v_{axis}={v!r}, n_{axis}={n!r}")
         p = self._axes[j]
         try:
-            res = axis_force(u, v, self._w[j], p, self._slip_force(j))
+            res = axis_force(u, v, self._w[j], p, n, self._dt)
         except ValueError as exc:  # the inclined element lost contact (ContactLost)
             raise self._fail(f"axis {AXES[j]} at u_{AXES[j]}={u!r}: {exc}") from None
         if not (math.isfinite(res[_F]) and math.isfinite(res[_KT])):
@@ -430,6 +432,7 @@ class FrictionMount(Fmi2Slave):
         # Outputs now follow the committed state: re-evaluated on the next get.
         self._res = [None, None, None]
         self._t_next = current_time + step_size
+        self._dt = float(step_size)
         return True
 
     @_fmi_call("fmi2Terminate")
@@ -449,6 +452,7 @@ class FrictionMount(Fmi2Slave):
         state["_w"] = [list(w) if isinstance(w, tuple) else w for w in self._w]
         state["_mode"] = self._mode.value
         state["_t_next"] = self._t_next
+        state["_dt"] = self._dt
         return state
 
     @_guarded
@@ -468,6 +472,7 @@ class FrictionMount(Fmi2Slave):
             by_name[name].setter(value)
         self._e, self._n_set, self._w = energy, n_set, sliders
         self._mode, self._t_next = mode, state.get("_t_next")
+        self._dt = float(state.get("_dt", 0.0))
         self._axes = None
         self._res = [None, None, None]
 

@@ -11,22 +11,26 @@ Per axis in ``AXES`` (``axial``, ``radial1``, ``radial2``): parameters
 its integer code, :func:`fmu_src.mount_law.law_code`), inputs ``u_``, ``v_``, ``n_``,
 outputs ``F_``, ``Ffr_``, ``kt_``, ``slip_``, ``E_fr_``; then the output ``E_fr`` (all
 axes) and the locals ``w_<axis>`` (committed slider positions); then, appended so that
-the earlier value references stay, the inclined element's parameters per axis
-(``<axis>_friction_kind`` and the fields of :data:`INCLINED_PARAMETER_FIELDS`) and the
-outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts).
+the earlier value references stay, ``<axis>_friction_kind`` with the fields of the
+second registered friction element (:data:`INCLINED_PARAMETER_FIELDS`) and the
+outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts); then the
+new fields of every later element (:data:`LATER_PARAMETER_FIELDS`). The friction
+fields' rows are generated from the element declarations
+(:class:`fmu_src.friction.Field`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .mount_law import (AXES, FRICTION_KINDS, LAWS, AxisParameters,
+from .friction import FRICTION_ELEMENTS
+from .mount_law import (AXES, LAWS, AxisParameters,
                         friction_kind_code, law_code)
 
 __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
-           "ALL_PARAMETER_FIELDS"]
+           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -91,8 +95,24 @@ DEFAULT_EXPERIMENT: dict[str, float] = {
 
 _LAW_TEXT = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
 
+def _rows(fields) -> tuple[tuple[str, str, str | None, str], ...]:
+    return tuple((f.name, f.type, f.unit, f.description) for f in fields)
+
+
+def _element_blocks() -> list[tuple]:
+    """Per registered element, the fields no earlier element declared."""
+    seen, out = set(), []
+    for el in FRICTION_ELEMENTS.values():
+        out.append(tuple(f for f in el.fields if f.name not in seen))
+        seen |= {f.name for f in el.fields}
+    return out
+
+
+_BLOCKS = _element_blocks()
+
 #: (field, FMI type, unit, description) of the per-axis parameters, in the order of
-#: the fields of ``AxisParameters``.
+#: the fields of ``AxisParameters``: the elastic law's, ``friction`` and the fields
+#: of the first registered friction element.
 PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
     ("law", "Integer", None, f"elastic law: {_LAW_TEXT}"),
     ("k1", "Real", "N/m", "linear (small-deflection) stiffness, >= 0"),
@@ -101,41 +121,23 @@ PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
     ("delta", "Real", "m", "knee deflection for u > 0 (and u < 0 with law 2), > 0"),
     ("delta_neg", "Real", "m", "knee deflection magnitude for u < 0 with law 3, > 0"),
     ("c", "Real", "N.s/m", "viscous damping, >= 0"),
-    ("friction", "Boolean", None, "whether the macro-slip (Jenkins) element exists"),
-    ("kf", "Real", "N/m", "contact stiffness of the Jenkins element, > 0 if friction"),
-    ("mu", "Real", "1", "friction coefficient, >= 0 (slip force Fs = mu * n)"),
-    ("n0", "Real", "N", "normal force on the contact, >= 0; start value of n_<axis>"),
-    ("sliders", "Integer", None, "number of Jenkins elements of the micro-slip (Iwan) "
-     "element, 1 to 64 (1: macro-slip)"),
-    ("spread", "Real", "1", "half-width of the sliders' uniform slip-displacement "
-     "distribution / (Fs/kf), in [0, 1)"),
-    ("fs_ratio", "Real", "1", "slip force in the negative direction / the positive "
-     "one, >= 0 (1: symmetric friction)"),
-)
+    ("friction", "Boolean", None, "whether the axis has a friction element (of kind "
+     "<axis>_friction_kind)"),
+) + _rows(_BLOCKS[0])
 
-_KIND_TEXT = ", ".join(f"{friction_kind_code(name)} = {name}"
-                       for name in FRICTION_KINDS)
+_KIND_TEXT = ", ".join(f"{friction_kind_code(name)} = {name} ({el.summary})"
+                       for name, el in FRICTION_ELEMENTS.items())
 
-#: (field, FMI type, unit, description) of the inclined element's per-axis parameters
-#: (thesis Ch. 5, fmu_src/inclined.py), in the order of the fields of
-#: ``AxisParameters``; ``kf`` of the table above is its inclined surface's stiffness.
+#: (field, FMI type, unit, description): ``friction_kind`` and the new fields of the
+#: second registered element (the inclined one of thesis Ch. 5), appended to the
+#: table after the locals ``w_<axis>``.
 INCLINED_PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = (
-    ("friction_kind", "Integer", None, f"friction element: {_KIND_TEXT} (the "
-     f"inclined two-surface element of thesis Ch. 5; its kf is the inclined "
-     f"surface's contact stiffness, n0, mu and n_<axis> are not used)"),
-    ("theta_deg", "Real", "deg", "inclined element: angle of the inclined surface to "
-     "the plate, in (0, 90]"),
-    ("k", "Real", "N/m", "inclined element: stiffness of the elastic pieces pushing "
-     "the wedge, >= 0"),
-    ("kf2", "Real", "N/m", "inclined element: contact stiffness of the flat surface, "
-     "> 0"),
-    ("mu1", "Real", "1", "inclined element: friction coefficient of the inclined "
-     "surface, >= 0 (inf: bonded)"),
-    ("mu2", "Real", "1", "inclined element: friction coefficient of the flat "
-     "surface, >= 0 (inf: bonded)"),
-    ("preload", "Real", "N", "inclined element: force of the elastic pieces at "
-     "u = 0, >= 0"),
-)
+    ("friction_kind", "Integer", None, f"friction element: {_KIND_TEXT}"),
+) + _rows(_BLOCKS[1] if len(_BLOCKS) > 1 else ())
+
+#: The new fields of every later registered element, appended at the end.
+LATER_PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = _rows(
+    [f for block in _BLOCKS[2:] for f in block])
 
 
 def _parameters(table) -> list[Variable]:
@@ -172,7 +174,7 @@ def _variables() -> tuple[Variable, ...]:
                      f"{axis}: total force, positive = tension (chassis pulled along "
                      f"+axis, engine feels -F)"),
             Variable(f"Ffr_{axis}", "Real", "output", "continuous", None, "N",
-                     f"{axis}: friction force of the Jenkins element"),
+                     f"{axis}: force of the friction element"),
             Variable(f"kt_{axis}", "Real", "output", "continuous", None, "N/m",
                      f"{axis}: tangent stiffness dF/du (damping tangent dF/dv is c)"),
             Variable(f"slip_{axis}", "Boolean", "output", "discrete", None, None,
@@ -185,10 +187,10 @@ def _variables() -> tuple[Variable, ...]:
     for axis in AXES:
         out.append(Variable(
             f"w_{axis}", "Real", "local", "continuous", 0.0, "m",
-            f"{axis}: committed slider position of the Jenkins element (micro-slip: "
-            f"the mean of the sliders; setting it puts every slider there; inclined "
-            f"element: the committed deflection, setting it relaxes the element "
-            f"there)", "exact"))
+            f"{axis}: committed position of the friction element (Jenkins: the "
+            f"slider, micro-slip: the mean of the sliders; inclined element: the "
+            f"committed deflection); setting it relaxes the element there",
+            "exact"))
     out += _parameters(INCLINED_PARAMETER_FIELDS)
     for axis in AXES:
         out += [
@@ -200,11 +202,13 @@ def _variables() -> tuple[Variable, ...]:
                      f"{axis}: normal force on the inclined element's flat surface "
                      f"(0 for the Jenkins element and without friction)"),
         ]
+    out += _parameters(LATER_PARAMETER_FIELDS)
     return tuple(out)
 
 
 #: Every per-axis parameter field: (field, FMI type, unit, description).
-ALL_PARAMETER_FIELDS = PARAMETER_FIELDS + INCLINED_PARAMETER_FIELDS
+ALL_PARAMETER_FIELDS = (PARAMETER_FIELDS + INCLINED_PARAMETER_FIELDS
+                        + LATER_PARAMETER_FIELDS)
 
 #: Every variable of the FMU, in value-reference order.
 VARIABLES: tuple[Variable, ...] = _variables()

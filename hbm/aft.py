@@ -28,6 +28,7 @@ import numpy as np
 
 from drymount.hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
 from drymount.hbm.friction_march import jenkins_aft
+from drymount.hbm.generic_march import generic_aft
 from drymount.hbm.inclined import inclined_aft
 
 __all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
@@ -104,7 +105,8 @@ def _plan(ax: NonlinearAxes) -> _Plan:
 
 
 def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
-               jacobian: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+               jacobian: bool = True, omega: float | None = None
+               ) -> tuple[np.ndarray, np.ndarray | None]:
     """Fourier coefficients of the nonlinear remainders by AFT, with the Jacobian.
 
     Parameters
@@ -115,6 +117,8 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     ax : NonlinearAxes
     basis : FourierBasis
     jacobian : bool
+    omega : float or None
+        Frequency, rad/s: the generic march of a rate-dependent element needs it.
 
     Returns
     -------
@@ -123,14 +127,25 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     dF : ndarray, shape (..., n_ax, 2H+1, 2H+1) or None
         ``dF[..., a, h, g] = dF[..., h, a] / dU[..., g, a]``.
     """
+    F, dF = _aft_jenkins(U, ax, basis, jacobian)
     if ax.inclined:   # the inclined element's march (hbm.inclined), added per axis
-        F, dF = _aft_jenkins(U, ax, basis, jacobian)
         for a, Fa, dFa in inclined_aft(basis.E @ U, ax, basis, jacobian):
             F[..., a] += Fa
             if jacobian:
                 dF[..., a, :, :] += dFa
-        return F, dF
-    return _aft_jenkins(U, ax, basis, jacobian)
+    if ax.generic:    # elements without a fast form: their own step (generic_march)
+        flat = U.reshape(-1, *U.shape[-2:])
+        Fb, dFb = F.reshape(flat.shape), None
+        if jacobian:
+            dFb = dF.reshape(flat.shape[0], *dF.shape[-3:])
+        for a, p in ax.generic:
+            for b in range(flat.shape[0]):
+                Fa, dFa = generic_aft(flat[b, :, a], p, float(ax.w_start[a]), basis,
+                                      omega, jacobian)
+                Fb[b, :, a] += Fa
+                if jacobian:
+                    dFb[b, a] += dFa
+    return F, dF
 
 
 def _aft_jenkins(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,

@@ -41,10 +41,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from drymount.fmu_src.mount_law import (AxisParameters, axis_force, initial_sliders,
-                                        slider_bank)
+from drymount.fmu_src.mount_law import AxisParameters, axis_force, initial_sliders
 from drymount.hbm.aft import FourierBasis, aft_forces
-from drymount.hbm.elements import NonlinearAxes
+from drymount.hbm.elements import NonlinearAxes, friction_columns
 
 __all__ = ["DEFAULT_SAMPLES", "DynamicStiffnessMap", "axis_as_nonlinear",
            "rate_independent_stiffness", "working_deflection", "dynamic_stiffness",
@@ -102,11 +101,8 @@ def axis_as_nonlinear(axis: AxisParameters, w_start: float = 0.0) -> NonlinearAx
         law=(axis.law,), k1=np.array([axis.k1]),
         kc=np.array([axis.kc]), k2=np.array([axis.k2]),
         delta=np.array([axis.delta]),
-        delta_neg=np.array([axis.delta_neg]),
-        kf=np.array([axis.kf if axis.friction and axis.inclined is None else 0.0]),
-        fs=np.array([axis.fs]), w_start=np.array([float(w_start)]),
-        banks=(slider_bank(axis) if axis.friction and axis.inclined is None else (),),
-        inclined=((0, axis.inclined),) if axis.inclined is not None else ())
+        delta_neg=np.array([axis.delta_neg]), w_start=np.array([float(w_start)]),
+        **friction_columns([axis]))
 
 
 def _coefficients(axis: AxisParameters, X: float, U0: float, basis: FourierBasis
@@ -208,7 +204,7 @@ def time_domain_stiffness(axis: AxisParameters, freq_hz: float, X: float,
         th = 2.0 * math.pi * (k % n) / n
         u = U0 + X * math.sin(th)
         v = X * omega * math.cos(th)
-        r = axis_force(u, v, w, axis)
+        r = axis_force(u, v, w, axis, None, 2.0 * math.pi / (omega * n))
         w = r.w_new
         if k >= (periods - 1) * n:
             last[k % n] = r.force

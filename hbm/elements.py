@@ -25,6 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from drymount.fmu_src.mount_law import AXES, slider_bank, slider_update
+from drymount.hbm.generic_march import HBM_FAST_FORMS
 from drymount.hbm.laws import hbm_law
 from drymount.hbm.system import System
 
@@ -64,6 +65,9 @@ class NonlinearAxes:
         The axes (row index) whose friction element is the inclined one of thesis
         Ch. 5 (their ``kf`` and ``fs`` here are 0; :mod:`hbm.inclined` marches them,
         starting relaxed at ``w_start``).
+    generic : tuple of (int, AxisParameters)
+        The axes (row index) whose friction element has no fast form in the HBM
+        (:mod:`hbm.generic_march` marches its own step; ``kf`` and ``fs`` here are 0).
     """
 
     labels: tuple[str, ...]
@@ -81,6 +85,7 @@ class NonlinearAxes:
     w_start: np.ndarray | None = None
     banks: tuple | None = None
     inclined: tuple = ()
+    generic: tuple = ()
 
     def __post_init__(self):
         if self.w_start is None:
@@ -109,13 +114,14 @@ class NonlinearAxes:
 
     @property
     def is_hysteretic(self) -> bool:
-        return bool(np.any(self.kf > 0.0)) or bool(self.inclined)
+        return bool(np.any(self.kf > 0.0)) or bool(self.inclined) or \
+            bool(self.generic)
 
     @property
     def has_closed_form(self) -> bool:
         """Whether every law has an H = 1 closed form (``hbm.laws``) and every
         friction element is a symmetric macro-slip one (the Jenkins closed form)."""
-        return (not self.inclined
+        return (not self.inclined and not self.generic
                 and all(law.closed_form is not None for law, _ in self.groups)
                 and all(len(b) <= 1 and b[0][1] == b[0][2] for b in self.banks
                         if b))
@@ -154,16 +160,27 @@ def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
         k2=np.array([p.k2 for *_, p in rows], dtype=float),
         delta=np.array([p.delta for *_, p in rows], dtype=float),
         delta_neg=np.array([p.delta_neg for *_, p in rows], dtype=float),
-        kf=np.array([p.kf if p.friction and p.inclined is None else 0.0
-                     for *_, p in rows], dtype=float),
-        fs=np.array([p.fs for *_, p in rows], dtype=float),
         w_start=np.array([sliders[ie, j] if sliders is not None else 0.0
                           for ie, j, _, _ in rows], dtype=float),
-        banks=tuple(slider_bank(p) if p.friction and p.inclined is None else ()
-                    for *_, p in rows),
-        inclined=tuple((a, p.inclined) for a, (*_, p) in enumerate(rows)
-                       if p.inclined is not None),
+        **friction_columns([p for *_, p in rows]),
     )
+
+
+def friction_columns(axes) -> dict:
+    """The friction fields of a :class:`NonlinearAxes` of the axes ``axes`` (a list
+    of ``AxisParameters``), by the element's fast form in the HBM: the sliders of
+    the Jenkins forms (``kf``, ``fs``, ``banks``), the inclined element, and every
+    other element for the generic march (:mod:`hbm.generic_march`)."""
+    form = [p.fast_form if p.fast_form in HBM_FAST_FORMS else
+            ("generic" if p.friction else None) for p in axes]
+    sliders = [f in ("symmetric_slider", "slider_bank") for f in form]
+    return dict(
+        kf=np.array([p.kf if s else 0.0 for p, s in zip(axes, sliders)], dtype=float),
+        fs=np.array([p.fs if s else 0.0 for p, s in zip(axes, sliders)], dtype=float),
+        banks=tuple(slider_bank(p) if s else () for p, s in zip(axes, sliders)),
+        inclined=tuple((a, p.inclined) for a, p in enumerate(axes)
+                       if form[a] == "inclined"),
+        generic=tuple((a, p) for a, p in enumerate(axes) if form[a] == "generic"))
 
 
 def elastic_remainder(u: np.ndarray, ax: NonlinearAxes

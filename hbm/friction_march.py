@@ -279,7 +279,7 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
                          f"fs={fs.tolist()}")
     u3 = u.reshape(-1, shape[-2], C)
     if backend == "numba":
-        from drymount.hbm import friction_march_numba
+        import drymount.hbm.friction_march_numba as friction_march_numba
         force, stuck, last = friction_march_numba.march(u3, kf, fs, w_start)
         n_bad = 0
     else:
@@ -311,7 +311,7 @@ def jenkins_jacobian(march: JenkinsMarch, kf, E: np.ndarray, P: np.ndarray
     """
     kf = np.asarray(kf, dtype=float)
     if march.backend == "numba":
-        from drymount.hbm import friction_march_numba
+        import drymount.hbm.friction_march_numba as friction_march_numba
         shape = march.stuck.shape
         s3 = march.stuck.reshape(-1, *shape[-2:])
         Z = friction_march_numba.jacobian_samples(
@@ -353,7 +353,7 @@ def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarr
     shape = u.shape
     u3 = u.reshape(-1, *shape[-2:])
     if backend == "numba":
-        from drymount.hbm import friction_march_numba
+        import drymount.hbm.friction_march_numba as friction_march_numba
         if not jacobian:
             return friction_march_numba.march(u3, kf, fs, w_start)[0].reshape(
                 shape), None

@@ -12,10 +12,15 @@ from dataclasses import dataclass, fields
 
 from drymount.hbm.continuation import ContinuationSettings
 
-__all__ = ["HBMOptions", "MAX_HARMONICS", "MULTI_DOF_MAX_HARMONICS"]
+__all__ = ["HBMOptions", "MAX_HARMONICS", "ADAPTIVE_MAX_HARMONICS",
+           "MULTI_DOF_MAX_HARMONICS"]
 
+#: Largest number of harmonics accepted anywhere (a sanity bound: H = 7 already
+#: converges the friction systems to 1e-3; 50 harmonics cost ~50x more per Newton
+#: step). The configuration, the API and the CLI check against it.
+MAX_HARMONICS = 50
 #: Default cap on H of the ``tol`` adaptation (systems of up to MULTI_DOF DOF).
-MAX_HARMONICS = 25
+ADAPTIVE_MAX_HARMONICS = 25
 #: Default cap on H for systems of more than MULTI_DOF DOF (the 6-DOF presets).
 MULTI_DOF_MAX_HARMONICS = 13
 MULTI_DOF = 3
@@ -170,7 +175,7 @@ class HBMOptions:
         """The cap on H of the ``tol`` adaptation for a system of ``n_dof`` DOF."""
         if self.max_harmonics is not None:
             return self.max_harmonics
-        return MAX_HARMONICS if n_dof <= MULTI_DOF else MULTI_DOF_MAX_HARMONICS
+        return ADAPTIVE_MAX_HARMONICS if n_dof <= MULTI_DOF else MULTI_DOF_MAX_HARMONICS
 
     def continuation_settings(self) -> ContinuationSettings:
         return ContinuationSettings(

@@ -164,13 +164,15 @@ class HarmonicBalance:
         """Deflection coefficients of the nonlinear axes, shape (2H+1, n_ax)."""
         return X.reshape(self.m, self.n) @ self.Bt.T + self.exc_scale * self.Yax
 
-    def nonlinear_forces(self, X: np.ndarray, jacobian: bool = True):
-        """Force coefficients ``(2H+1, n_ax)`` of the nonlinear remainders, dF/dU."""
+    def nonlinear_forces(self, X: np.ndarray, jacobian: bool = True,
+                         omega: float | None = None):
+        """Force coefficients ``(2H+1, n_ax)`` of the nonlinear remainders, dF/dU
+        (``omega``, rad/s: for rate-dependent friction elements)."""
         U = self.axis_coefficients(X)
         if self.closed_form:
             F, dF = closed_form_forces(U, self.axes)
             return F, (dF if jacobian else None)
-        return aft_forces(U, self.axes, self.basis, jacobian)
+        return aft_forces(U, self.axes, self.basis, jacobian, omega)
 
     def residual(self, X: np.ndarray, omega: float, jacobian: bool = True):
         """Residual and derivatives at ``(X, omega)``.
@@ -191,7 +193,7 @@ class HarmonicBalance:
         A = self.linear_matrix(omega)
         R = A @ X - self.excitation(omega)
         if self.axes.n:
-            F, dF = self.nonlinear_forces(X, jacobian)
+            F, dF = self.nonlinear_forces(X, jacobian, omega)
             R += (F @ self.Bt).ravel()
         if not jacobian:
             return Residual(R, None, None)
@@ -278,7 +280,7 @@ class HarmonicBalance:
             fs = p.k1 * us - p.c * omega * uc
             if (ie, j) in self.axes.index:
                 if Fnl is None:
-                    Fnl = self.nonlinear_forces(X, jacobian=False)[0]
+                    Fnl = self.nonlinear_forces(X, False, omega)[0]
                 a = self.axes.index.index((ie, j))
                 fc += Fnl[1, a]
                 fs += Fnl[2, a]

@@ -14,7 +14,7 @@ import numpy as np
 
 from drymount.hbm.aft import default_n_samples
 from drymount.hbm.error_estimate import curve_scale, probe_errors
-from drymount.hbm.options import MAX_HARMONICS, HBMOptions
+from drymount.hbm.options import ADAPTIVE_MAX_HARMONICS, HBMOptions
 from drymount.hbm.problem import build_problem
 from drymount.hbm.result import FrequencyResponse, finite_max
 
@@ -73,7 +73,7 @@ def next_resolution(result: FrequencyResponse, trunc: float, samp: float,
         else:
             default = (" (the default for systems of more than 3 DOF; set "
                        "max_harmonics to raise it)"
-                       if opts.max_harmonics is None and cap < MAX_HARMONICS
+                       if opts.max_harmonics is None and cap < ADAPTIVE_MAX_HARMONICS
                        else "")
             why = (f"H = {H}, N = {N} are at the caps max_harmonics = {cap}"
                    f"{default}, max_samples = {opts.max_samples} "

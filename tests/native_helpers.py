@@ -89,13 +89,11 @@ def reference_run(axes: tuple[AxisParameters, ...], traj: Trajectory) -> Outputs
     committed, dissipated = np.zeros((steps, 3)), np.zeros((steps, 3))
     w_after = np.zeros((steps, 3))
     for j, p in enumerate(axes):
-        mu = p.mu if p.friction else 0.0
         w, e = initial_sliders(p), 0.0
         F, Ffr, kt, slip, E = (out[name][:, j] for name in AXIS_OUTPUTS)
         for k, (u, v, n) in enumerate(zip(traj.u[:, j].tolist(), traj.v[:, j].tolist(),
                                           traj.n[:, j].tolist())):
-            fs = mu * n if n > 0.0 else 0.0  # as fmu_src/friction_mount.py
-            r = axis_force(u, v, w, p, fs)
+            r = axis_force(u, v, w, p, n)  # Fs = mu max(n, 0) in the element
             F[k], Ffr[k], kt[k], slip[k], E[k] = r[0], r[1], r[3], r[4], e + r[5]
             committed[k, j], dissipated[k, j] = e, r[5]
             w = r[2]

@@ -85,7 +85,10 @@ def imports_of(name: str, source: str, sources: dict[str, str]
                ) -> list[tuple[str, int]]:
     """``(imported module, line)`` for every import statement of module ``name``,
     wherever it is (module level, functions, ``try`` blocks). Relative imports are
-    resolved; ``from pkg import sub`` points at ``pkg.sub`` when that is a module."""
+    resolved; ``from pkg import sub`` points at ``pkg.sub`` when that is a module and
+    also at ``pkg`` itself when it is a package: the statement runs the package's
+    ``__init__`` (a package face) and reads ``sub`` from it, so a cycle through an
+    ``__init__`` is a cycle (``import pkg.sub`` reads the submodule only)."""
     package = name if _is_package(name, sources) else name.rpartition(".")[0]
     out = []
     for level, module, names, line in _imports(source, name):
@@ -98,9 +101,12 @@ def imports_of(name: str, source: str, sources: dict[str, str]
             target = ".".join(base + ([module] if module else []))
         else:
             target = module
+        face = _canon(target)
         for alias in names:
             sub = _canon(f"{target}.{alias}")
-            out.append((sub if sub in sources else _canon(target), line))
+            out.append((sub if sub in sources else face, line))
+        if face in sources and _is_package(face, sources) and face != name:
+            out.append((face, line))
     return out
 
 
@@ -245,7 +251,8 @@ def test_checker_resolves_relative_imports():
     assert ("vehicle.sub.master", 2) in imports_of("vehicle.sub.x",
                                                    srcs["vehicle.sub.x"], srcs)
     assert layer_violations(srcs) == [
-        "vehicle.sub.x:1 imports drymount.cli (vehicle -> drymount)"]
+        "vehicle.sub.x:1 imports drymount.cli (vehicle -> drymount)",
+        "vehicle.sub.x:1 imports drymount (vehicle -> drymount)"]  # its face too
 
 
 def test_checker_reports_a_cycle_and_non_standard_imports_of_fmu_src():
@@ -264,3 +271,19 @@ def test_allowed_edges_point_down(layer):
     """The allowed set itself: no layer may import a layer above it."""
     above = set(LAYERS[LAYERS.index(layer) + 1:])
     assert not ALLOWED[layer] & above
+
+
+def test_checker_sees_a_cycle_through_a_package_face():
+    """``from drymount.vehicle import fmi_logging`` inside vehicle.backends (the lazy
+    import this branch removed) runs vehicle/__init__, which imports backends: a
+    cycle the checker used to miss (it mapped the statement to the submodule only)."""
+    real = project_sources()["vehicle.backends"]
+    lazy = real + "\n\ndef _f():\n    from drymount.vehicle import fmi_logging\n"
+    cycles = module_cycles(_synthetic(**{"vehicle.backends": lazy}))
+    assert any("vehicle" in c and "vehicle.backends" in c for c in cycles)
+    line = lazy.count("\n")
+    assert ("vehicle", line) in imports_of("vehicle.backends", lazy,
+                                           project_sources())
+    # importing the submodule by its full name reads no package face
+    direct = real + "\n\ndef _f():\n    import drymount.vehicle.fmi_logging as m\n"
+    assert module_cycles(_synthetic(**{"vehicle.backends": direct})) == []

@@ -146,10 +146,10 @@ def march_law(params, n_steps, normal=None):
         u, v = motion(k)
         row = []
         for j, p in enumerate(ps):
-            fs = None
+            n = None
             if normal is not None and j == 0:
-                fs = p.mu * max(normal(k), 0.0)
-            f, ffr, w_new, kt, slip, diss = axis_force(u[j], v[j], w[j], p, fs=fs)
+                n = normal(k)
+            f, ffr, w_new, kt, slip, diss = axis_force(u[j], v[j], w[j], p, n)
             row += [f, ffr, kt, e[j] + diss]
             w[j] = w_new
             e[j] += diss
@@ -871,7 +871,7 @@ def _inclined_reference(u_steps, v_steps):
         row = []
         for j, p in enumerate(ps):
             f, ffr, w_new, kt, _slip, diss = axis_force(u[j], v[j], w[j], p)
-            n1, n2 = normal_forces(p, w_new, p.fs)
+            n1, n2 = normal_forces(p, w_new)
             row += [f, ffr, kt, e[j] + diss, n1, n2]
             w[j] = w_new
             e[j] += diss

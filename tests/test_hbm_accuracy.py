@@ -323,9 +323,12 @@ def test_failed_start_retried_with_more_samples_and_a_smaller_step():
 
 # --- adaptive defaults that stay affordable ------------------------------------------
 def test_harmonics_cap_by_dof_count():
-    from drymount.hbm.options import MAX_HARMONICS, MULTI_DOF_MAX_HARMONICS
+    from drymount.config import MAX_HARMONICS as CONFIG_MAX
+    from drymount.hbm.options import (ADAPTIVE_MAX_HARMONICS, MAX_HARMONICS,
+                                      MULTI_DOF_MAX_HARMONICS)
     o = hbm.HBMOptions()
-    assert o.harmonics_cap(1) == o.harmonics_cap(3) == MAX_HARMONICS == 25
+    assert o.harmonics_cap(1) == o.harmonics_cap(3) == ADAPTIVE_MAX_HARMONICS == 25
+    assert MAX_HARMONICS == CONFIG_MAX == 50   # one bound, hbm's
     assert o.harmonics_cap(6) == MULTI_DOF_MAX_HARMONICS == 13
     assert hbm.HBMOptions(max_harmonics=31).harmonics_cap(6) == 31
 

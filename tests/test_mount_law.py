@@ -215,12 +215,13 @@ def test_piecewise_knees_follow_the_law():
     assert elastic_force(-0.005, asym)[1] == asym.k2
 
 
-def test_fs_override_and_energy_nonnegative():
+def test_normal_force_input_and_energy_nonnegative():
+    """The normal-force input n = 160 N replaces n0: Fs = mu n = 80 N."""
     p = AxisParameters(law="linear", k1=0.0, friction=True, kf=KF, mu=0.5, n0=10.0)
     w = 0.0
     rng = np.random.default_rng(3)
     for u in rng.uniform(-0.01, 0.01, 500):
-        f, ffr, w_new, _, _, diss = axis_force(float(u), 0.0, w, p, fs=80.0)
+        f, ffr, w_new, _, _, diss = axis_force(float(u), 0.0, w, p, n=160.0)
         assert abs(ffr) <= 80.0 and diss >= 0.0
         assert diss == pytest.approx(80.0 * abs(w_new - w), rel=1e-15)
         w = w_new

@@ -724,7 +724,7 @@ def _sliders_at(p, traj, steps, j) -> tuple:
     w = initial_sliders(p)
     for k in range(steps):
         n = float(traj.n[k, j])
-        w = axis_force(float(traj.u[k, j]), 0.0, w, p, p.mu * n if n > 0 else 0.0)[2]
+        w = axis_force(float(traj.u[k, j]), 0.0, w, p, n)[2]
     return w
 
 
@@ -800,9 +800,8 @@ def _reference_normal_forces(axes, traj) -> np.ndarray:
         w = initial_sliders(p)
         for k in range(traj.u.shape[0]):
             u, v, n = (float(x[k, j]) for x in (traj.u, traj.v, traj.n))
-            fs = p.mu * n if n > 0.0 else 0.0
-            r = axis_force(u, v, w, p, fs)
-            out[k, 2 * j:2 * j + 2] = mount_law.normal_forces(p, r.w_new, fs)
+            r = axis_force(u, v, w, p, n)
+            out[k, 2 * j:2 * j + 2] = mount_law.normal_forces(p, r.w_new, n)
             w = r.w_new
     return out
 

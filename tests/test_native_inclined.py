@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, run
 
-from drymount.fmu_build.native import CFLAGS, SOURCE_DIR
+from drymount.fmu_build.native import CFLAGS, write_law_sources
 from drymount.fmu_src.inclined import (
     ContactLost,
     InclinedParameters,
@@ -45,12 +45,13 @@ class Step(ctypes.Structure):
 
 @pytest.fixture(scope="module")
 def lib(tmp_path_factory):
-    """inclined.c (with mount_law.c for the messages' number format) compiled with
-    the FMU's flags into a shared library."""
+    """inclined.c (with the rest of the C law, messages.c for the number format)
+    compiled with the FMU's flags into a shared library."""
     need_gcc()
-    out = tmp_path_factory.mktemp("inclined") / "libinclined.so"
+    folder = tmp_path_factory.mktemp("inclined")
+    out = folder / "libinclined.so"
     proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", out,
-                SOURCE_DIR / "inclined.c", SOURCE_DIR / "mount_law.c", "-lm"])
+                *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(out))
     dll.in_update.restype = ctypes.c_int

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, random_axis, run
 
-from drymount.fmu_build.native import CFLAGS, SOURCE_DIR
+from drymount.fmu_build.native import CFLAGS, write_law_sources
 from drymount.fmu_src import mount_law
 from drymount.fmu_src.mount_law import (LAWS, AxisParameters, axis_force,
                                         initial_sliders, mean_slider)
@@ -50,12 +50,14 @@ class Params(ctypes.Structure):
 
 @pytest.fixture(scope="module")
 def law(tmp_path_factory):
-    """mount_law.c (with inclined.c, the inclined element) compiled with the FMU's
-    flags into a shared library."""
+    """The C law (mount_law.c with one file per friction element, the messages and
+    the generated element table) compiled with the FMU's flags into a shared
+    library."""
     need_gcc()
-    lib = tmp_path_factory.mktemp("law") / "libmountlaw.so"
+    folder = tmp_path_factory.mktemp("law")
+    lib = folder / "libmountlaw.so"
     proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
-                SOURCE_DIR / "mount_law.c", SOURCE_DIR / "inclined.c", "-lm"])
+                *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(lib))
     dll.ml_axis_force.restype = Result
@@ -71,6 +73,12 @@ def law(tmp_path_factory):
 #: The law the C port implements, in FMU code order (fmu_build/native.py checks the
 #: registry against it at build time).
 C_LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
+
+
+def _unit_mu(p):
+    """``p`` with mu = 1: its normal-force input n is then the slip force Fs = n
+    exactly, which the C calls of this file take."""
+    return replace(p, mu=1.0) if p.friction else p
 
 
 def test_registry_is_the_ported_laws():
@@ -97,10 +105,11 @@ def test_axis_force_equals_python_law(law, law_name):
         v = rng.normal(0.0, 0.5, per_axis).tolist()
         fs = np.where(rng.random(per_axis) < 0.1, 0.0,
                       rng.uniform(0.0, 800.0, per_axis)).tolist()
+        p1 = _unit_mu(p)
         for ui, vi, wi, si in zip(u, v, w, fs, strict=True):
             r = call(ui, vi, wi, code, p.k1, p.kc, p.k2, p.delta, p.delta_neg, p.c,
                      kf, si)
-            ref = axis_force(ui, vi, wi, p, si)
+            ref = axis_force(ui, vi, wi, p1, si)
             assert bool(r.slipping) == ref.slipping
             slips += ref.slipping
             for name, value in (("force", ref.force), ("friction", ref.friction_force),
@@ -140,7 +149,7 @@ BAD = [
 KINDS = getattr(mount_law, "FRICTION_KINDS", ("jenkins",))
 if "inclined" in KINDS:
     BAD += [
-        {"friction_kind": 2},
+        {"friction_kind": len(KINDS)},  # one past the last registered element
         {"friction_kind": -1, "law": 5},
         {"friction": True, "friction_kind": "inclined", "theta_deg": 95.0,
          "kf2": 0.0},
@@ -291,13 +300,14 @@ def test_micro_slip_and_fs_ratio_equal_python_law(law):
         fs = np.where(rng.random(MICRO_STEPS) < 0.1, 0.0,
                       p.fs * rng.uniform(0.5, 1.5, MICRO_STEPS)).tolist()
         w_py = initial_sliders(p)
+        p1 = _unit_mu(p)
         w_c = (ctypes.c_double * 64)()
         w_new = (ctypes.c_double * 64)()
         r = Result()
         for ui, vi, si in zip(u, v, fs, strict=True):
             assert law.ml_axis_force_w(ui, vi, w_c, ctypes.byref(cp), si, w_new,
                                        ctypes.byref(r), None, 0) == 0
-            ref = axis_force(ui, vi, w_py, p, si)
+            ref = axis_force(ui, vi, w_py, p1, si)
             assert bool(r.slipping) == ref.slipping
             slips += ref.slipping
             for name, value in (("force", ref.force), ("friction", ref.friction_force),

@@ -117,13 +117,11 @@ def _post_commit_reference(axes, traj):
     e_total = 0.0
     for j, p in enumerate(axes):
         w = e = 0.0
-        mu = p.mu if p.friction else 0.0
         for k in range(steps):
             u, v, n = traj.u[k, j], traj.v[k, j], traj.n[k, j]
-            fs = mu * n if n > 0.0 else 0.0
-            r = axis_force(u, v, w, p, fs)
+            r = axis_force(u, v, w, p, n)
             w, e = r.w_new, e + r.dissipated
-            after = axis_force(u, v, w, p, fs)
+            after = axis_force(u, v, w, p, n)
             F[k, j] = after.force
             E[k] += e + after.dissipated
         e_total += e

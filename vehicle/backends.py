@@ -40,7 +40,7 @@ import numpy as np
 
 from drymount.fmu_src.interface import by_causality
 from drymount.fmu_src.mount_law import (AXES, axis_force, friction_kind_code,
-                               initial_sliders, law_code, mean_slider)
+                               initial_sliders, law_code, slider_position)
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
@@ -211,10 +211,11 @@ class _Backend:
             if not p.friction:
                 raise ValueError(f"control of {key!r}: the axis has no friction "
                                  f"element, so its normal force does nothing")
-            if p.inclined is not None:
-                raise ValueError(f"control of {key!r}: the axis carries the inclined "
-                                 f"friction element, whose normal forces follow from "
-                                 f"its kinematics (the input n_<axis> is not used)")
+            if not p.element.uses_normal_input:
+                raise ValueError(f"control of {key!r}: the axis's friction element "
+                                 f"{p.friction_kind!r} does not read the normal-force "
+                                 f"input n_<axis> (its normal forces follow from its "
+                                 f"own state)")
             ctl.append([i, int(cols["u"][i]), int(cols["v"][i]), c, p])
             n0.append(float(p.n0))
             labels.append(f"{key[0]}_{key[1]}")
@@ -265,8 +266,8 @@ class NativeBackend(_Backend):
                 int(cols["Ffr"][i]) - o, e, p))
         self._e_pos = [(e, layout.out_off(e) - layout.o_out + 2 * layout.m_of(e))
                        for e in range(layout.n_mounts)]
-        # friction state of the active axes: a slider position, or the tuple of a
-        # micro-slip axis's slider positions (fmu_src.mount_law.initial_sliders)
+        # friction state of the active axes: each element's own (a float or a
+        # tuple of floats, fmu_src.mount_law.initial_sliders)
         self._w = [initial_sliders(a[5]) for a in self._axes]
         self._E = [0.0] * layout.n_mounts    # committed friction energy per mount, J
         self._E_axis = [0.0] * layout.m
@@ -285,18 +286,22 @@ class NativeBackend(_Backend):
         uvs, outs, axes, w = self._uvs, self._outs, self._axes, self._w
         E, E_axis, e_pos = self._E, self._E_axis, self._e_pos
         template = [0.0] * self.layout.n_out
-        fs = [None] * len(axes)  # slip forces of the controlled axes
+        n_in = [None] * len(axes)  # normal forces of the controlled axes
+        h = self._h_step
         for k in range(k0, k1):
+            # the increment the outputs of row k span: 0 at the very first row, as
+            # in the FMU (read by rate-dependent friction elements only)
+            dt = h if k or self.steps else 0.0
             uv = uvs[k].tolist()
             if self._ctl:
-                n = self._commands(times[k - k0], uv, self._h_step)
-                for (i, _iu, _iv, _c, p), ni in zip(self._ctl, n):
-                    fs[i] = p.mu * ni if ni > 0.0 else 0.0
+                n = self._commands(times[k - k0], uv, h)
+                for (i, _iu, _iv, _c, _p), ni in zip(self._ctl, n):
+                    n_in[i] = ni
             out = template[:]
             i = 0
             for (iu, iv, iF, iFr, e, p) in axes:
                 f, ffr, wn, _kt, _slip, diss = axis_force(uv[iu], uv[iv], w[i], p,
-                                                          fs[i])
+                                                          n_in[i], dt)
                 w[i] = wn
                 out[iF] = f
                 out[iFr] = ffr
@@ -311,16 +316,16 @@ class NativeBackend(_Backend):
         self.steps += k1 - k0
 
     def sliders(self) -> np.ndarray:
-        """Slider positions, shape (n_mounts, 3), m (0 on inactive axes; the mean of
-        the sliders on a micro-slip axis, as the FMU's ``w_<axis>``)."""
+        """Friction-element positions, shape (n_mounts, 3), m (0 on inactive axes;
+        each element's ``position``, as the FMU's ``w_<axis>``)."""
         out = np.zeros((self.layout.n_mounts, 3))
         for (i, e, j) in self.layout.axes():
-            out[e, j] = mean_slider(self._w[i])
+            out[e, j] = slider_position(self._axes[i][5], self._w[i])
         return out
 
     def set_sliders(self, w) -> None:
-        """Put the sliders at ``w`` (n_mounts, 3), m (every slider of a micro-slip
-        axis at its axis's value, as setting the FMU's ``w_<axis>``)."""
+        """Relax the friction elements at ``w`` (n_mounts, 3), m (each element's
+        ``start``, as setting the FMU's ``w_<axis>``)."""
         w = np.asarray(w, dtype=float)
         for (i, e, j) in self.layout.axes():
             self._w[i] = initial_sliders(self._axes[i][5], float(w[e, j]))
@@ -358,7 +363,7 @@ class FMUBackend(_Backend):
         super().__init__(system, layout)
         from fmpy import extract, read_model_description
 
-        from drymount.vehicle import fmi_logging
+        import drymount.vehicle.fmi_logging as fmi_logging
 
         if fmu_path is None:
             from drymount.fmu_build import ensure_fmu
@@ -600,7 +605,7 @@ class FMUBackend(_Backend):
                 except Exception as exc:
                     _log.warning("freeing %s failed: %s", fmu.instanceName, exc)
         if getattr(self, "_callbacks", None) is not None:
-            from drymount.vehicle import fmi_logging
+            import drymount.vehicle.fmi_logging as fmi_logging
 
             fmi_logging.release(self._callbacks)  # every instance is freed by now
         if self._unzipdir is not None:

@@ -10,7 +10,10 @@ and each step is
 - the mount law of every axis of every frequency at once (:class:`VectorLaw`, a NumPy
   port of :func:`fmu_src.mount_law.axis_force`, tested equal to it on random
   trajectories to 1e-12; it performs the same floating-point operations, so it agrees
-  bit for bit except for the friction-energy sum over the axes of a mount);
+  bit for bit except for the friction-energy sum over the axes of a mount). A
+  friction element whose fast form (``AxisParameters.fast_form``) has no vector port
+  here is stepped by its own scalar step, column by column (the per-frequency
+  backend's operations: equal bit for bit, at the per-frequency cost);
 - one batched matrix-vector product ``rec[:, k+1] = W_b @ rec[:, k]``.
 
 Frequencies run in lock step, so a batch holds frequencies with the same number of
@@ -35,7 +38,7 @@ from collections import defaultdict
 
 import numpy as np
 
-from drymount.fmu_src.mount_law import AxisParameters
+from drymount.fmu_src.mount_law import AxisParameters, axis_force
 
 from .master import Master
 from .steady import (
@@ -82,6 +85,14 @@ def _piecewise_asym(u, a):
 #: Vectorised elastic forces, by law name (the scalar ones: fmu_src.mount_law).
 VECTOR_ELASTIC = {"linear": _linear, "cubic": _cubic, "piecewise": _piecewise,
                   "piecewise_asym": _piecewise_asym}
+#: The friction fast forms (``AxisParameters.fast_form``) :class:`VectorLaw` ports:
+#: the symmetric return map of one slider (kf, Fs = mu n0).
+VECTOR_FRICTION = ("symmetric_slider",)
+
+
+def _vectorised(p) -> bool:
+    """Whether :class:`VectorLaw` computes the friction of axis ``p`` itself."""
+    return not p.friction or p.fast_form in VECTOR_FRICTION
 
 
 class LawStep:
@@ -104,7 +115,10 @@ class VectorLaw:
     ``axes`` are the :class:`AxisParameters` of the columns. :meth:`step` takes
     deflections ``u``, rates ``v`` and committed sliders ``w`` of shape (B, m) and
     returns what :func:`fmu_src.mount_law.axis_force` returns per column, with the
-    same floating-point operations in the same order.
+    same floating-point operations in the same order. The columns listed in
+    :attr:`generic` carry a friction element without a vector port: here they get
+    their elastic and viscous force only (their friction and state are stepped by
+    :meth:`generic_step`, one scalar step per entry).
     """
 
     def __init__(self, axes):
@@ -112,12 +126,9 @@ class VectorLaw:
         bad = [i for i, p in enumerate(axes) if not isinstance(p, AxisParameters)]
         if bad:
             raise TypeError(f"`axes` must be AxisParameters, entries {bad} are not")
-        inclined = [i for i, p in enumerate(axes) if p.inclined is not None]
-        if inclined:
-            raise ValueError(
-                f"the batched steady states have no vectorised port of the inclined "
-                f"friction element (axis columns {inclined} have friction_kind "
-                f"'inclined'); use the native or fmu backend without `batch`")
+        #: columns whose friction element is stepped by its scalar step
+        self.generic = [i for i, p in enumerate(axes) if not _vectorised(p)]
+        self.axes = axes
         unknown = sorted({p.law for p in axes} - set(VECTOR_ELASTIC))
         if unknown:
             raise ValueError(f"no vectorised elastic law for {unknown}; known: "
@@ -126,7 +137,7 @@ class VectorLaw:
         arr = {f: np.array([float(getattr(p, f)) for p in axes])
                for f in ("k1", "kc", "k2", "delta", "delta_neg", "c")}
         arr["dk"] = arr["k2"] - arr["k1"]
-        fric = np.array([p.friction for p in axes], dtype=bool)
+        fric = np.array([_vectorised(p) and p.friction for p in axes], dtype=bool)
         # no friction element: kf = fs = 0 gives a friction force of +-0 and an
         # unchanged slider, which leaves f_el + c v unchanged bit for bit
         self._kf = np.where(fric, [p.kf for p in axes], 0.0)
@@ -152,6 +163,26 @@ class VectorLaw:
         for f, idx, a in self._groups:
             out[:, idx] = f(u[:, idx], a)
         return out
+
+    def generic_step(self, u: np.ndarray, v: np.ndarray, states: list, dt) -> tuple:
+        """The scalar law (:func:`fmu_src.mount_law.axis_force`) of the
+        :attr:`generic` columns: ``u``, ``v`` shape (B, m), ``states[b][c]`` the
+        friction state of batch row b and generic column c, ``dt[b]`` the increment
+        (s). Returns ``(force, friction_force, dissipated)`` of shape (B, g) and the
+        new states (nothing committed)."""
+        B, g = u.shape[0], len(self.generic)
+        force, f_fr, diss = (np.empty((B, g)) for _ in range(3))
+        new = []
+        uu, vv = u[:, self.generic].tolist(), v[:, self.generic].tolist()
+        for b in range(B):
+            row = []
+            for c, i in enumerate(self.generic):
+                r = axis_force(uu[b][c], vv[b][c], states[b][c], self.axes[i], None,
+                               dt[b])
+                force[b, c], f_fr[b, c], diss[b, c] = r[0], r[1], r[5]
+                row.append(r[2])
+            new.append(row)
+        return force, f_fr, diss, new
 
     def step(self, u: np.ndarray, v: np.ndarray, w: np.ndarray) -> LawStep:
         """Forces of a trial motion (nothing committed); see the class docstring."""
@@ -227,7 +258,13 @@ class _Batch:
         L, law, rec, W = self.layout, self.law, self.rec, self.W
         backends = [m.backend for m in self.masters]
         B = len(backends)
-        w0 = np.array([be._w for be in backends], dtype=float).reshape(B, L.m)
+        gen = law.generic
+        w0 = np.zeros((B, L.m))   # the vector columns' sliders (generic ones: 0)
+        vec = [i for i in range(L.m) if i not in gen]
+        for b, be in enumerate(backends):
+            w0[b, vec] = [be._w[i] for i in vec]
+        states = [[be._w[i] for i in gen] for be in backends]
+        gdiss = np.zeros((rows, B, len(gen))) if gen else None
         E0 = np.array([be._E for be in backends], dtype=float).reshape(B, L.n_mounts)
         cu, cv, cF, cFr = self._u, self._v, self._F, self._Ffr
         ox, nn, matmul = L.o_x, L.n_next, np.matmul
@@ -238,27 +275,37 @@ class _Batch:
         for k in range(rows):
             row = rec[:, k]
             if L.m:
-                force, f_fr, w = law.forces(row[:, cu], row[:, cv], wh[k])
+                u, v = row[:, cu], row[:, cv]
+                force, f_fr, w = law.forces(u, v, wh[k])
                 wh[k + 1] = w
+                if gen:   # as NativeBackend.run: dt = 0 at a backend's first row
+                    dt = [be._h_step if k or be.steps else 0.0 for be in backends]
+                    gf, gfr, gdiss[k], states = law.generic_step(u, v, states, dt)
+                    force[:, gen], f_fr[:, gen] = gf, gfr
                 row[:, cF] = force
                 row[:, cFr] = f_fr
             matmul(W, row[:, ox:, None], out=nxt)
             rec[:, k + 1, :nn] = nxt[:, :, 0]
-        E = self._energy(wh, E0)
+        E = self._energy(wh, E0, gdiss)
         if L.n_mounts:
             rec[:, :rows, self._E] = E.transpose(1, 0, 2)
         wall = (_time.perf_counter() - t0) / B
         for b, be in enumerate(backends):
             be._w[:] = wh[rows, b].tolist()
+            for c, i in enumerate(gen):
+                be._w[i] = states[b][c]
             be._E[:] = E[-1, b].tolist()
             be.steps += rows
         for m in self.masters:
             m.wall_time += wall
 
-    def _energy(self, wh: np.ndarray, E0: np.ndarray) -> np.ndarray:
+    def _energy(self, wh: np.ndarray, E0: np.ndarray, gdiss=None) -> np.ndarray:
         """Committed friction energy per mount after each step, (rows, B, n_mounts),
-        from the sliders ``wh`` (rows + 1, B, m) and the energy ``E0`` before."""
+        from the sliders ``wh`` (rows + 1, B, m), the generic columns' dissipation
+        ``gdiss`` (rows, B, g) and the energy ``E0`` before."""
         diss = self.law.dissipated(wh[1:], wh[:-1])
+        if gdiss is not None:
+            diss[:, :, self.law.generic] += gdiss
         if self._mount is not None:
             diss = diss @ self._mount
         diss[0] += E0

@@ -21,7 +21,7 @@ Example (the single DOF of the thesis, Sec. 2.1.1, with a friction element)::
     delta = 0.01225             # m
     c = 150.0                   # N s/m
 
-    [mount.friction]            # macro-slip (Jenkins) element, thesis Sec. 2.2
+    [mount.friction]            # friction element (default kind), thesis Sec. 2.2
     kf = 60000.0                # N/m
     mu = 1.0
     n0 = 10.0                   # N

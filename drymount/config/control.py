@@ -44,11 +44,11 @@ class ControlSettings:
     n_off: float = 0.0
 
     def targets(self, system) -> list[tuple[str, str]]:
-        """``(mount name, axis)`` of the controlled axes of ``system`` (Jenkins
-        friction axes: the inclined element's normal forces follow from its
-        kinematics)."""
+        """``(mount name, axis)`` of the controlled axes of ``system`` (friction
+        axes whose element reads the normal-force input, ``uses_normal_input``)."""
         friction = [(e.name, AXES[j]) for e in system.elements for j in e.active_axes
-                    if e.params.axes[j].friction and e.params.axes[j].inclined is None]
+                    if e.params.axes[j].friction
+                    and e.params.axes[j].element.uses_normal_input]
         if self.axes is None:
             return friction
         out = [tuple(a.split(".", 1)) for a in self.axes]
@@ -56,7 +56,7 @@ class ControlSettings:
         if bad:
             raise ValueError(
                 f"`control.axes` entries {bad} are not friction axes (with a "
-                f"normal-force input, i.e. not the inclined element) of "
+                f"normal-force input) of "
                 f"{system.name!r}; allowed: "
                 f"{', '.join(f'{m}.{a}' for m, a in friction) or 'none'}")
         return out

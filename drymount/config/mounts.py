@@ -9,9 +9,10 @@ from dataclasses import fields, replace
 
 import numpy as np
 
+from drymount.fmu_src.friction import FRICTION_ELEMENTS, FRICTION_KINDS, element_fields
 from drymount.fmu_src.interface import parameter_unit
-from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, FRICTION_KINDS, LAWS,
-                               AxisParameters, MountParameters)
+from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, LAWS, AxisParameters,
+                                        MountParameters)
 from drymount.config.checks import (
     _as_float,
     _Checker,
@@ -24,8 +25,6 @@ from drymount.config.schema import (
     ConfigError,
     _AXIS_LAW_KEYS,
     _FRICTION_KEYS,
-    _INCLINED_KEYS,
-    _JENKINS_KEYS,
 )
 
 
@@ -61,101 +60,83 @@ def _law_problems(axis: AxisParameters, path: str) -> list[str]:
     return out
 
 
+#: Hints for keys a friction table of no element has.
+_FRICTION_HINTS = {
+    "normal_force": "the normal force is `n0`", "N": "the normal force is `n0`",
+    "fs": "give the normal force `n0` and `mu` (Fs = mu * n0)",
+    "theta": "the angle is `theta_deg` (degrees)",
+    "enabled": "the table's presence switches friction on; remove the table to "
+               "switch it off"}
+
+
+def _kinds_text() -> str:
+    return "; ".join(f"{name!r}: {el.summary}"
+                     for name, el in FRICTION_ELEMENTS.items())
+
+
 def _friction(ck: _Checker, data: dict, path: str) -> dict | None:
-    """The friction sub-table of an axis -> AxisParameters keywords, or None (off)."""
+    """The friction sub-table of an axis -> AxisParameters keywords, or None (off).
+
+    Its ``kind`` (default: the first registered element) names the element; the
+    other keys are that element's fields (``fmu_src.friction.Field``): the required
+    ones must be given, the rest default; their ranges are checked by
+    ``AxisParameters``."""
     if "friction" not in data:
         return {"friction": False}
     p = _join(path, "friction")
     fr = data["friction"]
     if not isinstance(fr, dict):
-        ck.add(f"`{p}` must be a table with kf [N/m], mu [-] and n0 [N] (remove it "
-               f"for a mount without friction), got {_type_name(fr)} {_show(fr)}")
+        ck.add(f"`{p}` must be a table with the fields of a friction element (remove "
+               f"it for a mount without friction), got {_type_name(fr)} {_show(fr)}")
         return None
-    kind = fr.get("kind", "jenkins")
-    if kind not in FRICTION_KINDS:
+    kind = fr.get("kind", FRICTION_KINDS[0])
+    el = FRICTION_ELEMENTS.get(kind) if isinstance(kind, str) else None
+    if el is None:
         ck.add(f"`{p}.kind` must be one of {', '.join(map(repr, FRICTION_KINDS))} "
-               f"(\"inclined\": the two-surface element of thesis Ch. 5), got "
-               f"{_type_name(kind)} {_show(kind)}")
+               f"({_kinds_text()}), got {_type_name(kind)} {_show(kind)}")
         return None
-    if kind == "inclined":
-        return _inclined(ck, fr, p)
-    ck.keys(fr, p, ("kind", *_JENKINS_KEYS), hints={
-        **{k: f"`{k}` belongs to the inclined element (kind = \"inclined\")"
-           for k in _INCLINED_KEYS if k not in _JENKINS_KEYS and k != "kind"},
-        "normal_force": "the normal force is `n0`", "N": "the normal force is `n0`",
-        "fs": "give the normal force `n0` and `mu` (Fs = mu * n0)",
-        "enabled": "the table's presence switches friction on; remove the table "
-                   "to switch it off"})
-    kw = {"friction": True}
+    mine = tuple(f.name for f in el.fields)
+    owners = {f.name: [n for n, e in FRICTION_ELEMENTS.items() if f in e.fields]
+              for f in element_fields() if f.name not in mine}
+    ck.keys(fr, p, ("kind", *mine), hints={
+        **{k: f"`{k}` belongs to the friction element "
+              f"{' or '.join(repr(n) for n in names)} (`kind`), not to {kind!r}"
+           for k, names in owners.items()}, **_FRICTION_HINTS})
+    kw = {"friction": True, "friction_kind": kind}
     ok = True
-    if "n0" not in fr:
-        ck.add(f"`{p}.n0` is missing: a friction element needs its normal force n0, "
-               f"a number in N > 0 (remove the [{p}] table for a mount without "
-               f"friction)")
-        ok = False
-    if "kf" not in fr:
-        ck.add(f"`{p}.kf` is missing: the contact stiffness of the friction element, "
-               f"a number in N/m > 0, is required (the thesis does not print it; the "
-               f"presets use 60000)")
-        ok = False
-    for name, default in (("kf", None), ("mu", 1.0), ("n0", None)):
-        if name in fr:
-            ok = _number_into(ck, fr, p, name, kw) and ok
-        elif default is not None:
-            kw[name] = default
-    ok = _micro_slip(ck, fr, p, kw) and ok
+    for f in el.fields:
+        if f.name in fr:
+            ok = _field_into(ck, fr, p, f, kw) and ok
+        elif f.required:
+            unit = readable_unit(f.unit)
+            ck.add(f"`{p}.{f.name}` is missing: the friction element {kind!r} needs "
+                   f"{f.description} (a number in {unit}, {f.rule})")
+            ok = False
     if not ok:
         return None
-    # with Fs = mu * n0 = 0 the element carries no force: almost surely a mistake
-    for name in ("n0", "mu"):
-        unit = readable_unit(parameter_unit(name))
-        x = kw[name]
-        if math.isfinite(x) and x == 0:
-            ck.add(f"`{p}.{name}` must be > 0 in a friction table ({unit}), got "
-                   f"{_show(fr[name])}: with mu * n0 = 0 the element does nothing; "
-                   f"remove the [{p}] table instead")
+    if el.uses_normal_input:  # Fs = mu * n0 = 0: the element carries no force
+        for name in ("n0", "mu"):
+            x = kw.get(name)
+            if x is not None and math.isfinite(x) and x == 0:
+                unit = readable_unit(parameter_unit(name))
+                ck.add(f"`{p}.{name}` must be > 0 in a friction table ({unit}), got "
+                       f"{_show(fr[name])}: with mu * n0 = 0 the element does "
+                       f"nothing; remove the [{p}] table instead")
     return kw
 
 
-def _inclined(ck: _Checker, fr: dict, p: str) -> dict | None:
-    """A friction table with ``kind = "inclined"`` -> AxisParameters keywords (the
-    element of :mod:`fmu_src.inclined`; its ranges are checked by AxisParameters)."""
-    ck.keys(fr, p, _INCLINED_KEYS, hints={
-        "n0": "the inclined element's normal forces follow from its kinematics; "
-              "give `preload` (N) and `k` (N/m)",
-        "mu": "the inclined element has `mu1` (inclined surface) and `mu2` (flat)",
-        "theta": "the angle is `theta_deg` (degrees)",
-        "sliders": "micro-slip belongs to the Jenkins element (no `kind`)"})
-    kw = {"friction": True, "friction_kind": "inclined"}
-    ok = True
-    for name in _INCLINED_KEYS[1:]:
-        unit = readable_unit(parameter_unit(name))
-        if name not in fr:
-            ck.add(f"`{p}.{name}` is missing: the inclined element needs "
-                   f"{', '.join(_INCLINED_KEYS[1:])} (this one in {unit})")
-            ok = False
-            continue
-        ok = _number_into(ck, fr, p, name, kw) and ok
-    return kw if ok else None
-
-
-def _micro_slip(ck: _Checker, fr: dict, p: str, kw: dict) -> bool:
-    """The optional micro-slip (``sliders``, ``spread``) and non-symmetric friction
-    (``fs_ratio``) keys into ``kw``; ranges are checked by ``AxisParameters``."""
-    ok = True
-    if "sliders" in fr:
-        n = fr["sliders"]
-        if isinstance(n, int) and not isinstance(n, bool):
-            kw["sliders"] = n
-        else:
-            ck.add(f"`{p}.sliders` must be an integer (the number of Jenkins elements "
-                   f"of the micro-slip element, 1 = macro-slip), got {_type_name(n)} "
-                   f"{_show(n)}")
-            ok = False
-    for name in ("spread", "fs_ratio"):
-        if name in fr:
-            ok = _number_into(ck, fr, p, name, kw) and ok
-    return ok
+def _field_into(ck: _Checker, fr: dict, p: str, f, kw: dict) -> bool:
+    """``kw[f.name]`` = the value of field ``f`` in table ``p`` (an integer for an
+    Integer field, else a number); False (and the problem) if it is not one."""
+    if f.type != "Integer":
+        return _number_into(ck, fr, p, f.name, kw)
+    n = fr[f.name]
+    if isinstance(n, int) and not isinstance(n, bool):
+        kw[f.name] = n
+        return True
+    ck.add(f"`{p}.{f.name}` must be an integer ({f.description}), got "
+           f"{_type_name(n)} {_show(n)}")
+    return False
 
 
 def _number_into(ck: _Checker, fr: dict, p: str, name: str, kw: dict) -> bool:

@@ -6,7 +6,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from drymount.fmu_src.friction import element_fields
 from drymount.fmu_src.mount_law import AXES
+from drymount.hbm.options import MAX_HARMONICS as _HBM_MAX_HARMONICS
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.system import System
 
@@ -23,9 +25,8 @@ EXCITATION_KINDS = {
 BACKENDS = ("fmu", "native")
 DIRECTIONS = ("up", "down")
 SPACINGS = ("linear", "log")
-#: Largest number of harmonics accepted (a sanity bound: H = 7 already converges the
-#: friction systems to 1e-3; 50 harmonics cost ~50x more per Newton step).
-MAX_HARMONICS = 50
+#: Largest number of harmonics accepted: the HBM's one bound (hbm.options).
+MAX_HARMONICS = _HBM_MAX_HARMONICS
 #: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
 #: sharpest kink of the friction law at H = 50 many times over).
 MAX_N_SAMPLES = 8192
@@ -37,11 +38,10 @@ MAX_POINTS = 10_000
 SINGULAR_RTOL = 1e-10
 
 _AXIS_LAW_KEYS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c")
-_JENKINS_KEYS = ("kf", "mu", "n0", "sliders", "spread", "fs_ratio")
-#: Keys of a friction table with ``kind = "inclined"`` (thesis Ch. 5; the values are
-#: the ``AxisParameters`` fields of the same names, ``kind`` its ``friction_kind``).
-_INCLINED_KEYS = ("kind", "theta_deg", "k", "kf", "kf2", "mu1", "mu2", "preload")
-_FRICTION_KEYS = ("kind", *_JENKINS_KEYS, *_INCLINED_KEYS[1:3], *_INCLINED_KEYS[4:])
+#: Keys of a friction table: ``kind`` (``AxisParameters.friction_kind``, a name of the
+#: friction-element registry) and the fields of every registered element (a table
+#: may give only those of its kind, drymount.config.mounts).
+_FRICTION_KEYS = ("kind", *(f.name for f in element_fields()))
 
 #: Allowed keys of every table, by the path pattern used in messages and in
 #: docs/config.md (``[]`` stands for an index of ``[[mounts]]``).

@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "mount_law.h"  /* ml_repr_double, ml_append_problem: the messages */
+#include "messages.h"
 
 #define IN_MAX_EVENTS 64
 #define IN_REL_TOL 1e-12

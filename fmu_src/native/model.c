@@ -145,54 +145,42 @@ static double get_field(const ml_axis_params *p, md_field field)
     return 0.0;
 }
 
-/* Every slider of axis j at value, as many as the current <axis>_sliders says (one if
- * that is not > 1). */
+/* w_<axis> = value before the parameters are checked: one position, untagged;
+ * conform_state makes it the element's state relaxed there (as the PythonFMU slave). */
 static void put_sliders(md_data *d, int j, double value)
 {
-    int i, n = d->p[j].sliders;
-    for (i = 0; i < ML_MAX_SLIDERS; ++i)
-        d->w[j][i] = value;
-    d->nw[j] = n > 1 ? (n < ML_MAX_SLIDERS ? n : ML_MAX_SLIDERS) : 1;
+    d->w[j][0] = value;
+    d->nw[j] = 1;
     d->wkind[j] = 0;
 }
 
-/* mount_law.initial_sliders of the checked axis j at value: the inclined element
- * relaxed there, or n = ml_state_size sliders there. */
+/* mount_law.initial_sliders of the checked axis j at value: the element relaxed
+ * there (its start), tagged with its kind if its state is a named one. */
 static void initial_state(md_data *d, int j, double value)
 {
-    if (ml_is_inclined(&d->p[j])) {
-        ml_relaxed_state(&d->p[j], value, d->w[j]);
-        d->nw[j] = 3;
-        d->wkind[j] = 1;
-        return;
-    }
-    put_sliders(d, j, value);
+    ml_state_start(&d->p[j], value, d->w[j]);
     d->nw[j] = ml_state_size(&d->p[j]);
+    d->wkind[j] = ml_state_tag(&d->p[j]);
 }
 
-/* mount_law.mean_slider of axis j's committed state (uc of the inclined element). */
+/* mount_law.slider_position / mean_slider of axis j's committed state. */
 static double mean_state(const md_data *d, int j)
 {
-    return d->wkind[j] ? d->w[j][2] : ml_mean_slider(d->w[j], d->nw[j]);
+    return ml_state_position(d->w[j], d->nw[j], d->wkind[j]);
 }
 
 /* mount_law.conform_state once the parameters are checked: the state of the axis's
- * kind, kept if it is one already. */
+ * element, kept if it is one already (an untagged sequence of its size, or one
+ * tagged with its kind), else the element relaxed at the state's position. */
 static void conform_state(md_data *d, int j)
 {
     const ml_axis_params *p = &d->p[j];
-    if (ml_is_inclined(p)) {
-        if (d->wkind[j])
-            return;
-        if (d->nw[j] == 3) {  /* a 3-sequence reads as (w1, w2, uc) */
-            d->wkind[j] = 1;
-            return;
-        }
-        initial_state(d, j, mean_state(d, j));
+    int tag = ml_state_tag(p);
+    if ((d->wkind[j] == 0 || d->wkind[j] == tag) && d->nw[j] == ml_state_size(p)) {
+        d->wkind[j] = tag;
         return;
     }
-    if (d->wkind[j] || d->nw[j] != ml_state_size(p))
-        initial_state(d, j, mean_state(d, j));
+    initial_state(d, j, mean_state(d, j));
 }
 
 static void invalidate(md_instance *m)

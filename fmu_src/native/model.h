@@ -64,9 +64,10 @@ typedef struct {
     ml_axis_params p[3];
     double u[3], v[3], n[3];
     int n_set[3];
-    /* committed friction state per axis: wkind[j] 0: nw[j] slider positions (1, or
-     * the sliders of a micro-slip axis; all equal to the last w_<axis> set); 1: the
-     * inclined element's (w1, w2, uc) in w[j][0..2] */
+    /* committed friction state per axis: nw[j] doubles in w[j] (the element's
+     * state_size); wkind[j] its tag (ml_state_tag): 0 for a plain sequence (the
+     * Jenkins sliders, or one position set before the parameters were checked),
+     * kind + 1 for an element with a named state (the inclined (w1, w2, uc): 2) */
     double w[3][ML_MAX_SLIDERS];
     int nw[3], wkind[3];
     double e[3];

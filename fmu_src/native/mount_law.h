@@ -11,16 +11,13 @@
 #include <stddef.h>
 
 #include "inclined.h"
+#include "messages.h"
 
 /* Elastic laws, codes as mount_law.LAWS. */
 enum ml_law { ML_LINEAR = 0, ML_CUBIC = 1, ML_PIECEWISE = 2, ML_PIECEWISE_ASYM = 3 };
 #define ML_N_LAWS 4
 /* mount_law.MAX_SLIDERS */
 #define ML_MAX_SLIDERS 64
-/* Friction elements of an axis, codes as mount_law.FRICTION_KINDS: the Jenkins/Iwan
- * element and the inclined two-surface element of thesis Ch. 5 (inclined.h). */
-enum ml_friction_kind { ML_JENKINS = 0, ML_INCLINED = 1 };
-#define ML_N_FRICTION_KINDS 2
 
 /* Parameters of one local axis (mount_law.AxisParameters), SI units. */
 typedef struct {
@@ -30,7 +27,7 @@ typedef struct {
     double kf, mu, n0;
     int sliders;      /* Jenkins elements of the micro-slip (Iwan) element, 1..64 */
     double spread, fs_ratio;  /* slip-displacement spread; negative/positive Fs */
-    int friction_kind;        /* enum ml_friction_kind */
+    int friction_kind;        /* code of the element in fmu_src.friction's registry */
     /* the inclined element (its inclined surface's stiffness is kf) */
     double theta_deg, k, kf2, mu1, mu2, preload;
 } ml_axis_params;
@@ -45,6 +42,36 @@ typedef struct {
     int slipping;       /* 1 while the slider slips */
     double dissipated;  /* energy the sliders dissipate in the increment, J */
 } ml_axis_result;
+
+/* One increment of a friction element (fmu_src.friction.ElementStep without the
+ * state, which goes to the caller's w_new array, and without dF/dv). */
+typedef struct {
+    double force;       /* friction force, N */
+    double tangent;     /* dF/du, N/m */
+    double dissipated;  /* J */
+    int slipping;
+} ml_friction_step;
+
+/* The C contract of a friction element (fmu_src.friction.FrictionElement): one file
+ * per element defines one of these (its c_port), the generated friction_table.h lists
+ * them in registry order (ML_ELEMENTS, ML_N_FRICTION_KINDS). */
+typedef struct {
+    const char *name;
+    int named_state;  /* its state is tagged with its kind (a named tuple in Python) */
+    int (*state_size)(const ml_axis_params *p);
+    void (*start)(const ml_axis_params *p, double w, double *state);
+    double (*position)(const double *state, int n);
+    /* returns 1 (message in msg) when the increment is impossible (lost contact) */
+    int (*step)(double u, double v, const double *w, const ml_axis_params *p,
+                double fs, double dt, double *w_new, ml_friction_step *out, char *msg,
+                size_t size);
+    void (*normal_forces)(const ml_axis_params *p, const double *w, double fs,
+                          double *n1, double *n2);
+    /* checks beyond one field (NULL: none); appends to buf (count there already),
+     * returns the number appended */
+    int (*problems)(const ml_axis_params *p, const char *prefix, char *buf,
+                    size_t size, int count);
+} ml_element;
 
 /* The thesis's defaults (mount_law.AxisParameters()). */
 ml_axis_params ml_default_params(void);
@@ -68,13 +95,19 @@ double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_
 ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
                               double fs, double *w_new);
 
-/* Number of doubles in the friction state of axis p (mount_law.initial_sliders): 3
- * for the inclined element (w1, w2 and the committed deflection uc), p->sliders for a
- * micro-slip axis, else 1 (the slider position). */
+/* Number of doubles in the friction state of axis p (its element's state_size; 1
+ * without friction). */
 int ml_state_size(const ml_axis_params *p);
 
-/* Whether axis p carries the inclined element (friction on, friction_kind inclined). */
-int ml_is_inclined(const ml_axis_params *p);
+/* mount_law.initial_sliders: the state of axis p relaxed at w, into state. */
+void ml_state_start(const ml_axis_params *p, double w, double *state);
+
+/* The tag of a state of axis p's element: its kind + 1 for an element with a named
+ * state (mount_law.conform_state keeps only a state of its own kind), else 0. */
+int ml_state_tag(const ml_axis_params *p);
+
+/* mount_law.slider_position / mean_slider of the n doubles of a state with tag. */
+double ml_state_position(const double *state, int n, int tag);
 
 /* The inclined element's parameters of axis p (kf: the axis's). */
 in_params ml_inclined_params(const ml_axis_params *p);
@@ -84,10 +117,15 @@ in_params ml_inclined_params(const ml_axis_params *p);
 void ml_relaxed_state(const ml_axis_params *p, double u, double *w);
 
 /* mount_law.normal_forces (N, N2) of axis p's friction element in state w (after an
- * increment) with slip force fs: the inclined element's two contacts, the Jenkins
- * element's fs / mu (n0 if mu = 0) and 0, (0, 0) without friction. */
+ * increment) with slip force fs (its element's normal_forces; (0, 0) without
+ * friction). */
 void ml_normal_forces(const ml_axis_params *p, const double *w, double fs, double *n1,
                       double *n2);
+
+/* jenkins.contact_normal_forces: the contact's normal force Fs / mu (n0 if mu = 0)
+ * and 0 (w unused). */
+void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double fs,
+                              double *n1, double *n2);
 
 /* mount_law.mean_slider of the n positions w: the common position when all are
  * equal, else their exactly rounded sum (math.fsum) / n. */
@@ -122,11 +160,5 @@ int ml_axis_force_p(double u, double v, const double *w, const ml_axis_params *p
 int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                      size_t size);
 
-/* Python's repr() of a float (shortest round-trip text), for the messages. */
-void ml_repr_double(double x, char *buf, size_t size);
-
-/* Append "; " (unless *count is 0) and text to buf (NUL-terminated, truncated if too
- * small) and count it: the "; "-separated problem lists of the parameter checks. */
-void ml_append_problem(char *buf, size_t size, int *count, const char *text);
 
 #endif

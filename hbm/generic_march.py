@@ -1,0 +1,84 @@
+"""The HBM's generic AFT path: any friction element's own step marched over the period.
+
+An axis whose friction element has no fast form here (``AxisParameters.fast_form`` not
+among :data:`HBM_FAST_FORMS`) is evaluated by marching the element's bound step
+(``fmu_src.friction.FrictionElement.bind``) over the N samples of one period,
+starting relaxed at ``w_start``: a first pass settles the state, the second is the
+periodic response (NLvib marches hysteretic elements two periods and keeps the last;
+a pass more is run while the state at the period's end still changes by more than
+:data:`REPEAT_TOL` of the largest |u|, at most :data:`MAX_PASSES`). A rate-dependent
+element gets the velocity samples ``v = omega dU/dtheta`` and the step ``dt = T / N``.
+
+The Jacobian ``dF/dU`` is by central differences of the marched force coefficients
+(step :data:`FD_STEP` times the largest |U|), 2 (2H+1) marches more: the contract
+gives the element's tangents at a sample but not the sensitivity of its state, and a
+hysteretic element's force depends on the state (so a per-sample tangent alone would
+be a wrong Jacobian). A new element thus runs in the HBM before anyone writes a fast
+form for it; a test compares it with a fine-step integration of the law.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["HBM_FAST_FORMS", "generic_periodic", "generic_aft", "MAX_PASSES"]
+
+#: The fast forms the HBM holds: ``hbm.friction_march`` (one symmetric slider, with
+#: its closed form), ``hbm.aft._aft_banks`` (banks of sliders) and ``hbm.inclined``.
+HBM_FAST_FORMS = ("symmetric_slider", "slider_bank", "inclined")
+#: passes over the period at most (two suffice for an element that settles at once)
+MAX_PASSES = 20
+#: the state at the period's end repeats when its position changes by less than this
+#: times the largest |u| of the period (m/m) over a pass
+REPEAT_TOL = 1e-13
+#: central-difference step of the Jacobian, relative to the largest |U| (m/m)
+FD_STEP = 1e-7
+
+
+def generic_periodic(u, v, p, w_start: float, dt: float) -> np.ndarray:
+    """The periodic friction force (N) at the samples ``u`` (m), ``v`` (m/s) of the
+    element of axis ``p``, marched from its state relaxed at ``w_start`` (m)."""
+    step, n = p.friction_step, p.n0
+    el = p.element
+    us, vs = [float(x) for x in u], [float(x) for x in v]
+    state = el.start(p, w_start)
+    out = [0.0] * len(us)
+    scale = REPEAT_TOL * (max(abs(x) for x in us) + 1e-12)
+    for passes in range(1, MAX_PASSES + 1):
+        begin = el.position(state)
+        for i, (ui, vi) in enumerate(zip(us, vs)):
+            r = step(state, ui, vi, n, dt)
+            state = r[1]
+            out[i] = r[0]
+        if passes > 1 and abs(el.position(state) - begin) <= scale:
+            break
+    return np.array(out)
+
+
+def generic_aft(U: np.ndarray, p, w_start: float, basis, omega, jacobian: bool):
+    """Force coefficients ``(2H+1,)`` of the element of axis ``p`` for the deflection
+    coefficients ``U`` (2H+1,), m, and their Jacobian ``(2H+1, 2H+1)`` (None
+    without ``jacobian``). ``omega`` (rad/s) is needed by rate-dependent elements."""
+    if p.element.rate_dependent and omega is None:
+        raise ValueError(f"the friction element {p.friction_kind!r} is rate-dependent: "
+                         f"its AFT needs the frequency omega")
+    w = 1.0 if omega is None else float(omega)
+    dt = 2.0 * math.pi / (w * basis.N)
+
+    def force(Uc):
+        u = basis.E @ Uc
+        v = w * (basis.E @ (basis.D @ Uc))
+        return basis.P @ generic_periodic(u, v, p, w_start, dt)
+
+    F = force(U)
+    if not jacobian:
+        return F, None
+    h = FD_STEP * max(float(np.max(np.abs(U))), 1e-9)
+    dF = np.empty((U.size, U.size))
+    for g in range(U.size):
+        e = np.zeros(U.size)
+        e[g] = h
+        dF[:, g] = (force(U + e) - force(U - e)) / (2.0 * h)
+    return F, dF
