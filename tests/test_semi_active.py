@@ -86,4 +86,23 @@ def test_hbm_schedule_picks_the_smallest_transmissibility():
 @pytest.mark.slow
 def test_quick_study_runs(tmp_path):
     out = sa.run_semi_active(tmp_path, quick=True, progress=False)
-    assert len(out["rms_force"]) == 37 and len(out["files"]) == 5
+    assert len(out["rms_force"]) == 42 and len(out["files"]) == 5
+
+
+def test_suspended_road_is_the_quarter_car_body_response():
+    from drymount.vehicle.inputs import RandomRoad, SuspendedRoad
+
+    system = load_system("six_dof_halved")
+    raw = RandomRoad(system, "C", 20.0, seed=1)
+    body = SuspendedRoad(system, "C", 20.0, seed=1)
+    # state space of the 2-DOF suspension (body zs, wheel zu), road r as input:
+    # H = C (i w - A)^-1 B
+    ms, mu, ks, cs, kt = 300.0, 30.0, 15000.0, 1000.0, 200000.0
+    A = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-ks / ms, ks / ms, -cs / ms, cs / ms],
+                  [ks / mu, -(ks + kt) / mu, cs / mu, -cs / mu]])
+    B = np.array([0, 0, 0, kt / mu])
+    w = 2 * np.pi * raw.n * raw.speed
+    h = np.array([np.linalg.solve(1j * wi * np.eye(4) - A, B)[0] for wi in w])
+    np.testing.assert_allclose(body.amplitudes, raw.amplitudes * np.abs(h), rtol=1e-9)
+    dphi = np.angle(np.exp(1j * (body.phases - raw.phases - np.angle(h))))
+    assert np.max(np.abs(dphi)) < 1e-9

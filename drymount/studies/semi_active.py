@@ -2,12 +2,20 @@
 item 4).
 
 On the quarter car (``quarter_car_halved``) and the 6-DOF engine (``six_dof_halved``),
-two time-domain scenarios:
+time-domain scenarios:
 
 * **run-up**: the crank excitation of an inline four (thesis eq. 1.3,
   :class:`vehicle.inputs.CrankRunUp`) from 600 to 6000 rpm, chassis at rest;
-* **road**: an ISO 8608 class C random road at 20 m/s under the tyre (quarter car) or
-  the chassis (6-DOF, vertical), engine not running.
+* **road**: an ISO 8608 class C random road at 20 m/s under the tyre of the quarter
+  car, engine not running;
+  for the 6-DOF engine the chassis points move as the body of that quarter car on
+  the road (:class:`vehicle.inputs.SuspendedRoad`: one-way, all corners in phase);
+* **road rig** (6-DOF): the same profile straight into the chassis attachment points
+  (vertical), i.e. a shaker rig without a suspension: the mounts deflect far past
+  their knee (issue 26 item 3). A labelled rig case, not a road.
+
+And on the single-DOF engine (``sdof_halved``), the unbalance at 3 Hz (stuck band),
+4.2 Hz (resonance) and 8 Hz, measured over the last periods of a run from rest.
 
 Designs, each simulated with the in-process law (``backend="native"``, the FMU's law):
 
@@ -44,7 +52,7 @@ from drymount.studies.output import md_table, new_figure, progress_bar, save_fig
 from drymount.fmu_src.mount_law import AXES, MountParameters
 from drymount.hbm.system import Excitation, System, Transmissibility
 from drymount.vehicle import CrankRunUp, Master, RandomRoad
-from drymount.vehicle.inputs import HarmonicInput
+from drymount.vehicle.inputs import HarmonicInput, SuspendedRoad
 from drymount.vehicle import control as vc
 from drymount.vehicle.control import Limits, ScheduledControl
 
@@ -52,7 +60,7 @@ from drymount.vehicle.control import Limits, ScheduledControl
 MODELS = (("single-DOF", "sdof_halved", "x", ("unbalance 3 Hz", "unbalance 4.2 Hz",
                                               "unbalance 8 Hz")),
           ("quarter car", "quarter_car_halved", "engine", ("run-up", "road")),
-          ("6-DOF engine", "six_dof_halved", "z", ("run-up", "road")))
+          ("6-DOF engine", "six_dof_halved", "z", ("run-up", "road", "road rig")))
 #: Unbalance runs: periods from rest, of which the last ones are measured (steady).
 UNBALANCE_PERIODS, UNBALANCE_MEASURED = 34, 4
 #: Constant normal forces tried for "passive best n0", times the preset's n0.
@@ -137,6 +145,9 @@ def _inputs(system: System, scenario: str, quick: bool):
         dur = RUNUP_S[1] if quick else RUNUP_S[0]
         return CrankRunUp(system, 600.0, 6000.0, dur), dur, DT_RUNUP
     dur = ROAD_S[1] if quick else ROAD_S[0]
+    if scenario == "road" and "sprung" not in system.dof_names:
+        # a body on the quarter car's suspension under every attachment point
+        return SuspendedRoad(system, ROAD_CLASS, ROAD_SPEED, seed=1), dur, DT_ROAD
     return RandomRoad(system, ROAD_CLASS, ROAD_SPEED, seed=1), dur, DT_ROAD
 
 
@@ -232,7 +243,8 @@ def _plot(model: str, runs: list[Run], path: Path, scenarios) -> None:
                 ax.plot(tw, fw, label=f"{r.design} (RMS {r.rms_force:.3g} N)")
         what = ("crank run-up 600-6000 rpm" if scenario == "run-up"
                 else f"ISO 8608 class {ROAD_CLASS} road at {ROAD_SPEED:g} m/s"
-                if scenario == "road" else scenario)
+                + (" straight to the chassis points (rig)" if scenario == "road rig"
+                   else "") if scenario.startswith("road") else scenario)
         ax.set_title(f"{model}: {what}")
         ax.set_xlabel("time [s]")
         ax.set_ylabel("transmitted force, 50 ms RMS [N]")
