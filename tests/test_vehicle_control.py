@@ -126,3 +126,21 @@ def test_control_table_builds_controllers_and_checks_values():
     with pytest.raises(ConfigError, match="not friction axes"):
         load_config(CONTROL_TOML + 'kind = "growth"\nn_on = 3.0\n'
                     'axes = ["engine.axial"]\n')
+
+
+def test_control_kinds_build_their_laws_and_onoff_names_its_new_name():
+    from drymount.config import ConfigError, load_config
+    from drymount.vehicle import control as vc
+
+    for kind, law in (("balance", vc.BalanceControl), ("skyhook", vc.SkyhookControl),
+                      ("growth", vc.GrowthControl)):
+        cfg = load_config(CONTROL_TOML + f'kind = "{kind}"\nn_on = 30.0\n')
+        c = cfg.control.controllers(cfg.system)[("mount", "axial")]
+        assert type(c) is law and c.contact == (60000.0, 1.0)
+        # the point law (h = 0): u > 0 and v < 0 is the returning deflection
+        row = np.zeros(16)
+        row[2 + 1] = -1.0  # vh of DOF x: the engine velocity -1 m/s
+        on = c.command(0.0, 1e-3, -1.0, row, 0.0)
+        assert on == (30.0 if kind in ("balance", "skyhook") else 0.0)
+    with pytest.raises(ConfigError, match='"onoff" is now "growth"'):
+        load_config(CONTROL_TOML + 'kind = "onoff"\nn_on = 3.0\n')
