@@ -302,7 +302,6 @@ def engine_velocity(system, mount: str, axis: str) -> Callable:
     (:data:`ENGINE_DOFS`).
     """
     from drymount.fmu_src.mount_law import AXES
-    from drymount.vehicle.backends import Layout
 
     e = next((el for el in system.elements if el.name == mount), None)
     if e is None:
@@ -312,7 +311,8 @@ def engine_velocity(system, mount: str, axis: str) -> Callable:
     if not np.any(b):
         raise ValueError(f"skyhook: mount {mount!r} axis {axis!r} does not move "
                          f"with an engine DOF ({', '.join(ENGINE_DOFS)})")
-    n, o = system.n_dof, Layout.of(system).o_x
+    # the row starts with u, v of every active axis (Layout.o_x = 2 m)
+    n, o = system.n_dof, 2 * sum(len(el.active_axes) for el in system.elements)
 
     def velocity(row, h: float) -> float:
         return float(b @ row[o + n:o + 2 * n] + 0.5 * h * (b @ row[o + 2 * n:o + 3 * n]))
