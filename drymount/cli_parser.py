@@ -385,8 +385,9 @@ def _cmd_study(sub) -> None:
                            (Figs. 4.45-4.50)
              incline       inclined friction surfaces (Ch. 5): theta, k, preload;
                            transmissibility and static deflection under the weight
-             semi-active   passive vs controlled normal force: engine run-up and
-                           ISO 8608 road, quarter car and 6-DOF (co-simulation)
+             semi-active   passive vs controlled normal force (balance, skyhook,
+                           scheduled, growth): unbalance, engine run-up and ISO
+                           8608 road; single-DOF, quarter car, 6-DOF (co-simulation)
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])

@@ -42,6 +42,8 @@ INCLINED_FIELDS = ("theta_deg", "k", "kf", "kf2", "mu1", "mu2", "preload")
 
 _MAX_EVENTS = 64
 _REL_TOL = 1e-12
+#: at-limit slack in units of a contact force's rounding kf * ulp(x)
+_RES_ULPS, _EPS = 64.0, 2.220446049250313e-16
 
 
 class ContactLost(ValueError):
@@ -229,8 +231,11 @@ def _choose(x, w1, w2, d, p, s, c):
     # within rounding of the element's force scale (the friction forces are computed
     # from spring forces of that size: a normal force near 0 makes L tiny, not exact)
     scale = abs(f1) + abs(f2) + p.preload
-    for f, L in zip((f1, f2), lim):
-        tol = _REL_TOL * max(abs(f), abs(L), scale, 1e-9)
+    # ... and within the resolution of a contact force kf (x/s - w): kf ulp(x), which
+    # exceeds the relative tolerance for stiff contacts (kf = 1e9 N/m: issue 26)
+    res = (p.kf * (abs(x / s) + abs(w1)), p.kf2 * (abs(x * c / s) + abs(w2)))
+    for f, L, r in zip((f1, f2), lim, res):
+        tol = max(_REL_TOL * max(abs(f), abs(L), scale, 1e-9), _RES_ULPS * _EPS * r)
         at_limit.append(not math.isinf(L) and abs(f) >= L - tol)
     options = [(0,), (0,)]
     for i, f in enumerate((f1, f2)):

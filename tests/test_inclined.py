@@ -166,3 +166,33 @@ def test_surface_at_its_limit_with_a_vanishing_normal_force_slips():
     # by x (measured -0.021 N), an honest ContactLost, not the event-count guard
     with pytest.raises(ContactLost, match="loses contact at x"):
         inclined_update(x, x_old, w1, w2, p)
+
+
+def _loop_energy(kf: float, X: float = 3e-3, n: int = 256) -> float:
+    """Energy dissipated in the third period of x = X sin(2 pi i / n) (J)."""
+    p = InclinedParameters(theta_deg=60.0, k=20000.0, kf=kf, kf2=kf, mu1=0.3,
+                           mu2=0.3, preload=200.0)
+    w1 = w2 = x_old = 0.0
+    energy = []
+    for i in range(1, 3 * n + 1):
+        x = X * math.sin(2 * math.pi * i / n)
+        st = inclined_update(x, x_old, w1, w2, p)
+        w1, w2, x_old = st.w1, st.w2, x
+        energy.append(st.dissipated)
+    return sum(energy[2 * n:])
+
+
+#: kf = kf2 = 1e9 N/m against the rigid-contact limit (issue 26 item 5)
+RTOL_RIGID = 1e-4
+
+
+def test_stiff_contacts_run_and_converge_to_the_rigid_loop_energy():
+    # the at-limit test was 1e-12 relative, below a contact force's rounding kf ulp(x)
+    # at kf = 1e9: "more than 64 stick/slip events" (X = 3 mm, 256 steps a period).
+    # Rigid limit: the error of the contact compliance is O(1/kf) (measured: the
+    # energy changes 3.9e-4 J from 1e8 to 1e9 and 3.9e-5 J from 1e9 to 1e10), so
+    # Richardson from 1e10 and 1e11 gives it to O(1e-11 relative)
+    e9, e10, e11 = (_loop_energy(kf) for kf in (1e9, 1e10, 1e11))
+    rigid = e11 + (e11 - e10) / 9.0
+    assert abs(e10 - rigid) < abs(e9 - rigid) / 5  # converging, O(1/kf)
+    assert abs(e9 - rigid) <= RTOL_RIGID * rigid

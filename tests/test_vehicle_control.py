@@ -9,7 +9,7 @@ import pytest
 
 from drymount.fmu_src.mount_law import AxisParameters, MountParameters
 from drymount.hbm.systems import sdof
-from drymount.vehicle.control import Limits, OnOffControl, ScheduledControl
+from drymount.vehicle.control import Limits, GrowthControl, ScheduledControl
 from drymount.vehicle.master import Master
 
 #: the FMU evaluates the same law with the same inputs: measured 0 (bit-identical)
@@ -43,7 +43,7 @@ def test_constant_schedule_equals_the_passive_mount_with_that_n0():
 
 def test_on_off_with_limits_fmu_equals_in_process():
     lim = Limits(n_min=2.0, n_max=40.0, rate_max=2.0e4)
-    ctl = {("mount", "axial"): OnOffControl(n_on=60.0, n_off=0.0, limits=lim)}
+    ctl = {("mount", "axial"): GrowthControl(n_on=60.0, n_off=0.0, limits=lim)}
     a, log_a = _run(_system(), ctl, "native")
     b, log_b = _run(_system(), ctl, "fmu")
     np.testing.assert_allclose(b.q, a.q, rtol=RTOL_FMU, atol=0)
@@ -55,24 +55,30 @@ def test_on_off_with_limits_fmu_equals_in_process():
     assert np.max(np.abs(np.diff(n[:, 0]))) <= lim.rate_max * h + RATE_SLACK
     assert np.any(n == 40.0) and np.any(n == 2.0)
     # the on/off rule itself: with no limit, n = n_on exactly where u v > 0
-    free = {("mount", "axial"): OnOffControl(n_on=60.0, n_off=5.0)}
+    free = {("mount", "axial"): GrowthControl(n_on=60.0, n_off=5.0)}
     th, log = _run(_system(), free)
     _, n = log.arrays()
     u = th.deflections[:, 0]
     v = th.qd[:, 0]
-    on = n[:, 0] == 60.0
-    assert np.array_equal(on, u * v > 0.0)
+    # n_on where u v > 0 at the step and its neighbours, n_off where it is <= 0
+    # there; at a switch the step's command lies between (located in the step)
+    on = u * v > 0.0
+    inner_on = on[1:-1] & on[:-2] & on[2:]
+    inner_off = ~(on[1:-1] | on[:-2] | on[2:])
+    n = n[1:-1, 0]
+    assert np.all(n[inner_on] == 60.0) and np.all(n[inner_off] == 5.0)
+    assert np.all((n >= 5.0) & (n <= 60.0)) and inner_on.sum() > 100
 
 
 def test_bad_control_is_refused_with_a_clear_message():
     with pytest.raises(ValueError, match="no active mount axis"):
-        _run(_system(), {("mount", "radial1"): OnOffControl(10.0)})
+        _run(_system(), {("mount", "radial1"): GrowthControl(10.0)})
     with pytest.raises(ValueError, match="`rate_max` must be > 0"):
         Limits(rate_max=0.0)
     with pytest.raises(ValueError, match="strictly increasing"):
         ScheduledControl((2.0, 1.0), (1.0, 2.0), signal=math.sin)
     with pytest.raises(ValueError, match="`n_on` must be finite and >= 0"):
-        OnOffControl(-1.0)
+        GrowthControl(-1.0)
 
 
 CONTROL_TOML = """
@@ -103,7 +109,7 @@ def test_control_table_builds_controllers_and_checks_values():
     c = ctl[("mount", "axial")]
     assert c.command(0.0, 0.0, 0.0) == pytest.approx(12.0)
     assert c.limits == Limits(0.0, 50.0, 1e4)
-    cfg = load_config(CONTROL_TOML + 'kind = "onoff"\nn_on = 30.0\n')
+    cfg = load_config(CONTROL_TOML + 'kind = "growth"\nn_on = 30.0\n')
     c = cfg.control.controllers(cfg.system)[("mount", "axial")]
     assert (c.command(0, 1e-3, 1.0), c.command(0, 1e-3, -1.0)) == (30.0, 0.0)
     with pytest.raises(ConfigError) as err:
@@ -116,7 +122,25 @@ def test_control_table_builds_controllers_and_checks_values():
     assert "`control.n_max` must be >= control.n_min = 5.0 N, got 1.0" in text
     assert "`control.axes` must be a non-empty array of \"<mount>.<axis>\"" in text
     with pytest.raises(ConfigError, match="`control.n_on` is missing"):
-        load_config(CONTROL_TOML + 'kind = "onoff"\n')
+        load_config(CONTROL_TOML + 'kind = "growth"\n')
     with pytest.raises(ConfigError, match="not friction axes"):
-        load_config(CONTROL_TOML + 'kind = "onoff"\nn_on = 3.0\n'
+        load_config(CONTROL_TOML + 'kind = "growth"\nn_on = 3.0\n'
                     'axes = ["engine.axial"]\n')
+
+
+def test_control_kinds_build_their_laws_and_onoff_names_its_new_name():
+    from drymount.config import ConfigError, load_config
+    from drymount.vehicle import control as vc
+
+    for kind, law in (("balance", vc.BalanceControl), ("skyhook", vc.SkyhookControl),
+                      ("growth", vc.GrowthControl)):
+        cfg = load_config(CONTROL_TOML + f'kind = "{kind}"\nn_on = 30.0\n')
+        c = cfg.control.controllers(cfg.system)[("mount", "axial")]
+        assert type(c) is law and c.contact == (60000.0, 1.0)
+        # the point law (h = 0): u > 0 and v < 0 is the returning deflection
+        row = np.zeros(16)
+        row[2 + 1] = -1.0  # vh of DOF x: the engine velocity -1 m/s
+        on = c.command(0.0, 1e-3, -1.0, row, 0.0)
+        assert on == (30.0 if kind in ("balance", "skyhook") else 0.0)
+    with pytest.raises(ConfigError, match='"onoff" is now "growth"'):
+        load_config(CONTROL_TOML + 'kind = "onoff"\nn_on = 3.0\n')

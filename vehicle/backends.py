@@ -223,12 +223,14 @@ class _Backend:
         self._ctl_targets = None
         self.control_log = ControlLog(tuple(labels)) if ctl else None
 
-    def _commands(self, t: float, uv, h: float) -> list[float]:
-        """Apply every controller at time ``t`` to the row values ``uv``; returns
-        the limited normal forces (and logs them)."""
+    def _commands(self, t: float, uv, h: float, row=None) -> list[float]:
+        """Apply every controller at time ``t`` to the row values ``uv`` (and the
+        whole row ``row`` of the step, for laws that sense the DOFs); returns the
+        limited normal forces (and logs them)."""
         n_ctl = self._n_ctl
         for idx, (_i, iu, iv, c, _p) in enumerate(self._ctl):
-            n_ctl[idx] = c.limits.apply(c.command(t, uv[iu], uv[iv]), n_ctl[idx], h)
+            n_ctl[idx] = c.limits.apply(c.command(t, uv[iu], uv[iv], row, h),
+                                        n_ctl[idx], h)
         self.control_log.add(t, n_ctl)
         return n_ctl
 
@@ -294,7 +296,7 @@ class NativeBackend(_Backend):
             dt = h if k or self.steps else 0.0
             uv = uvs[k].tolist()
             if self._ctl:
-                n = self._commands(times[k - k0], uv, h)
+                n = self._commands(times[k - k0], uv, h, self._rec[k])
                 for (i, _iu, _iv, _c, _p), ni in zip(self._ctl, n):
                     n_in[i] = ni
             out = template[:]
@@ -515,7 +517,7 @@ class FMUBackend(_Backend):
             for k in range(k0, k1):
                 t = times[k - k0]
                 if self._ctl:
-                    self._set_normal_forces(t, uvs[k].tolist(), h)
+                    self._set_normal_forces(t, uvs[k].tolist(), h, self._rec[k])
                 for e, S, c, vi, ni, pin, G, vo, no, pout, D in calls[k]:
                     S(c, vi, ni, pin)
                     G(c, vo, no, pout)
@@ -527,9 +529,9 @@ class FMUBackend(_Backend):
         self.steps += k1 - k0
         self.time = t
 
-    def _set_normal_forces(self, t: float, uv, h: float) -> None:
+    def _set_normal_forces(self, t: float, uv, h: float, row=None) -> None:
         """The controllers' normal forces into the inputs ``n_<axis>``."""
-        n = self._commands(t, uv, h)
+        n = self._commands(t, uv, h, row)
         if getattr(self, "_ctl_targets", None) is None:
             axes = self.layout.axes()
             self._ctl_targets = []

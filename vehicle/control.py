@@ -1,21 +1,32 @@
 """Semi-active normal-force control of the mounts' friction contacts (issue 14 item 4).
 
 A controller sets the normal force ``n`` of one mount axis's friction contact at every
-communication step from the time and the axis's deflection ``u`` and rate ``v`` (the
-values the master sends to the mount at that step). Both backends call it once per
+communication step from the time, the axis's deflection ``u`` and rate ``v`` (the
+values the master sends to the mount at that step), the master's row of the step
+and the step ``h``: ``command(t, u, v, row, h)``. Both backends call it once per
 step before the mount force is evaluated: in-process as the slip force
 ``mu * max(n, 0)``, through an FMU as its input ``n_<axis>``. The command is then
 limited to ``[n_min, n_max]`` and to a rate ``|dn/dt| <= rate_max`` (:class:`Limits`).
 
-Two laws:
+Sign convention: ``u`` is engine minus chassis, the mount force on the chassis is
+``F = F_el(u) + c v + F_fr`` with ``F_el`` of the sign of ``u`` and a slipping
+friction force ``F_fr = mu n sign(v)``.
 
+The laws:
+
+* :class:`BalanceControl` (balance logic): ``n_on`` while the friction force
+  opposes the elastic force (``u v < 0``), else ``n_off``.
+* :class:`SkyhookControl`: ``n_on`` while the friction force on the engine opposes
+  the engine's absolute velocity ``va`` (``v va > 0``), else ``n_off``.
 * :class:`ScheduledControl` (gain scheduling): ``n = interp(x(t), x_table, n_table)``
   with ``x(t)`` a known signal, e.g. the excitation frequency of an engine run-up and
   the table the passive optimum n0 per frequency from the HBM.
-* :class:`OnOffControl` (a friction "skyhook"): ``n = n_on`` while the deflection grows
-  in magnitude (``u v > 0``: the contact then removes energy from the motion away from
-  the rest position) and ``n = n_off`` while it returns, so the mount is soft on the
-  way back and does not stick.
+* :class:`GrowthControl`: ``n_on`` while the deflection grows (``u v > 0``), the
+  reverse of the balance logic: it adds to the transmitted force (kept as the
+  reference of a wrong law; it was called ``onoff``).
+
+The two-state laws locate their switch inside the step (:class:`SwitchingControl`):
+the co-simulation stays second order in the step.
 """
 
 from __future__ import annotations
@@ -26,7 +37,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Limits", "ScheduledControl", "OnOffControl", "ControlLog"]
+__all__ = ["Limits", "ScheduledControl", "SwitchingControl", "BalanceControl",
+           "GrowthControl", "SkyhookControl", "engine_velocity", "macro_slip_contact",
+           "ENGINE_DOFS",
+           "ControlLog"]
 
 
 def _num(x) -> bool:
@@ -100,27 +114,223 @@ class ScheduledControl:
         object.__setattr__(self, "x", x)
         object.__setattr__(self, "n", n)
 
-    def command(self, t: float, u: float, v: float) -> float:
+    def command(self, t: float, u: float, v: float, row=None, h: float = 0.0
+                ) -> float:
         return float(np.interp(self.signal(t), self.x, self.n))
 
 
-@dataclass(frozen=True)
-class OnOffControl:
-    """Friction skyhook: ``n_on`` while ``u v > 0`` (deflection growing), else
-    ``n_off`` (N)."""
+class SwitchingControl:
+    """A two-state law: ``n_on`` while the law's predicate on two signals holds,
+    else ``n_off`` (N), the switch located inside the step.
 
-    n_on: float
-    n_off: float = 0.0
-    limits: Limits = field(default_factory=Limits)
+    Subclasses give :meth:`signals` (two values and their rates at the step) and
+    :meth:`predicate` (on/off from the two values). The master's force sample at
+    ``t_k`` stands for the cell ``[t_k - h/2, t_k + h/2]`` (leapfrog): a switch
+    inside that cell applied at the whole cell would move an impulse ``jump * O(h)``
+    and make the scheme first order. The command is therefore the cell average
+    ``n = n_off + theta (n_on - n_off)`` with ``theta`` the fraction of the cell in
+    which the predicate holds, the signals linear in the cell (value and rate at
+    ``t_k``; a rate not known from the state is the difference quotient of the
+    last two steps). The friction force of a slipping contact is ``mu n``, so the
+    cell's impulse is right to O(h^2). That holds for an off-switch (the force
+    steps down to ``mu n_off``; the released contact forgets its slider). An
+    on-switch keeps the force continuous but sets where the contact sticks: with
+    ``contact = (kf, mu)`` of a macro-slip axis, the first step after it commands
+    the normal force whose return map puts the slider where it stuck at the switch
+    (:meth:`_anchor`); otherwise the stick point lags by ``v h`` (first order).
+    Both together: second order, as the passive mount (docs/physics.md). A rate
+    limit starts its ramp at the step, not at the switch.
 
-    def __post_init__(self):
-        for name in ("n_on", "n_off"):
-            value = getattr(self, name)
+    The controller keeps the last step's signals (it is stateful: one instance per
+    controlled axis and per run).
+    """
+
+    kind = ""
+
+    def __init__(self, n_on: float, n_off: float = 0.0, limits: Limits | None = None,
+                 contact: tuple[float, float] | None = None):
+        for name, value in (("n_on", n_on), ("n_off", n_off)):
             if not (_num(value) and math.isfinite(value) and value >= 0):
                 raise ValueError(f"`{name}` must be finite and >= 0 N, got {value!r}")
+        self.n_on, self.n_off = float(n_on), float(n_off)
+        self.limits = Limits() if limits is None else limits
+        #: (kf, mu) of a macro-slip contact: locates the stick point of an on-switch
+        self.contact = None if contact is None else (float(contact[0]),
+                                                     float(contact[1]))
+        self._last = None  # (t, a, b, u, v, on) of the previous step
 
-    def command(self, t: float, u: float, v: float) -> float:
-        return self.n_on if u * v > 0.0 else self.n_off
+    def __repr__(self):
+        return (f"{type(self).__name__}(n_on={self.n_on!r}, n_off={self.n_off!r}, "
+                f"limits={self.limits!r})")
+
+    def signals(self, u: float, v: float, row, h: float) -> tuple[float, float, float | None,
+                                                         float | None]:
+        """``(a, b, da/dt, db/dt)`` at the step; a rate None: from the history."""
+        raise NotImplementedError
+
+    def predicate(self, a: float, b: float) -> bool:
+        raise NotImplementedError
+
+    def command(self, t: float, u: float, v: float, row=None, h: float = 0.0
+                ) -> float:
+        a, b, ra, rb = self.signals(u, v, row, h)
+        last, on_now = self._last, self.predicate(a, b)
+        self._last = (t, a, b, u, v, on_now)
+        ok = last is not None and h > 0 and abs(t - last[0] - h) <= 1e-9 * h
+        if ra is None or rb is None:
+            ra = ra if ra is not None else ((a - last[1]) / h if ok else 0.0)
+            rb = rb if rb is not None else ((b - last[2]) / h if ok else 0.0)
+        if ok and on_now and not last[5] and self.contact is not None:
+            return self._anchor(a, b, ra, rb, u, v, last[4], h)
+        theta = self.on_fraction(a, b, ra, rb, h)
+        return self.n_off + theta * (self.n_on - self.n_off)
+
+    def _anchor(self, a, b, ra, rb, u, v, v_prev, h) -> float:
+        """Normal force at the first step after an on-switch at ``t_s`` in
+        ``(t_k - h, t_k]``: the one whose return map leaves the slider where the
+        contact stuck at ``t_s`` (a slipping force ``mu n_off sign(v_prev)`` plus
+        ``kf (u_k - u(t_s))``); ``n_on`` if that exceeds it."""
+        kf, mu = self.contact
+        s = -h
+        for x, r in ((a, ra), (b, rb)):
+            if r != 0.0 and -h <= -x / r <= 0.0:
+                s = max(s, -x / r)
+        force = math.copysign(mu * self.n_off, v_prev) + kf * (-v * s)
+        return min(self.n_on, abs(force) / mu)
+
+    def on_fraction(self, a, b, ra, rb, h) -> float:
+        """Fraction of ``[-h/2, h/2]`` in which the predicate of ``a + ra s``,
+        ``b + rb s`` holds if the contact switches off in that cell; else the
+        predicate at ``s = 0`` (``h = 0``: the predicate at the point)."""
+        now = 1.0 if self.predicate(a, b) else 0.0
+        if h <= 0.0:
+            return now
+        half = 0.5 * h
+        cuts = [-half, half]
+        for x, r in ((a, ra), (b, rb)):
+            if r != 0.0 and abs(x) < half * abs(r):
+                cuts.append(-x / r)
+        cuts.sort()
+        on, states = 0.0, []
+        for s0, s1 in zip(cuts, cuts[1:]):
+            if s1 > s0:
+                states.append(self.predicate(a + ra * (0.5 * (s0 + s1)),
+                                             b + rb * (0.5 * (s0 + s1))))
+                on += (s1 - s0) * states[-1]
+        off_switch = any(x and not y for x, y in zip(states, states[1:]))
+        return on / h if off_switch else now
+
+
+class BalanceControl(SwitchingControl):
+    """Balance logic: ``n_on`` while the friction force opposes the elastic force.
+
+    The mount force on the chassis is ``F = F_el(u) + c v + F_fr`` with ``F_el``
+    of the sign of ``u`` and a slipping ``F_fr = Fs sign(v)``: they oppose while
+    ``u v < 0`` (the deflection returns towards rest). The contact then brakes the
+    spring's return, and is off while the deflection grows so that it does not add
+    to the spring force (the balance logic of semi-active dampers, Rakheja and
+    Sankar 1985). Switches on at ``v = 0`` (where a released contact carries no
+    force: continuous) and off at ``u = 0`` (a force step ``mu (n_on - n_off)``).
+    """
+
+    kind = "balance"
+
+    def signals(self, u, v, row, h):
+        return u, v, v, None
+
+    def predicate(self, a, b):
+        return a * b < 0.0
+
+
+class GrowthControl(SwitchingControl):
+    """``n_on`` while the deflection grows in magnitude (``u v > 0``), else ``n_off``.
+
+    The former ``onoff`` law. The contact is on exactly while a slipping friction
+    force has the sign of the elastic force, so it adds to the transmitted force
+    by construction (the reverse of :class:`BalanceControl`): kept as a reference
+    of what not to do.
+    """
+
+    kind = "growth"
+
+    def signals(self, u, v, row, h):
+        return u, v, v, None
+
+    def predicate(self, a, b):
+        return a * b > 0.0
+
+
+class SkyhookControl(SwitchingControl):
+    """Skyhook on the engine's absolute velocity: ``n_on`` while ``v va > 0``.
+
+    ``va`` is the engine's absolute velocity at the mount along the axis (the engine
+    DOFs' part of ``B q'``). The engine feels ``-F_fr``, of sign ``-sign(v)`` while
+    slipping: that opposes the engine's absolute motion (an ideal skyhook damper's
+    force ``-c_sky va``) exactly while ``v va > 0``. With the chassis fixed
+    ``va = v`` and the law is the passive mount at ``n_on``.
+
+    Parameters
+    ----------
+    velocity : callable
+        ``velocity(row, h) -> va`` (m/s) from the master's row of the step and
+        the step h (:func:`engine_velocity`).
+    """
+
+    kind = "skyhook"
+
+    def __init__(self, n_on, n_off=0.0, limits=None, contact=None, *,
+                 velocity: Callable):
+        super().__init__(n_on, n_off, limits, contact)
+        self.velocity = velocity
+
+    def signals(self, u, v, row, h):
+        return v, self.velocity(row, h), None, None
+
+    def predicate(self, a, b):
+        return a * b > 0.0
+
+
+#: DOF names of the engine (the rest of a system is chassis, suspension, wheels).
+ENGINE_DOFS = ("x", "engine", "y", "z", "alpha", "beta", "gamma")
+
+
+def engine_velocity(system, mount: str, axis: str) -> Callable:
+    """``velocity(row, h)``: the engine's absolute velocity at ``mount`` along
+    ``axis`` (m/s) from a row of the master's buffer (:class:`vehicle.backends.
+    Layout`): ``b . (vh_k + (h/2) a_{k-1})``, the predicted ``q'_k`` of the
+    master, with ``b`` the row of ``B`` restricted to the engine DOFs
+    (:data:`ENGINE_DOFS`).
+    """
+    from drymount.fmu_src.mount_law import AXES
+
+    e = next((el for el in system.elements if el.name == mount), None)
+    if e is None:
+        raise ValueError(f"skyhook: no mount {mount!r} in {system.name!r}")
+    b = np.array(e.B[AXES.index(axis)], dtype=float)
+    b[[name not in ENGINE_DOFS for name in system.dof_names]] = 0.0
+    if not np.any(b):
+        raise ValueError(f"skyhook: mount {mount!r} axis {axis!r} does not move "
+                         f"with an engine DOF ({', '.join(ENGINE_DOFS)})")
+    # the row starts with u, v of every active axis (Layout.o_x = 2 m)
+    n, o = system.n_dof, 2 * sum(len(el.active_axes) for el in system.elements)
+
+    def velocity(row, h: float) -> float:
+        return float(b @ row[o + n:o + 2 * n] + 0.5 * h * (b @ row[o + 2 * n:o + 3 * n]))
+
+    return velocity
+
+
+def macro_slip_contact(system, mount: str, axis: str) -> tuple[float, float] | None:
+    """``(kf, mu)`` of ``mount``'s ``axis`` if it is a macro-slip (Jenkins) contact,
+    else None (micro-slip, non-symmetric: :class:`SwitchingControl` then does not
+    locate the stick point of an on-switch)."""
+    from drymount.fmu_src.mount_law import AXES
+
+    e = next((el for el in system.elements if el.name == mount), None)
+    p = None if e is None else e.params.axes[AXES.index(axis)]
+    if p is None or not p.friction or p.general_friction:
+        return None
+    return p.kf, p.mu
 
 
 class ControlLog:

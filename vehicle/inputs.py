@@ -58,6 +58,7 @@ __all__ = [
     "SweptSineRoad",
     "BumpRoad",
     "RandomRoad",
+    "SuspendedRoad",
     "BaseSine",
     "SumInput",
     "ISO8608_CLASSES",
@@ -523,6 +524,47 @@ class RandomRoad(_RoadInput):
             r[i:i + chunk] = np.cos(ph) @ self.amplitudes
             rd[i:i + chunk] = -(np.sin(ph) @ (self.amplitudes * w))
         return r, rd
+
+
+class SuspendedRoad(RandomRoad):
+    """A :class:`RandomRoad` seen through a quarter-car suspension: the chassis
+    displacement under each attachment point.
+
+    Body model (documented choice, issue 26 item 3): every chassis attachment point
+    moves as the sprung mass of a quarter car on the same road (the
+    ``quarter_car_halved`` suspension by default: sprung mass ``m_s`` plus the
+    engine's share ``m_e``, unsprung ``m_us``, ``k_s``, ``c_s``, tyre ``k_t``,
+    ``c_t``), all in phase (no wheelbase delay, no body pitch or roll), and the
+    engine's dynamic reaction on the body is neglected (one-way). The profile is a
+    sum of cosines, so the filter is exact: each wave is scaled and shifted by the
+    suspension's road-to-body transfer function ``H(i w)`` at its frequency ``w``.
+    """
+
+    def __init__(self, system, road_class: str, speed: float, *, seed: int = 0,
+                 m_s: float = 300.0, m_us: float = 30.0, k_s: float = 15000.0,
+                 c_s: float = 1000.0, k_t: float = 200000.0, c_t: float = 0.0,
+                 **kw):
+        super().__init__(system, road_class, speed, seed=seed, **kw)
+        vals = {}
+        for name, value in (("m_s", m_s), ("m_us", m_us), ("k_s", k_s), ("c_s", c_s),
+                            ("k_t", k_t), ("c_t", c_t)):
+            vals[name] = _finite(value, name, positive=name not in ("c_s", "c_t"))
+        self.suspension = vals
+        w = 2.0 * math.pi * self.n * self.speed
+        h = self.body_transfer(w)
+        self.amplitudes = self.amplitudes * np.abs(h)
+        self.phases = self.phases + np.angle(h)
+
+    def body_transfer(self, w) -> np.ndarray:
+        """Road-to-body displacement ``H(i w)`` of the quarter-car suspension."""
+        p = self.suspension
+        iw = 1j * np.asarray(w, dtype=float)
+        ks = p["k_s"] + p["c_s"] * iw
+        kt = p["k_t"] + p["c_t"] * iw
+        a11 = ks - p["m_s"] * np.abs(iw) ** 2
+        a22 = ks + kt - p["m_us"] * np.abs(iw) ** 2
+        # [a11 -ks; -ks a22] [zs; zu] = [0; kt r]
+        return ks * kt / (a11 * a22 - ks * ks)
 
 
 class SumInput(Input):

@@ -1,15 +1,21 @@
 """The ``[control]`` table: semi-active normal-force control in co-simulation.
 
     [control]
-    kind = "scheduled"            # or "onoff"
+    kind = "balance"              # "balance", "skyhook", "scheduled" or "growth"
     axes = ["mount.axial"]   # optional: "<mount>.<axis>"; default every friction axis
     n_min = 0.0                   # N
     n_max = 400.0                 # N (default: no upper limit)
     rate_max = 20000.0            # N/s (default: no rate limit)
     schedule_hz = [20, 60, 200]   # scheduled: excitation frequency, Hz, increasing
     schedule_n = [40, 15, 5]      # scheduled: normal force at each frequency, N
-    n_on = 60.0                   # onoff: normal force while |u| grows, N
-    n_off = 0.0                   # onoff: while it returns, N (default 0)
+    n_on = 60.0                   # balance/skyhook/growth: normal force while on, N
+    n_off = 0.0                   # balance/skyhook/growth: while off, N (default 0)
+
+Laws (:mod:`vehicle.control`): ``balance`` on while the friction force opposes the
+elastic force (``u v < 0``); ``skyhook`` on while the friction force opposes the
+engine's absolute velocity (``v va > 0``); ``scheduled`` a table of the excitation
+frequency; ``growth`` on while the deflection grows (``u v > 0``, the former
+``onoff``: it adds to the transmitted force, kept as a reference).
 
 :meth:`ControlSettings.controllers` turns it into the ``vehicle.control`` objects of
 every controlled axis (``Master(control=...)``).
@@ -26,7 +32,9 @@ from drymount.config.checks import _Checker, _show, _type_name
 
 __all__ = ["ControlSettings", "CONTROL_KINDS", "parse_control"]
 
-CONTROL_KINDS = ("scheduled", "onoff")
+CONTROL_KINDS = ("balance", "skyhook", "scheduled", "growth")
+#: the laws with two states, n_on and n_off
+SWITCHING_KINDS = ("balance", "skyhook", "growth")
 
 
 @dataclass(frozen=True)
@@ -68,18 +76,27 @@ class ControlSettings:
         ``frequency(t)``: the excitation frequency (Hz) at time ``t`` that a
         ``scheduled`` table is looked up with (required for that kind).
         """
-        from drymount.vehicle.control import Limits, OnOffControl, ScheduledControl
+        from drymount.vehicle import control as vc
 
-        limits = Limits(self.n_min, self.n_max, self.rate_max)
+        limits = vc.Limits(self.n_min, self.n_max, self.rate_max)
         if self.kind == "scheduled":
             if frequency is None:
                 raise ValueError("a scheduled control needs the excitation frequency "
                                  "as a function of time (`frequency`)")
-            make = lambda: ScheduledControl(self.schedule_hz, self.schedule_n,  # noqa: E731
-                                            frequency, limits)
-        else:
-            make = lambda: OnOffControl(self.n_on, self.n_off, limits)  # noqa: E731
-        return {key: make() for key in self.targets(system)}
+            table = vc.ScheduledControl(self.schedule_hz, self.schedule_n, frequency,
+                                        limits)
+            return {key: table for key in self.targets(system)}
+        # one instance per axis: a switching law keeps its last step
+        out = {}
+        for key in self.targets(system):
+            contact = vc.macro_slip_contact(system, *key)
+            if self.kind == "skyhook":
+                out[key] = vc.SkyhookControl(self.n_on, self.n_off, limits, contact,
+                                             velocity=vc.engine_velocity(system, *key))
+            else:
+                law = vc.BalanceControl if self.kind == "balance" else vc.GrowthControl
+                out[key] = law(self.n_on, self.n_off, limits, contact)
+        return out
 
 
 def _list(ck: _Checker, data: dict, key: str, unit: str, rule: str) -> tuple | None:
@@ -110,7 +127,10 @@ def parse_control(ck: _Checker, data: dict) -> ControlSettings | None:
     if not c:
         return None
     ck.keys(c, "control", ALLOWED_KEYS["control"])
-    kind = ck.choice(c, "kind", "control", CONTROL_KINDS)
+    renamed = (" (\"onoff\" is now \"growth\": on while the deflection grows, which "
+               "adds to the transmitted force; \"balance\" is the reverse)"
+               if c.get("kind") == "onoff" else "")
+    kind = ck.choice(c, "kind", "control", CONTROL_KINDS, extra=renamed)
     kw = {}
     for key, rule, unit in (("n_min", ">=0", "N"), ("rate_max", ">0", "N/s")):
         x = ck.number(c, key, "control", rule=rule, unit=unit, required=False)
@@ -138,7 +158,7 @@ def parse_control(ck: _Checker, data: dict) -> ControlSettings | None:
             ck.add(f"`control.schedule_n` must have one normal force per "
                    f"`control.schedule_hz` entry ({len(hz)}), got {len(n)}")
         kw.update(schedule_hz=hz or (), schedule_n=n or ())
-    elif kind == "onoff":
+    elif kind in SWITCHING_KINDS:
         kw["n_on"] = ck.number(c, "n_on", "control", rule=">=0", unit="N")
         kw["n_off"] = ck.number(c, "n_off", "control", rule=">=0", unit="N",
                                 required=False, default=0.0)

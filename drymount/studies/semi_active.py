@@ -2,12 +2,20 @@
 item 4).
 
 On the quarter car (``quarter_car_halved``) and the 6-DOF engine (``six_dof_halved``),
-two time-domain scenarios:
+time-domain scenarios:
 
 * **run-up**: the crank excitation of an inline four (thesis eq. 1.3,
   :class:`vehicle.inputs.CrankRunUp`) from 600 to 6000 rpm, chassis at rest;
-* **road**: an ISO 8608 class C random road at 20 m/s under the tyre (quarter car) or
-  the chassis (6-DOF, vertical), engine not running.
+* **road**: an ISO 8608 class C random road at 20 m/s under the tyre of the quarter
+  car, engine not running;
+  for the 6-DOF engine the chassis points move as the body of that quarter car on
+  the road (:class:`vehicle.inputs.SuspendedRoad`: one-way, all corners in phase);
+* **road rig** (6-DOF): the same profile straight into the chassis attachment points
+  (vertical), i.e. a shaker rig without a suspension: the mounts deflect far past
+  their knee (issue 26 item 3). A labelled rig case, not a road.
+
+And on the single-DOF engine (``sdof_halved``), the unbalance at 3 Hz (stuck band),
+4.2 Hz (resonance) and 8 Hz, measured over the last periods of a run from rest.
 
 Designs, each simulated with the in-process law (``backend="native"``, the FMU's law):
 
@@ -17,8 +25,11 @@ Designs, each simulated with the in-process law (``backend="native"``, the FMU's
 * ``scheduled``: n(t) from a table of the HBM's best n0 per excitation frequency
   (``hbm.solve_frequencies`` with the crank load at each frequency, same n0 grid),
   looked up at the run-up's second-order frequency (run-up only);
-* ``on/off``: ``n_on`` = ``ONOFF_FACTOR`` x n0 while the deflection grows, 0 while it
-  returns (friction skyhook), rate limited to ``RATE_MAX_PER_N0`` n0 per second.
+* ``balance``, ``skyhook``, ``growth`` (:mod:`vehicle.control`): ``n_on`` =
+  ``ONOFF_FACTOR`` x n0 while on, 0 while off; balance: on while the friction force
+  opposes the elastic force (``u v < 0``); skyhook: while it opposes the engine's
+  absolute velocity; growth: while the deflection grows (the former ``on/off``, which
+  adds to the transmitted force); rate limited to ``RATE_MAX_PER_N0`` n0 per second.
 
 Transmitted force: the sum of the mounts' axial forces (the force the engine puts
 into the chassis along the vertical for these layouts); engine displacement: DOF
@@ -41,11 +52,17 @@ from drymount.studies.output import md_table, new_figure, progress_bar, save_fig
 from drymount.fmu_src.mount_law import AXES, MountParameters
 from drymount.hbm.system import Excitation, System, Transmissibility
 from drymount.vehicle import CrankRunUp, Master, RandomRoad
-from drymount.vehicle.control import Limits, OnOffControl, ScheduledControl
+from drymount.vehicle.inputs import HarmonicInput, SuspendedRoad
+from drymount.vehicle import control as vc
+from drymount.vehicle.control import Limits, ScheduledControl
 
-#: Models of the study: (label, preset, engine DOF).
-MODELS = (("quarter car", "quarter_car_halved", "engine"),
-          ("6-DOF engine", "six_dof_halved", "z"))
+#: Models of the study: (label, preset, engine DOF, scenarios).
+MODELS = (("single-DOF", "sdof_halved", "x", ("unbalance 3 Hz", "unbalance 4.2 Hz",
+                                              "unbalance 8 Hz")),
+          ("quarter car", "quarter_car_halved", "engine", ("run-up", "road")),
+          ("6-DOF engine", "six_dof_halved", "z", ("run-up", "road", "road rig")))
+#: Unbalance runs: periods from rest, of which the last ones are measured (steady).
+UNBALANCE_PERIODS, UNBALANCE_MEASURED = 34, 4
 #: Constant normal forces tried for "passive best n0", times the preset's n0.
 N0_FACTORS = (0.1, 0.3, 1.0, 3.0)
 #: Frequencies of the HBM schedule table, Hz (second order at 600-6000 rpm: 20-200).
@@ -121,10 +138,16 @@ def hbm_schedule(system: System, n0_grid, freqs=SCHEDULE_HZ, harmonics: int = 3
 
 
 def _inputs(system: System, scenario: str, quick: bool):
+    if scenario.startswith("unbalance"):
+        f = float(scenario.split()[1])
+        return HarmonicInput(system, f), UNBALANCE_PERIODS / f, 1.0 / (256 * f)
     if scenario == "run-up":
         dur = RUNUP_S[1] if quick else RUNUP_S[0]
         return CrankRunUp(system, 600.0, 6000.0, dur), dur, DT_RUNUP
     dur = ROAD_S[1] if quick else ROAD_S[0]
+    if scenario == "road" and "sprung" not in system.dof_names:
+        # a body on the quarter car's suspension under every attachment point
+        return SuspendedRoad(system, ROAD_CLASS, ROAD_SPEED, seed=1), dur, DT_ROAD
     return RandomRoad(system, ROAD_CLASS, ROAD_SPEED, seed=1), dur, DT_ROAD
 
 
@@ -148,22 +171,31 @@ def _controllers(system: System, scenario: str, inputs, schedule, n0: float):
         out = {"scheduled": {k: ctl for k in keys}}
     else:
         out = {}
-    out["on/off"] = {k: OnOffControl(ONOFF_FACTOR * n0, 0.0, lim) for k in keys}
+    n_on = ONOFF_FACTOR * n0
+    for name, law in (("balance", vc.BalanceControl), ("growth", vc.GrowthControl)):
+        out[name] = {k: law(n_on, 0.0, lim, vc.macro_slip_contact(system, *k))
+                     for k in keys}
+    out["skyhook"] = {k: vc.SkyhookControl(
+        n_on, 0.0, lim, vc.macro_slip_contact(system, *k),
+        velocity=vc.engine_velocity(system, *k)) for k in keys}
     return out
 
 
-def _run_model(label, preset, dof, quick, progress) -> list[Run]:
+def _run_model(label, preset, dof, scenarios, quick, progress) -> list[Run]:
     system = load_system(preset)
     n0 = _n0(system)
     grid = [k * n0 for k in N0_FACTORS]
-    schedule = hbm_schedule(system, grid)
+    schedule = hbm_schedule(system, grid) if "run-up" in scenarios else None
     runs = []
-    for scenario in ("run-up", "road"):
+    for scenario in scenarios:
         inputs, dur, dt = _inputs(system, scenario, quick)
 
         def run(design, sys_, control, n_value):
             t, f, x = _simulate(sys_, inputs, dur, dt, control, dof)
             x = x - x[0]
+            if scenario.startswith("unbalance"):  # the steady periods only
+                keep = int(round(UNBALANCE_MEASURED / (dt * inputs.freq_hz)))
+                t, f, x = t[-keep:], f[-keep:], x[-keep:]
             runs.append(Run(label, scenario, design, n_value,
                             float(np.sqrt(np.mean(f * f))), float(np.max(np.abs(f))),
                             float(np.sqrt(np.mean(x * x))), float(np.max(np.abs(x))),
@@ -198,16 +230,21 @@ def _window_rms(t, f, width: float = 0.05):
     return t[:m * n].reshape(m, n).mean(1), np.sqrt((g * g).mean(1))
 
 
-def _plot(model: str, runs: list[Run], path: Path) -> None:
-    fig = new_figure(figsize=(10, 7), layout="constrained")
-    axes = fig.subplots(2, 1)
-    for ax, scenario in zip(axes, ("run-up", "road")):
+PLOT_NAMES = {"x": "sdof", "engine": "quarter", "z": "six_dof"}
+
+
+def _plot(model: str, runs: list[Run], path: Path, scenarios) -> None:
+    fig = new_figure(figsize=(10, 3.5 * len(scenarios)), layout="constrained")
+    axes = fig.subplots(len(scenarios), 1)
+    for ax, scenario in zip(axes, scenarios):
         for r in runs:
             if r.scenario == scenario:
                 tw, fw = _window_rms(r.t, r.force)
                 ax.plot(tw, fw, label=f"{r.design} (RMS {r.rms_force:.3g} N)")
         what = ("crank run-up 600-6000 rpm" if scenario == "run-up"
-                else f"ISO 8608 class {ROAD_CLASS} road at {ROAD_SPEED:g} m/s")
+                else f"ISO 8608 class {ROAD_CLASS} road at {ROAD_SPEED:g} m/s"
+                + (" straight to the chassis points (rig)" if scenario == "road rig"
+                   else "") if scenario.startswith("road") else scenario)
         ax.set_title(f"{model}: {what}")
         ax.set_xlabel("time [s]")
         ax.set_ylabel("transmitted force, 50 ms RMS [N]")
@@ -238,11 +275,13 @@ def run_semi_active(out_dir, quick: bool = False, progress: bool = True) -> dict
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     runs, schedules, files = [], {}, []
-    for label, preset, dof in MODELS:
-        model_runs, schedules[label] = _run_model(label, preset, dof, quick, progress)
+    for label, preset, dof, scenarios in MODELS:
+        model_runs, sched = _run_model(label, preset, dof, scenarios, quick, progress)
+        if sched is not None:
+            schedules[label] = sched
         runs += model_runs
-        png = out / f"semi_active_{'quarter' if dof == 'engine' else 'six_dof'}.png"
-        _plot(label, model_runs, png)
+        png = out / f"semi_active_{PLOT_NAMES[dof]}.png"
+        _plot(label, model_runs, png, scenarios)
         files.append(png)
     files.append(write_csv(
         out / "semi_active.csv", HEADER, [_row(r) for r in runs],

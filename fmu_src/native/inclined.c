@@ -5,10 +5,12 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <float.h>
 #include "messages.h"
 
 #define IN_MAX_EVENTS 64
 #define IN_REL_TOL 1e-12
+#define IN_RES_ULPS 64.0  /* at-limit slack in units of kf ulp(x) */
 #define IN_PI 3.14159265358979323846  /* Py_MATH_PI */
 
 in_params in_default_params(void)
@@ -229,7 +231,12 @@ static int choose(double x, double w1, double w2, double d, const in_params *p,
     scale = fabs(vals[0]) + fabs(vals[1]) + p->preload;
     for (i = 0; i < 2; ++i) {
         double f = vals[i], L = lim[i];
+        /* ... and within a contact force's rounding kf ulp(x) (stiff contacts) */
+        double res = i == 0 ? p->kf * (fabs(x / s) + fabs(w1))
+                            : p->kf2 * (fabs(x * c / s) + fabs(w2));
         double tol = IN_REL_TOL * py_max4(fabs(f), fabs(L), scale, 1e-9);
+        if (IN_RES_ULPS * DBL_EPSILON * res > tol)
+            tol = IN_RES_ULPS * DBL_EPSILON * res;
         at_limit[i] = !isinf(L) && fabs(f) >= L - tol;
         options[i][0] = 0;
         options[i][1] = f >= 0 ? 1 : -1;
