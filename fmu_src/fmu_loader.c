@@ -472,13 +472,6 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
                                      const fmi2CallbackFunctions *cb, fmi2Boolean visible,
                                      fmi2Boolean logging) {
     char location[4400], why[2400];
-    if (DRYMOUNT_GUID[0] != '\0' && (guid == NULL || strcmp(guid, DRYMOUNT_GUID) != 0)) {
-        snprintf(why, sizeof why, "fmi2Instantiate: the GUID \"%.100s\" does not match "
-                 "this FMU's \"%s\" (modelDescription.xml)", guid ? guid : "(null)",
-                 DRYMOUNT_GUID);
-        refuse(cb, name, why);
-        return NULL;
-    }
     if (pythonfmu_location(resources, location, sizeof location, why, sizeof why) != 0) {
         refuse(cb, name, why);
         return NULL;
@@ -490,6 +483,13 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
     pthread_mutex_unlock(&load_lock);
     if (!loaded) {
         refuse(cb, name, load_error);
+        return NULL;
+    }
+    if (DRYMOUNT_GUID[0] != '\0' && (guid == NULL || strcmp(guid, DRYMOUNT_GUID) != 0)) {
+        snprintf(why, sizeof why, "fmi2Instantiate: the GUID \"%.100s\" does not match "
+                 "this FMU's \"%s\" (modelDescription.xml)", guid ? guid : "(null)",
+                 DRYMOUNT_GUID);
+        refuse(cb, name, why);
         return NULL;
     }
     return real_Instantiate(name, type, guid, location, cb, visible, logging);

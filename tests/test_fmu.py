@@ -561,7 +561,7 @@ def _run_c_host(exe, fmu, args, preload=True, unzipdir=None):
     """``preload``: the documented manual recipe, LD_PRELOAD=libpython and
     PYTHONHOME=the interpreter's prefix; else nothing but PATH (the FMU's linux64
     loader finds libpython itself). Never PYTHONPATH: the FMU needs none."""
-    env = {"PATH": "/usr/bin:/bin"}
+    env = {"PATH": "/usr/bin:/bin", "FMU_GUID": fmu[0].guid}
     if preload:
         env.update(LD_PRELOAD=str(_libpython()), PYTHONHOME=sys.base_prefix)
     return subprocess.run([str(exe), str(unzipdir or fmu[1])] + [str(a) for a in args],
