@@ -51,7 +51,7 @@ __all__ = [
 
 #: Files of ``fmu_src`` copied into the FMU, byte for byte.
 FMU_SOURCES = ("mount_law.py", "elastic_laws.py", "inclined.py", "interface.py",
-               "fmi_state.py", "friction_mount.py")
+               "fmi_state.py", "state_codec.py", "friction_mount.py")
 #: C source of the linux64 loader in front of pythonfmu's binary (see
 #: :func:`compile_loader`).
 LOADER_SOURCE = "fmu_loader.c"

@@ -130,15 +130,33 @@ def corrupt(blob: bytes, kind: str, *args) -> bytes:
     if kind == "random":
         rng = random.Random(args[0])
         return bytes(rng.randrange(256) for _ in range(args[1]))
-    if kind == "word":
-        offset, what = args
+    if kind == "word":  # word offset what [fix]: fix = recompute the checksum
+        offset, what = args[:2]
         out = bytearray(blob)
         if what == "int":
             out[offset:offset + 4] = struct.pack("<i", 0x7FFFFFFF)
         else:
             out[offset:offset + 8] = struct.pack("<d", float(what))
-        return bytes(out[:len(blob)])
+        out = out[:len(blob)]
+        return fix_checksum(bytes(out)) if args[2:] == ["fix"] else bytes(out)
     raise ValueError(f"unknown corruption {kind!r}")
+
+
+def fix_checksum(blob: bytes) -> bytes:
+    """``blob`` with its checksum recomputed (docs/fmu.md "FMU state"), so that a
+    corrupted field reaches the range checks: native ``DMNTST03`` + data + FNV-1a
+    64 (little endian) of the data; PythonFMU ``DMPYST01`` + SHA-256 hex + payload."""
+    import hashlib
+
+    if blob.startswith(b"DMNTST"):
+        h = 14695981039346656037
+        for byte in blob[8:-8]:
+            h = ((h ^ byte) * 1099511628211) % 2**64
+        return blob[:-8] + struct.pack("<Q", h)
+    if blob.startswith(b"DMPYST"):
+        payload = blob[72:]
+        return blob[:8] + hashlib.sha256(payload).hexdigest().encode() + payload
+    return blob
 
 
 def _call(slave: Slave, states: list, blobs: list, name: str, args: list):
