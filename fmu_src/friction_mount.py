@@ -407,8 +407,9 @@ class FrictionMount(Fmi2Slave):
         finite: parameters at their extremes (mu n overflowing, fs_ratio near the
         largest float, energies past it). No NaN or infinity reaches an output."""
         n1, n2 = normal_forces(self._axes[j], res[_W], self._slip_force(j))
+        w = res[_W] if isinstance(res[_W], tuple) else (res[_W],)
         for name, value in (("Ffr", res[_FFR]), ("E_fr", self._e[j] + res[_DISS]),
-                            ("N", n1), ("N2", n2)):
+                            ("N", n1), ("N2", n2), ("w", math.fsum(w))):
             if not math.isfinite(value):
                 axis = AXES[j]
                 raise self._fail(f"output {name}_{axis} would be {value!r} at "

@@ -326,8 +326,14 @@ static md_status nonfinite_output(md_instance *m, const char *call, int j)
         name = "N", value = n1;
     else if (!isfinite(n2))
         name = "N2", value = n2;
-    else
-        return MD_OK;
+    else {
+        int i, n = ml_state_size(&m->d.p[j]);
+        for (i = 0; i < n && isfinite(m->w_new[j][i]); ++i)
+            ;
+        if (i == n)
+            return MD_OK;
+        name = "w", value = m->w_new[j][i];
+    }
     ml_repr_double(value, sv, sizeof sv);
     ml_repr_double(m->d.u[j], su, sizeof su);
     md_log(m, MD_ERROR, "FrictionMount: output %s_%s would be %s at u_%s=%s (a "

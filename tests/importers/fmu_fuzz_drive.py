@@ -5,7 +5,7 @@ tests/test_fmu_paths.py, one process per sequence, so that a crash is seen by th
 ``python fmu_fuzz_drive.py UNZIPDIR`` reads one JSON list of calls from stdin and
 prints one JSON object. A call is ``[name, *args]``: ``setup t0``, ``enter``, ``exit``,
 ``terminate``, ``reset``, ``setReal|setInteger|setBoolean var value``, ``getReal
-var...``, ``doStep t h``, ``getState`` (saved as the next state index), ``setState
+var...`` (none: every Real output), ``doStep t h``, ``getState`` (saved as the next state index), ``setState
 k``, ``serialize k`` (the bytes of state k, saved as the next blob index), ``load k
 kind *args``: blob k corrupted by ``kind`` then deserialized and set (``asis``;
 ``truncate n``; ``random seed length``; ``word offset what``: the 4 bytes at
@@ -164,8 +164,8 @@ def _call(slave: Slave, states: list, blobs: list, name: str, args: list):
         getattr(slave, name)(*args)
     elif name.startswith("set") and name != "setState":
         slave.set(name, *args)
-    elif name == "getReal":
-        return slave.get_real([slave.vr[v] for v in args])
+    elif name == "getReal":  # no names: every Real output
+        return slave.get_real([slave.vr[v] for v in args] if args else slave.outputs)
     elif name == "doStep":
         slave.do_step(*args)
     elif name == "getState":
