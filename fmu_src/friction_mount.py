@@ -113,6 +113,16 @@ def _hold_native_references(slave) -> None:
 _LEAKED: list = []
 
 
+def _drop_repeated_path(resources) -> None:
+    """pythonfmu 0.7.0 inserts the resources folder at the front of ``sys.path`` at
+    every fmi2Instantiate: keep that first entry, drop the copies further back
+    (``sys.path`` grew by one entry per instantiate/free cycle)."""
+    import sys
+
+    if resources and sys.path[:1] == [resources]:
+        sys.path[1:] = [p for p in sys.path[1:] if p != resources]
+
+
 class FMICallError(ValueError):
     """A rejected FMI call (the message names the call, the state and the value)."""
 
@@ -200,6 +210,8 @@ class FrictionMount(Fmi2Slave):
         super().__init__(**kwargs)
         # pythonfmu's native wrapper passes a `logger` handle; Python callers do not
         self._native = "logger" in kwargs
+        if self._native:
+            _drop_repeated_path(self.resources)
         self.default_experiment = DefaultExperiment(
             start_time=DEFAULT_EXPERIMENT["startTime"],
             stop_time=DEFAULT_EXPERIMENT["stopTime"],
