@@ -120,3 +120,22 @@ def test_cosim_with_odd_tmpdir(builds, tmp_path, folder):
     rows = [line for line in out.read_text(encoding="utf-8").splitlines()
             if not line.startswith("#")]
     assert len(rows) > 30  # header + 0.2 s at 160 steps/s
+
+
+def test_fmu_without_binaries_is_a_usage_error(builds, tmp_path):
+    import zipfile
+
+    stripped = tmp_path / "stripped.fmu"
+    with zipfile.ZipFile(builds["native2"]) as zin, \
+            zipfile.ZipFile(stripped, "w") as zout:
+        for info in zin.infolist():
+            if not info.filename.startswith("binaries/"):
+                zout.writestr(info, zin.read(info.filename))
+    proc = subprocess.run(
+        [sys.executable, "-c", "import sys; from drymount.cli import main; "
+         "sys.exit(main())", "cosim", "sdof_halved", "--duration", "0.1",
+         "--backend", "fmu", "--fmu", str(stripped), "--out", str(tmp_path / "r.csv")],
+        capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2, (proc.returncode, proc.stderr[-2000:])
+    assert "--fmu" in proc.stderr and "binaries/linux64/" in proc.stderr, proc.stderr
+    assert not (tmp_path / "r.csv").exists()
