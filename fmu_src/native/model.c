@@ -307,6 +307,7 @@ static double normal_force(const md_instance *m, int j)
     return m->d.n_set[j] ? m->d.n[j] : m->d.p[j].n0;
 }
 
+#ifndef DRYMOUNT_NULL_MODEL
 /* MD_ERROR (logged, naming the output and its value) if an output of axis j other
  * than F and kt would not be finite at the trial result m->res[j] (parameters at
  * their extremes: mu n overflowing, fs_ratio near DBL_MAX, energies past DBL_MAX);
@@ -341,6 +342,7 @@ static md_status nonfinite_output(md_instance *m, const char *call, int j)
            "(in %s)", name, a, sv, a, su, call);
     return MD_ERROR;
 }
+#endif
 
 /* The trial return map of axis j at the current inputs (cached; commits nothing). */
 static md_status evaluate(md_instance *m, const char *call, int j)
