@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from enum import Enum
 
+from .mount_law import MAX_SLIDERS
+
 __all__ = ["Mode", "ALLOWED", "SETTABLE", "MAX_STEP_SIZE", "TIME_RTOL",
            "INFINITE_ALLOWED", "call_error", "set_error", "step_error", "setup_error"]
 
@@ -117,7 +119,7 @@ def set_error(call: str, name: str, causality: str, variability: str, mode: Mode
 #: Integer parameters whose range is checked when they are set (not only at
 #: fmi2ExitInitializationMode): the number of sliders of the micro-slip element,
 #: 1..mount_law.MAX_SLIDERS (an unchecked count allocated without limit, issue 25).
-INTEGER_RANGES = {"_sliders": (1, 64)}
+INTEGER_RANGES = {"_sliders": (1, MAX_SLIDERS)}
 
 
 def step_error(t: float, h: float, expected: float | None) -> str | None:
