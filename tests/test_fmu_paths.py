@@ -12,7 +12,6 @@ is a failed assertion, not a dead test run.
 from __future__ import annotations
 
 import json
-import math
 import os
 import subprocess
 import sys
@@ -27,6 +26,8 @@ from native_helpers import need_gcc  # noqa: E402
 REPO = Path(__file__).resolve().parents[1]
 DRIVER = REPO / "tests" / "importers" / "fmu_fuzz_drive.py"
 #: every character fmpy escapes in a file URI, a literal "%20", a space
+#: the drymount command, as the console script runs it
+CLI = "import sys; from drymount.cli import main; sys.exit(main())"
 ODD_FOLDERS = ("ünï cødé", "pct%20x", "hash#q?x", "semi;colon", 'quote"x',
                "dir with space")
 #: a valid run: friction on, initialization, steps that slip, one rejected call
@@ -111,7 +112,7 @@ def test_cosim_with_odd_tmpdir(builds, tmp_path, folder):
     tmpdir.mkdir()
     out = tmp_path / "run.csv"
     proc = subprocess.run(
-        [sys.executable, "-c", "import sys; from drymount.cli import main; sys.exit(main())", "cosim", "sdof_halved", "--freq", "5",
+        [sys.executable, "-c", CLI, "cosim", "sdof_halved", "--freq", "5",
          "--duration", "0.2", "--steps-per-period", "32", "--backend", "fmu",
          "--fmu", str(builds["pythonfmu"]), "--out", str(out)],
         capture_output=True, text=True, timeout=300,
@@ -132,8 +133,7 @@ def test_fmu_without_binaries_is_a_usage_error(builds, tmp_path):
             if not info.filename.startswith("binaries/"):
                 zout.writestr(info, zin.read(info.filename))
     proc = subprocess.run(
-        [sys.executable, "-c", "import sys; from drymount.cli import main; "
-         "sys.exit(main())", "cosim", "sdof_halved", "--duration", "0.1",
+        [sys.executable, "-c", CLI, "cosim", "sdof_halved", "--duration", "0.1",
          "--backend", "fmu", "--fmu", str(stripped), "--out", str(tmp_path / "r.csv")],
         capture_output=True, text=True, timeout=300)
     assert proc.returncode == 2, (proc.returncode, proc.stderr[-2000:])

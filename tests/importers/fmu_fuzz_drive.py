@@ -2,15 +2,16 @@
 corrupted serialized states included; used by tests/test_fmu_fuzz.py and
 tests/test_fmu_paths.py, one process per sequence, so that a crash is seen by the test.
 
-``python fmu_fuzz_drive.py UNZIPDIR`` reads one JSON list of calls from stdin and
-prints one JSON object. A call is ``[name, *args]``: ``setup t0``, ``enter``, ``exit``,
-``terminate``, ``reset``, ``setReal|setInteger|setBoolean var value``, ``getReal
-var...`` (none: every Real output), ``doStep t h``, ``getState`` (saved as the next state index), ``setState
-k``, ``serialize k`` (the bytes of state k, saved as the next blob index), ``load k
-kind *args``: blob k corrupted by ``kind`` then deserialized and set (``asis``;
-``truncate n``; ``random seed length``; ``word offset what``: the 4 bytes at
-``offset`` become 0x7fffffff, or the 8 bytes the IEEE double ``nan``/``inf``/``-inf``;
-``empty``).
+``python fmu_fuzz_drive.py UNZIPDIR`` reads one JSON list of calls per line from
+stdin and prints one JSON object per line. A call is ``[name, *args]``: ``setup
+t0``, ``enter``, ``exit``, ``terminate``, ``reset``, ``setReal|setInteger|setBoolean
+var value``, ``getReal var...`` (none: every Real output), ``doStep t h``,
+``getState`` (saved as the next state index), ``setState k``, ``serialize k`` (the
+bytes of state k, saved as the next blob index), ``load k kind *args``: blob k
+corrupted by ``kind``, deserialized and set. Kinds: ``asis``, ``empty``, ``truncate
+n``, ``random seed length``, ``word offset what [fix]`` (the 4 bytes at ``offset``
+become 0x7fffffff, or the 8 bytes the double ``nan``/``inf``/``-inf``; ``fix``
+recomputes the checksum).
 
 Answer: ``answers`` (``[status, values, messages]`` per call: status 0 ok, 1
 warning, 3 error, 4 fatal; the Real values read; the number of messages of status
