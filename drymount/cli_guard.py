@@ -250,6 +250,32 @@ def fmu_path(path) -> Path:
     if not has_md:
         raise UsageError(f"--fmu: {str(path)!r} is not an FMU (no "
                          f"modelDescription.xml in the zip)")
+    _check_fmu_binary(path)
     return path.resolve()
+
+
+def _check_fmu_binary(path: Path) -> None:
+    """UsageError naming ``--fmu`` when the FMU has no co-simulation binary for this
+    platform (e.g. its binaries were deleted): found before the run, not reported
+    later against the folder it was unzipped to."""
+    import zipfile
+
+    import fmpy
+    from fmpy import read_model_description
+
+    try:
+        md = read_model_description(str(path))
+    except Exception as exc:  # noqa: BLE001 - any unreadable description
+        raise UsageError(f"--fmu: {str(path)!r} has an invalid modelDescription.xml "
+                         f"({exc})") from None
+    if md.coSimulation is None:
+        raise UsageError(f"--fmu: {str(path)!r} is not a co-simulation FMU")
+    folder = fmpy.platform_tuple if md.fmiVersion.startswith("3") else fmpy.platform
+    binary = (f"binaries/{folder}/{md.coSimulation.modelIdentifier}"
+              f"{fmpy.sharedLibraryExtension}")
+    with zipfile.ZipFile(path) as z:
+        if binary not in z.namelist():
+            raise UsageError(f"--fmu: {str(path)!r} has no binary for this platform "
+                             f"({binary} is not in the zip)")
 
 

@@ -182,13 +182,16 @@ def libpython_location() -> tuple[str, str, str] | None:
     return str(path), soname, sys.base_prefix
 
 
-def compile_loader(dest: Path) -> str:
+def compile_loader(dest: Path, guid: str = "") -> str:
     """Compile ``fmu_src/fmu_loader.c`` into ``dest`` for linux64.
 
     The loader lets importers that are not Python programs run the FMU without
     ``LD_PRELOAD``: at the first ``fmi2Instantiate`` it loads this interpreter's
     libpython (unless the process already has Python), sets ``PYTHONHOME`` if unset,
-    and forwards every FMI call to pythonfmu's binary. Returns ``""`` on success,
+    and forwards every FMI call to pythonfmu's binary. It refuses an instantiation
+    with another GUID than ``guid`` (none checked when empty) and decodes the
+    resource URI before pythonfmu sees it (see ``pythonfmu_location`` in the C
+    source). Returns ``""`` on success,
     else why it was not built (no C compiler, not linux x86_64, static Python, a
     compiler error); the FMU then ships pythonfmu's binary alone and a C/C++
     importer must ``LD_PRELOAD`` libpython as documented.
@@ -210,6 +213,7 @@ def compile_loader(dest: Path) -> str:
            f"-DDRYMOUNT_LIBPYTHON_PATH={_c_string(path)}",
            f"-DDRYMOUNT_LIBPYTHON_SONAME={_c_string(soname)}",
            f"-DDRYMOUNT_PYTHONHOME={_c_string(home)}",
+           *([f"-DDRYMOUNT_GUID={_c_string(guid)}"] if guid else []),
            "-o", str(dest), str(source_dir() / LOADER_SOURCE), "-ldl", "-lpthread"]
     try:
         out = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
@@ -419,6 +423,8 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
                    "not built: the loader's C source serves FrictionMount only")
         (doc / "build.txt").write_text(_build_notes(version, package, entry, why_not,
                                                     spec.sources))
+        # the loader is compiled again below with the GUID (which does not depend
+        # on the binaries); this first build only decides what build.txt says
         partial = tmp / f"{model}.fmu"
         # An instance of this FMU in the process may have imported these modules
         # already (against the FMU's own pythonfmu): the builder must import them
@@ -436,7 +442,8 @@ def build_fmu(dest: str | os.PathLike = "dist/FrictionMount.fmu", *,
             sys.path[:] = path_before
             _forget_modules(package, entry)
         _check_binaries(partial, model)
-        if not why_not:
+        guid = _make_reproducible(partial, version)
+        if not why_not and not compile_loader(loader, guid):
             _install_loader(partial, loader)
         _make_reproducible(partial, version)
         # unique per process: concurrent builders (parallel sweep workers) never share

@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from enum import Enum
 
+from .mount_law import MAX_SLIDERS
+
 __all__ = ["Mode", "ALLOWED", "SETTABLE", "MAX_STEP_SIZE", "TIME_RTOL",
            "INFINITE_ALLOWED", "call_error", "set_error", "step_error", "setup_error"]
 
@@ -107,7 +109,17 @@ def set_error(call: str, name: str, causality: str, variability: str, mode: Mode
     if isinstance(value, float) and not math.isfinite(value) \
             and not (value == math.inf and name.endswith(INFINITE_ALLOWED)):
         return f"{call}: `{name}` must be finite, got {value!r}"
+    for suffix, (low, high) in INTEGER_RANGES.items():
+        if name.endswith(suffix) and not low <= value <= high:
+            return (f"{call}: `{name}` must be an integer from {low} to {high}, got "
+                    f"{value!r}")
     return None
+
+
+#: Integer parameters whose range is checked when they are set (not only at
+#: fmi2ExitInitializationMode): the number of sliders of the micro-slip element,
+#: 1..mount_law.MAX_SLIDERS (an unchecked count allocated without limit, issue 25).
+INTEGER_RANGES = {"_sliders": (1, MAX_SLIDERS)}
 
 
 def step_error(t: float, h: float, expected: float | None) -> str | None:

@@ -44,6 +44,7 @@
  */
 #define _GNU_SOURCE
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -342,24 +343,156 @@ static int load_real_binary(void) {
 EXPORT const char *fmi2GetTypesPlatform(void) { return "default"; }
 EXPORT const char *fmi2GetVersion(void) { return "2.0"; }
 
+static void refuse(const fmi2CallbackFunctions *cb, fmi2String name, const char *why) {
+    if (cb != NULL && cb->logger != NULL)
+        cb->logger(cb->componentEnvironment, name, fmi2Error, "drymount", "%s", why);
+    else
+        fprintf(stderr, "FrictionMount: %s\n", why);
+}
+
+static int hex_digit(char c) {
+    if (c >= '0' && c <= '9')
+        return c - '0';
+    if (c >= 'a' && c <= 'f')
+        return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F')
+        return c - 'A' + 10;
+    return -1;
+}
+
+/* The folder a "file:" resource URI names, every %XX decoded (RFC 3986, RFC 8089:
+ * file:///path, file://localhost/path, file:/path), into out; 0 on success, else -1
+ * with the reason in why. */
+static int uri_to_path(const char *uri, char *out, size_t size, char *why, size_t wsize) {
+    const char *p = uri;
+    size_t n = 0;
+    if (strncmp(p, "file:", 5) != 0) {
+        snprintf(why, wsize, "fmi2Instantiate: fmuResourceLocation must be a file: URI, "
+                 "got \"%.300s\"", uri);
+        return -1;
+    }
+    p += 5;
+    if (strncmp(p, "//localhost/", 12) == 0)
+        p += 11;
+    else if (strncmp(p, "///", 3) == 0)
+        p += 2;
+    else if (p[0] == '/' && p[1] == '/') {
+        snprintf(why, wsize, "fmi2Instantiate: fmuResourceLocation names a remote host "
+                 "(\"%.300s\"); only local folders are supported", uri);
+        return -1;
+    }
+    for (; *p != '\0'; ++p) {
+        int c = (unsigned char)*p;
+        if (c == '%') {
+            int hi = hex_digit(p[1]), lo = hi < 0 ? -1 : hex_digit(p[2]);
+            c = hi < 0 || lo < 0 ? -1 : hi * 16 + lo;
+            if (c <= 0) {
+                snprintf(why, wsize, "fmi2Instantiate: fmuResourceLocation has an invalid "
+                         "percent escape at \"%.8s\" (\"%.300s\")", p, uri);
+                return -1;
+            }
+            p += 2;
+        }
+        if (n + 1 >= size) {
+            snprintf(why, wsize, "fmi2Instantiate: fmuResourceLocation is too long "
+                     "(%zu characters)", strlen(uri));
+            return -1;
+        }
+        out[n++] = (char)c;
+    }
+    out[n] = '\0';
+    return 0;
+}
+
+/* pythonfmu 0.7.0 (fmi2.cpp) turns the URI into a path by replacing "%20" with a space
+ * and dropping "file://", nothing else: any other escape (non-ASCII letters, # ; % ")
+ * left a folder that does not exist, and its loader then crashed the host (a NULL
+ * class without a Python exception). Hand it "file://" + the decoded path; a path
+ * holding "%20" itself (a folder named "pct%20x") cannot pass that replacement, so it
+ * goes as /proc/self/fd/<fd of the FMU folder>/resources (the descriptor stays open:
+ * the path is on sys.path for the life of the process). */
+static int pythonfmu_location(const char *uri, char *out, size_t size, char *why,
+                              size_t wsize) {
+    char path[4096], probe[4200];
+    if (uri == NULL) {
+        snprintf(why, wsize, "fmi2Instantiate: fmuResourceLocation is NULL");
+        return -1;
+    }
+    if (uri_to_path(uri, path, sizeof path, why, wsize) != 0)
+        return -1;
+    size_t len = strlen(path);
+    while (len > 1 && path[len - 1] == '/')
+        path[--len] = '\0';
+    snprintf(probe, sizeof probe, "%s/slavemodule.txt", path);
+    if (!is_file(probe)) {
+        snprintf(why, wsize, "fmi2Instantiate: no resources/slavemodule.txt in the folder "
+                 "fmuResourceLocation names (\"%.1000s\" decoded to \"%.1000s\"): is the "
+                 "FMU unzipped there?", uri, path);
+        return -1;
+    }
+    if (strstr(path, "%20") == NULL) {
+        snprintf(out, size, "file://%s", path);
+        return 0;
+    }
+    char *slash = strrchr(path, '/');
+    if (slash == NULL || strcmp(slash, "/resources") != 0) {
+        snprintf(why, wsize, "fmi2Instantiate: a resource folder whose path holds \"%%20\" "
+                 "must be the FMU's resources/ folder, got \"%.1000s\"", path);
+        return -1;
+    }
+    *slash = '\0';
+    static pthread_mutex_t fd_lock = PTHREAD_MUTEX_INITIALIZER;
+    static char fd_path[4096]; /* the last folder opened, and its descriptor: */
+    static int fd_open = -1;   /* one descriptor per folder, not per instance */
+    pthread_mutex_lock(&fd_lock);
+    if (fd_open < 0 || strcmp(fd_path, path) != 0) {
+        int fresh = open(path[0] ? path : "/", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        if (fresh >= 0) {
+            fd_open = fresh;
+            snprintf(fd_path, sizeof fd_path, "%s", path);
+        }
+    }
+    int fd = strcmp(fd_path, path) == 0 ? fd_open : -1;
+    pthread_mutex_unlock(&fd_lock);
+    if (fd < 0) {
+        snprintf(why, wsize, "fmi2Instantiate: cannot open the FMU folder \"%.1000s\"",
+                 path);
+        return -1;
+    }
+    snprintf(out, size, "file:///proc/self/fd/%d/resources", fd);
+    return 0;
+}
+
+#ifndef DRYMOUNT_GUID
+#define DRYMOUNT_GUID ""
+#endif
+
 EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
                                      fmi2String resources,
                                      const fmi2CallbackFunctions *cb, fmi2Boolean visible,
                                      fmi2Boolean logging) {
+    char location[4400], why[2400];
+    if (pythonfmu_location(resources, location, sizeof location, why, sizeof why) != 0) {
+        refuse(cb, name, why);
+        return NULL;
+    }
     pthread_mutex_lock(&load_lock);
     if (!loaded && load_error[0] == '\0' && load_libpython() == 0 &&
         load_real_binary() == 0)
         loaded = 1;
     pthread_mutex_unlock(&load_lock);
     if (!loaded) {
-        if (cb != NULL && cb->logger != NULL)
-            cb->logger(cb->componentEnvironment, name, fmi2Error, "drymount", "%s",
-                       load_error);
-        else
-            fprintf(stderr, "FrictionMount: %s\n", load_error);
+        refuse(cb, name, load_error);
         return NULL;
     }
-    return real_Instantiate(name, type, guid, resources, cb, visible, logging);
+    if (DRYMOUNT_GUID[0] != '\0' && (guid == NULL || strcmp(guid, DRYMOUNT_GUID) != 0)) {
+        snprintf(why, sizeof why, "fmi2Instantiate: the GUID \"%.100s\" does not match "
+                 "this FMU's \"%s\" (modelDescription.xml)", guid ? guid : "(null)",
+                 DRYMOUNT_GUID);
+        refuse(cb, name, why);
+        return NULL;
+    }
+    return real_Instantiate(name, type, guid, location, cb, visible, logging);
 }
 
 EXPORT void fmi2FreeInstance(fmi2Component c) {

@@ -49,6 +49,7 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
+from . import state_codec
 from .fmi_state import Mode, call_error, set_error, setup_error, step_error
 from .interface import (
     ALL_PARAMETER_FIELDS,
@@ -110,6 +111,16 @@ def _hold_native_references(slave) -> None:
 
 
 _LEAKED: list = []
+
+
+def _drop_repeated_path(resources) -> None:
+    """pythonfmu 0.7.0 inserts the resources folder at the front of ``sys.path`` at
+    every fmi2Instantiate: keep that first entry, drop the copies further back
+    (``sys.path`` grew by one entry per instantiate/free cycle)."""
+    import sys
+
+    if resources and sys.path[:1] == [resources]:
+        sys.path[1:] = [p for p in sys.path[1:] if p != resources]
 
 
 class FMICallError(ValueError):
@@ -199,6 +210,8 @@ class FrictionMount(Fmi2Slave):
         super().__init__(**kwargs)
         # pythonfmu's native wrapper passes a `logger` handle; Python callers do not
         self._native = "logger" in kwargs
+        if self._native:
+            _drop_repeated_path(self.resources)
         self.default_experiment = DefaultExperiment(
             start_time=DEFAULT_EXPERIMENT["startTime"],
             stop_time=DEFAULT_EXPERIMENT["stopTime"],
@@ -313,8 +326,12 @@ class FrictionMount(Fmi2Slave):
         return self._n[j] if self._n_set[j] else getattr(self, f"{AXES[j]}_n0")
 
     def _energy_total(self) -> float:
-        return (self._e[0] + self._axis(0)[_DISS] + self._e[1] + self._axis(1)[_DISS]
-                + self._e[2] + self._axis(2)[_DISS])
+        total = (self._e[0] + self._axis(0)[_DISS] + self._e[1] + self._axis(1)[_DISS]
+                 + self._e[2] + self._axis(2)[_DISS])
+        if not math.isfinite(total):
+            raise self._fail(f"output E_fr would be {total!r} (the sum of the axes' "
+                             f"energies overflows)")
+        return total
 
     # ------------------------------------------------------------------ checks
     def _reject(self, message: str, value):
@@ -395,8 +412,23 @@ class FrictionMount(Fmi2Slave):
             axis = AXES[j]
             raise self._fail(f"the force of axis {axis} overflowed at "
                              f"u_{axis}={u!r}, v_{axis}={v!r}: F={res[_F]!r}")
+        self._check_outputs(j, res)
         self._res[j] = res
         return res
+
+    def _check_outputs(self, j: int, res) -> None:
+        """Refuse (naming the output) a trial result whose other outputs would not be
+        finite: parameters at their extremes (mu n overflowing, fs_ratio near the
+        largest float, energies past it). No NaN or infinity reaches an output."""
+        n1, n2 = normal_forces(self._axes[j], res[_W], self._slip_force(j))
+        w = res[_W] if isinstance(res[_W], tuple) else (res[_W],)
+        for name, value in (("Ffr", res[_FFR]), ("E_fr", self._e[j] + res[_DISS]),
+                            ("N", n1), ("N2", n2), ("w", math.fsum(w))):
+            if not math.isfinite(value):
+                axis = AXES[j]
+                raise self._fail(f"output {name}_{axis} would be {value!r} at "
+                                 f"u_{axis}={self._u[j]!r} (a parameter or input too "
+                                 f"large for a finite result; nothing committed)")
 
     # ------------------------------------------------------------------ FMI calls
     @_fmi_call("fmi2SetupExperiment")
@@ -455,23 +487,42 @@ class FrictionMount(Fmi2Slave):
         state["_dt"] = self._dt
         return state
 
+    # Serialized states: bytes with a checksum, decoded without raising (pythonfmu
+    # calls these on the class, outside any guard; fmu_src/state_codec.py).
+    _fmu_state_to_bytes = staticmethod(state_codec.encode)
+    _fmu_state_from_bytes = staticmethod(state_codec.decode)
+
     @_guarded
     def _set_fmu_state(self, state: dict) -> None:
+        """Restore ``state`` after checking it whole (state_codec.state_problem);
+        after initialization its parameters and outputs must evaluate too, else the
+        instance is left as it was."""
+        settable = {self._var[vr].name: self._var[vr]
+                    for vr, var in self.vars.items() if var.setter is not None}
+        why = state_codec.state_problem(state, settable)
+        if why is not None:
+            raise _Rejected(f"fmi2SetFMUstate: {why}")
+        before = self._get_fmu_state.__wrapped__(self)
+        self._apply_state(state)
+        if self._mode in (Mode.STEP_COMPLETE, Mode.TERMINATED):
+            try:
+                for j in range(3):
+                    self._axis(j)
+            except Exception as exc:  # noqa: BLE001 - any failure: refuse the state
+                self._apply_state(before)
+                raise _Rejected(f"fmi2SetFMUstate: the state does not evaluate "
+                                f"({exc})") from None
+
+    def _apply_state(self, state: dict) -> None:
         by_name = {var.name: var for var in self.vars.values()}
-        try:
-            mode = Mode(state.get("_mode", Mode.STEP_COMPLETE.value))
-            values = {name: value for name, value in state.items() if name in by_name}
-            energy = [float(x) for x in state["_E_committed"]]
-            n_set = [bool(x) for x in state["_n_set"]]
-            sliders = [tuple(float(x) for x in w) if isinstance(w, list) else float(w)
-                       for w in state["_w"]]
-        except (KeyError, TypeError, ValueError) as exc:
-            raise _Rejected(f"fmi2SetFMUstate: not a state of this FMU ({exc})") \
-                from None
-        for name, value in values.items():
-            by_name[name].setter(value)
-        self._e, self._n_set, self._w = energy, n_set, sliders
-        self._mode, self._t_next = mode, state.get("_t_next")
+        for name, value in state.items():
+            if name in by_name and by_name[name].setter is not None:
+                by_name[name].setter(value)
+        self._e = [float(x) for x in state["_E_committed"]]
+        self._n_set = [bool(x) for x in state["_n_set"]]
+        self._w = [tuple(float(x) for x in w) if isinstance(w, list) else float(w)
+                   for w in state["_w"]]
+        self._mode, self._t_next = Mode(state["_mode"]), state["_t_next"]
         self._dt = float(state.get("_dt", 0.0))
         self._axes = None
         self._res = [None, None, None]

@@ -286,6 +286,8 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_
 {
     CHECK(c, 0);
     (void)state;
+    if (size == NULL)
+        return fmi2Error;
     *size = md_serialized_size();
     return fmi2OK;
 }

@@ -339,6 +339,8 @@ fmi3Status fmi3SerializedFMUStateSize(fmi3Instance c, fmi3FMUState state, size_t
 {
     CHECK(c);
     UNUSED(state);
+    if (size == NULL)
+        return fmi3Error;
     *size = md_serialized_size();
     return fmi3OK;
 }

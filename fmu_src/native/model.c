@@ -13,7 +13,7 @@ static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '2'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '3'};
 
 /* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
  * (tests/test_native_fmu.py checks that the numbers agree): the largest
@@ -295,6 +295,43 @@ static double normal_force(const md_instance *m, int j)
     return m->d.n_set[j] ? m->d.n[j] : m->d.p[j].n0;
 }
 
+#ifndef DRYMOUNT_NULL_MODEL
+/* MD_ERROR (logged, naming the output and its value) if an output of axis j other
+ * than F and kt would not be finite at the trial result m->res[j] (parameters at
+ * their extremes: mu n overflowing, fs_ratio near DBL_MAX, energies past DBL_MAX);
+ * docs/fmu.md: no NaN or infinity reaches an output. */
+static md_status nonfinite_output(md_instance *m, const char *call, int j)
+{
+    const char *a = AXIS_NAMES[j], *name = NULL;
+    double n1, n2, value = 0.0;
+    char sv[40], su[40];
+    ml_normal_forces(&m->d.p[j], m->w_new[j], ml_slip_force(&m->d.p[j],
+                     normal_force(m, j)), &n1, &n2);
+    if (!isfinite(m->res[j].friction))
+        name = "Ffr", value = m->res[j].friction;
+    else if (!isfinite(m->d.e[j] + m->res[j].dissipated))
+        name = "E_fr", value = m->d.e[j] + m->res[j].dissipated;
+    else if (!isfinite(n1))
+        name = "N", value = n1;
+    else if (!isfinite(n2))
+        name = "N2", value = n2;
+    else {
+        int i, n = ml_state_size(&m->d.p[j]);
+        for (i = 0; i < n && isfinite(m->w_new[j][i]); ++i)
+            ;
+        if (i == n)
+            return MD_OK;
+        name = "w", value = m->w_new[j][i];
+    }
+    ml_repr_double(value, sv, sizeof sv);
+    ml_repr_double(m->d.u[j], su, sizeof su);
+    md_log(m, MD_ERROR, "FrictionMount: output %s_%s would be %s at u_%s=%s (a "
+           "parameter or input too large for a finite result; nothing committed) "
+           "(in %s)", name, a, sv, a, su, call);
+    return MD_ERROR;
+}
+#endif
+
 /* The trial return map of axis j at the current inputs (cached; commits nothing). */
 static md_status evaluate(md_instance *m, const char *call, int j)
 {
@@ -340,6 +377,8 @@ static md_status evaluate(md_instance *m, const char *call, int j)
                "v_%s=%s: F=%s (in %s)", a, a, su, a, sv, sf, call);
         return MD_ERROR;
     }
+    if (nonfinite_output(m, call, j) != MD_OK)
+        return MD_ERROR;
 #endif
     m->valid[j] = 1;
     return MD_OK;
@@ -357,6 +396,14 @@ static md_status energy_total(md_instance *m, const char *call, double *value)
     /* the same summation order as FrictionMount._energy_total */
     *value = m->d.e[0] + m->res[0].dissipated + m->d.e[1] + m->res[1].dissipated
              + m->d.e[2] + m->res[2].dissipated;
+    if (!isfinite(*value)) {
+        char sv[40];
+        ml_repr_double(*value, sv, sizeof sv);
+        md_log(m, MD_ERROR, "FrictionMount: output E_fr would be %s (the sum of the "
+               "axes' energies overflows) (in %s)", sv, call);
+        *value = 0.0;
+        return MD_ERROR;
+    }
     return MD_OK;
 }
 
@@ -504,7 +551,7 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     }
     status = evaluate(m, call, j);
     if (status != MD_OK) {
-        *value = NAN;
+        *value = 0.0;  /* never a NaN, also in a refused get */
         return status;
     }
     switch (var->role) {
@@ -609,6 +656,8 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
 #define STATE_MODES (MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT) | MD_IN(MD_STEP) \
                      | MD_IN(MD_TERMINATED))
 
+static int state_problem(const md_data *d, char *why, size_t size);
+
 md_status md_get_state(md_instance *m, const char *call, void **state)
 {
     md_data *copy;
@@ -632,6 +681,13 @@ md_status md_set_state(md_instance *m, const char *call, const void *state)
         md_log(m, MD_ERROR, "%s: the FMU state is NULL", call);
         return MD_ERROR;
     }
+    {
+        char why[1200];
+        if (state_problem((const md_data *)state, why, sizeof why)) {
+            md_log(m, MD_ERROR, "%s: not a valid FMU state (%s)", call, why);
+            return MD_ERROR;
+        }
+    }
     m->d = *(const md_data *)state;
     m->params_ok = 0;
     m->last_time_ok = isnan(m->d.time) ? 0.0 : m->d.time;
@@ -645,33 +701,142 @@ void md_free_state(md_instance *m, void *state)
         m->free(state);
 }
 
-size_t md_serialized_size(void) { return sizeof STATE_MAGIC + sizeof(md_data); }
+/* A serialized state: STATE_MAGIC, the md_data bytes, then STATE_SUM_SIZE bytes of
+ * their FNV-1a 64-bit hash (little endian): any flipped byte is refused, and every
+ * field is range-checked (state_problem) before a state is accepted. */
+#define STATE_SUM_SIZE 8
+
+size_t md_serialized_size(void)
+{
+    return sizeof STATE_MAGIC + sizeof(md_data) + STATE_SUM_SIZE;
+}
+
+static void state_sum(const unsigned char *bytes, size_t n, unsigned char out[8])
+{
+    unsigned long long h = 14695981039346656037ULL;
+    size_t i;
+    for (i = 0; i < n; ++i)
+        h = (h ^ bytes[i]) * 1099511628211ULL;
+    for (i = 0; i < 8; ++i)
+        out[i] = (unsigned char)(h >> (8 * i));
+}
 
 md_status md_serialize(md_instance *m, const char *call, const void *state,
                        unsigned char *bytes, size_t size)
 {
-    if (state == NULL || size < md_serialized_size()) {
+    if (state == NULL || bytes == NULL || size < md_serialized_size()) {
         md_log(m, MD_ERROR, "%s: need a state and %u bytes, got %u", call,
                (unsigned)md_serialized_size(), (unsigned)size);
         return MD_ERROR;
     }
     memcpy(bytes, STATE_MAGIC, sizeof STATE_MAGIC);
     memcpy(bytes + sizeof STATE_MAGIC, state, sizeof(md_data));
+    state_sum(bytes + sizeof STATE_MAGIC, sizeof(md_data),
+              bytes + sizeof STATE_MAGIC + sizeof(md_data));
     return MD_OK;
+}
+
+static int is_flag(int x) { return x == 0 || x == 1; }
+
+/* Parameter fields that may hold +inf (fmi_state.INFINITE_ALLOWED). */
+static int infinite_field(md_field f) { return f == MD_P_MU1 || f == MD_P_MU2; }
+
+/* Why axis j of d cannot be the content of a state, into why; 0 if it can. */
+static int axis_problem(const md_data *d, int j, char *why, size_t size)
+{
+    const ml_axis_params *p = &d->p[j];
+    const char *a = AXIS_NAMES[j];
+    static const md_field reals[] = {MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA,
+        MD_P_DELTA_NEG, MD_P_C, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SPREAD, MD_P_FS_RATIO,
+        MD_P_THETA_DEG, MD_P_K, MD_P_KF2, MD_P_MU1, MD_P_MU2, MD_P_PRELOAD};
+    size_t i;
+    int k;
+    for (i = 0; i < sizeof reals / sizeof reals[0]; ++i) {
+        double x = get_field(p, reals[i]);
+        if (!isfinite(x) && !(x == INFINITY && infinite_field(reals[i]))) {
+            snprintf(why, size, "a parameter of axis %s is not finite", a);
+            return 1;
+        }
+    }
+    if (!is_flag(p->friction) || !is_flag(d->n_set[j])) {
+        snprintf(why, size, "a flag of axis %s is neither 0 nor 1", a);
+        return 1;
+    }
+    if (!(isfinite(d->u[j]) && isfinite(d->v[j]) && isfinite(d->n[j])
+          && isfinite(d->e[j]))) {
+        snprintf(why, size, "an input or the energy of axis %s is not finite", a);
+        return 1;
+    }
+    /* wkind: 0 (a plain sequence) or an element's tag, friction kind + 1 */
+    if (d->wkind[j] < 0 || d->wkind[j] > ml_friction_kinds() || d->nw[j] < 1
+            || d->nw[j] > ML_MAX_SLIDERS) {
+        snprintf(why, size, "axis %s: slider count %d (kind %d) outside 1..%d", a,
+                 d->nw[j], d->wkind[j], ML_MAX_SLIDERS);
+        return 1;
+    }
+    for (k = 0; k < d->nw[j]; ++k)
+        if (!isfinite(d->w[j][k])) {
+            snprintf(why, size, "a slider position of axis %s is not finite", a);
+            return 1;
+        }
+    return 0;
+}
+
+/* Why d cannot be a state of this FMU (into why), 0 if it can: every field in its
+ * range, and after initialization (step mode, terminated) valid parameters and a
+ * friction state of the size the parameters ask for (what fmi2ExitInitialization
+ * guarantees). */
+static int state_problem(const md_data *d, char *why, size_t size)
+{
+    char text[4096];
+    int j;
+    if ((unsigned)d->mode > MD_TERMINATED || !is_flag(d->started)
+            || !(isnan(d->time) || isfinite(d->time))) {
+        snprintf(why, size, "mode, time or start flag out of range");
+        return 1;
+    }
+    for (j = 0; j < 3; ++j) {
+        if (axis_problem(d, j, why, size))
+            return 1;
+        if (d->mode < MD_STEP)
+            continue;  /* parameters are checked at ExitInitializationMode */
+        if (ml_axis_problems(&d->p[j], AXIS_NAMES[j], text, sizeof text)) {
+            snprintf(why, size, "invalid parameters after initialization: %.900s", text);
+            return 1;
+        }
+        if (d->nw[j] != ml_state_size(&d->p[j]) || d->wkind[j] != ml_state_tag(&d->p[j])) {
+            snprintf(why, size, "axis %s: %d slider positions for parameters that "
+                     "need %d", AXIS_NAMES[j], d->nw[j], ml_state_size(&d->p[j]));
+            return 1;
+        }
+    }
+    return 0;
 }
 
 md_status md_deserialize(md_instance *m, const char *call, const unsigned char *bytes,
                          size_t size, void **state)
 {
     md_data data;
-    if (size != md_serialized_size() || memcmp(bytes, STATE_MAGIC, sizeof STATE_MAGIC)) {
-        md_log(m, MD_ERROR, "%s: not a state serialized by this FMU (%u bytes)", call,
-               (unsigned)size);
+    unsigned char sum[8];
+    char why[1200];
+    if (bytes == NULL || size != md_serialized_size()
+            || memcmp(bytes, STATE_MAGIC, sizeof STATE_MAGIC)) {
+        md_log(m, MD_ERROR, "%s: not a state serialized by this FMU (%u bytes, a state "
+               "has %u)", call, (unsigned)size, (unsigned)md_serialized_size());
+        return MD_ERROR;
+    }
+    state_sum(bytes + sizeof STATE_MAGIC, sizeof data, sum);
+    if (memcmp(sum, bytes + sizeof STATE_MAGIC + sizeof data, sizeof sum) != 0) {
+        md_log(m, MD_ERROR, "%s: corrupt serialized state (checksum mismatch)", call);
         return MD_ERROR;
     }
     memcpy(&data, bytes + sizeof STATE_MAGIC, sizeof data);
-    if ((unsigned)data.mode > MD_TERMINATED) {
-        md_log(m, MD_ERROR, "%s: corrupt serialized state", call);
+    if (state_problem(&data, why, sizeof why)) {
+        md_log(m, MD_ERROR, "%s: corrupt serialized state (%s)", call, why);
+        return MD_ERROR;
+    }
+    if (state == NULL) {
+        md_log(m, MD_ERROR, "%s: the FMU state pointer is NULL", call);
         return MD_ERROR;
     }
     if (*state == NULL)

@@ -95,6 +95,11 @@ void ml_state_start(const ml_axis_params *p, double w, double *state)
         state[0] = w;
 }
 
+int ml_friction_kinds(void)
+{
+    return ML_N_FRICTION_KINDS;
+}
+
 int ml_state_tag(const ml_axis_params *p)
 {
     const ml_element *el = element_of(p);

@@ -105,6 +105,8 @@ void ml_state_start(const ml_axis_params *p, double w, double *state);
 /* The tag of a state of axis p's element: its kind + 1 for an element with a named
  * state (mount_law.conform_state keeps only a state of its own kind), else 0. */
 int ml_state_tag(const ml_axis_params *p);
+/* The number of friction elements of the table (the largest state tag). */
+int ml_friction_kinds(void);
 
 /* mount_law.slider_position / mean_slider of the n doubles of a state with tag. */
 double ml_state_position(const double *state, int n, int tag);

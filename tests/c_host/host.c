@@ -137,7 +137,9 @@ int main(int argc, char **argv)
     for (int i = 0; i < 2; i++) {
         char name[32];
         snprintf(name, sizeof name, "mount%d", i);
-        inst[i] = instantiate(name, fmi2CoSimulation, "", uri, &cb, 0, 1);
+        /* the GUID of modelDescription.xml, passed by the test ($FMU_GUID) */
+        const char *guid = getenv("FMU_GUID") ? getenv("FMU_GUID") : "";
+        inst[i] = instantiate(name, fmi2CoSimulation, guid, uri, &cb, 0, 1);
         if (!inst[i]) {
             printf("FAILED fmi2Instantiate\n");
             return 3;
