@@ -420,7 +420,7 @@ class FrictionMount(Fmi2Slave):
         """Refuse (naming the output) a trial result whose other outputs would not be
         finite: parameters at their extremes (mu n overflowing, fs_ratio near the
         largest float, energies past it). No NaN or infinity reaches an output."""
-        n1, n2 = normal_forces(self._axes[j], res[_W], self._slip_force(j))
+        n1, n2 = normal_forces(self._axes[j], res[_W], self._n[j])
         w = res[_W] if isinstance(res[_W], tuple) else (res[_W],)
         for name, value in (("Ffr", res[_FFR]), ("E_fr", self._e[j] + res[_DISS]),
                             ("N", n1), ("N2", n2), ("w", math.fsum(w))):
