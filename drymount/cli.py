@@ -523,11 +523,26 @@ def main(argv: list[str] | None = None) -> int:
         # lazy import) even when it was handled, and would end the process with
         # SIGINT (status -2) instead of this code: leave without finalisation (the
         # results are written and the workers stopped).
+        _release_process_resources()
         for stream in (sys.stdout, sys.stderr):
             with contextlib.suppress(Exception):
                 stream.flush()
         os._exit(code)
     return code
+
+
+def _release_process_resources(timeout: float = 2.0) -> None:
+    """What multiprocessing releases at a normal exit (os._exit skips it): the
+    semaphores of the stopped worker pools, or its resource tracker prints a
+    'leaked semaphore objects' warning after the run. At most ``timeout`` s."""
+    if "multiprocessing.util" not in sys.modules:
+        return
+    import threading
+    from multiprocessing import util
+
+    t = threading.Thread(target=util._run_finalizers, daemon=True)
+    t.start()
+    t.join(timeout)
 
 
 def _run(argv) -> int:

@@ -13,10 +13,13 @@ __all__ = ["add_commands", "cmd_explore", "cmd_optimize"]
 
 
 def _backend_args(p, int_at_least) -> None:
-    p.add_argument("--workers", type=int_at_least(1), default=1,
-                   help="local processes evaluating designs")
+    from drymount.design.backends import MAX_WORKERS
+
+    p.add_argument("--workers", type=int_at_least(1, MAX_WORKERS), default=1,
+                   help=f"local processes evaluating designs, 1..{MAX_WORKERS}")
     p.add_argument("--dask", default=None, metavar="local[:N]|tcp://HOST:PORT",
-                   help="run on Dask: `local:N` starts a LocalCluster of N workers, "
+                   help=f"run on Dask: `local:N` starts a LocalCluster of N workers "
+                        f"(1..{MAX_WORKERS}), "
                         "an address uses a running `dask scheduler` (docs/explore.md); "
                         "needs pip install 'drymount[dask]'")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
