@@ -250,9 +250,9 @@ def _check_method(args) -> tuple[str, Path | None]:
 
 def main(args) -> int:
     """Run ``drymount characterise`` (CLI arguments in ``args``); exit status."""
-    from drymount.config import resolve_config
+    from drymount.paths import load_with_overrides
 
-    cfg = resolve_config(args.config)
+    cfg = load_with_overrides(args.config, getattr(args, "overrides", None) or ())
     fmin = args.fmin if args.fmin is not None else cfg.sweep.fmin_hz
     fmax = args.fmax if args.fmax is not None else cfg.sweep.fmax_hz
     freqs = np.linspace(fmin, fmax, args.points)

@@ -200,7 +200,7 @@ def cmd_build_fmu(args) -> int:
 def cmd_export_ssp(args) -> int:
     from drymount.ssp import export_ssp
 
-    cfg = _load(args.config)
+    cfg = _load(args.config, args.overrides)
     if args.fmu is not None and not args.fmu.is_file():
         raise UsageError(f"`--fmu` {args.fmu} does not exist")
     _check_out(args.out, "--out")

@@ -47,10 +47,10 @@ def _loads(specs, dof_names) -> np.ndarray:
 
 def main(args) -> int:
     """Run ``drymount static`` (CLI arguments in ``args``); the exit status."""
-    from drymount.config import resolve_config
+    from drymount.paths import load_with_overrides
     from drymount.config.static import vertical_dofs
 
-    cfg = resolve_config(args.config)
+    cfg = load_with_overrides(args.config, getattr(args, "overrides", None) or ())
     system, st = cfg.system, cfg.static
     names = list(system.dof_names)
     try:
