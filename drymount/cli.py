@@ -200,9 +200,15 @@ def cmd_build_fmu(args) -> int:
 def cmd_export_ssp(args) -> int:
     from drymount.ssp import export_ssp
 
+    from drymount.ssp import SspError, check_mount_fmu
+
     cfg = _load(args.config, args.overrides)
-    if args.fmu is not None and not args.fmu.is_file():
-        raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    if args.fmu is not None:
+        fmu_path(args.fmu)  # exists, a zip with a modelDescription.xml
+        try:
+            check_mount_fmu(args.fmu)
+        except SspError as exc:
+            raise UsageError(str(exc)) from None
     _check_out(args.out, "--out")
     exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
     _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
