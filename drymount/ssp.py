@@ -205,7 +205,8 @@ def check_mount_fmu(path) -> None:
         raise SspError(f"{where} is not an FMU (a zip with modelDescription.xml): "
                        f"{exc}") from None
     except ParseError as exc:
-        raise SspError(f"{where}: its modelDescription.xml is not XML ({exc})") from None
+        raise SspError(f"{where}: its modelDescription.xml is not XML "
+                       f"({exc})") from None
     version = root.get("fmiVersion")
     if version != "2.0":
         raise SspError(f"{where} is an FMI {version} FMU; an SSP 1.0 archive carries "
