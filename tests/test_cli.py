@@ -134,6 +134,27 @@ def test_bad_config_through_a_subprocess_has_no_traceback(tmp_path):
     (["presets", "show", "nope"], "unknown preset `nope`"),
     (["frobnicate"], "invalid choice"),
     ([], "required"),
+    # issue 25 items 11-12: bounded, finite, before computing (were MemoryError,
+    # a fit reported after its run, a bar before the error)
+    (["cosim", "sdof_halved", "--freq", "5", "--steps-per-period", "1e9"],
+     "must be an integer in 8..65536"),
+    (["cosim", "sdof_halved", "--freq", "5", "--duration", "1e12"],
+     "must be a finite number > 0 and <= 3600, got '1e12'"),
+    (["cosim", "sdof_halved", "--freq", "5", "--skip", "-1"],
+     "argument --skip: must be a finite number >= 0, got '-1'"),
+    (["characterise", "sdof_halved", "--points", "1000000000"],
+     "must be an integer in 2..10000"),
+    (["characterise", "sdof_halved", "--preloads", "0", "nan"],
+     "argument --preloads: must be a finite number, got 'nan'"),
+    (["fit", "elastic", "x.csv", "--c", "-1"],
+     "argument --c: must be a finite number >= 0, got '-1'"),
+    (["hbm", "sdof_halved", "--max-harmonics", "1000"],
+     "argument --max-harmonics: must be an integer in 1..50, got 1000"),
+    (["optimize", "sdof_halved", "--maxiter", "1000000000"],
+     "must be an integer in 1..10000"),
+    (["optimize", "sdof_halved", "--popsize", "1000000000"],
+     "must be an integer in 2..1000"),
+    (["explore", "sdof_halved", "--workers", "100000"], "in 1..256"),
 ])
 def test_usage_errors_exit_2(argv, needle, capsys):
     code, _, err = run(argv, capsys)

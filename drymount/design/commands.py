@@ -61,10 +61,12 @@ def add_commands(sub, add, config_arg, int_at_least) -> None:
                    help="output folder (default: optimize-<name>)")
     p.add_argument("--objective", default=None,
                    help="name of the objective to minimise (default: the first)")
-    p.add_argument("--maxiter", type=int_at_least(1), default=30,
-                   help="differential-evolution generations")
-    p.add_argument("--popsize", type=int_at_least(2), default=10,
-                   help="population per variable (scipy's popsize)")
+    from drymount.cli_parser import MAX_MAXITER, MAX_POPSIZE
+
+    p.add_argument("--maxiter", type=int_at_least(1, MAX_MAXITER), default=30,
+                   help=f"differential-evolution generations, 1..{MAX_MAXITER}")
+    p.add_argument("--popsize", type=int_at_least(2, MAX_POPSIZE), default=10,
+                   help=f"population per variable (scipy's popsize), 2..{MAX_POPSIZE}")
     p.add_argument("--seed", type=int_at_least(0), default=None,
                    help="random seed (default: [design] seed)")
     p.add_argument("--polish", type=int_at_least(0), default=60, metavar="MAXFEV",
