@@ -258,7 +258,9 @@ def main(args) -> int:
     freqs = np.linspace(fmin, fmax, args.points)
     amps = np.array(args.amplitudes_mm) * 1e-3
     preloads = np.array(args.preloads)
-    out = Path(args.out or f"{cfg.name}_characterise")
+    from drymount.cli_guard import check_out_dir
+
+    out = check_out_dir(Path(args.out or f"{cfg.name}_characterise"), "--out")
     out.mkdir(parents=True, exist_ok=True)
     maps = characterise(cfg.system, freqs, amps, preloads, progress=not args.quiet)
     for am in maps:

@@ -468,10 +468,13 @@ def cmd_demo(args) -> int:
 
 
 def cmd_fit(args) -> int:
+    _check_out_dir(args.out, "--out")
     return _lead_module("fit").main(args)
 
 
 def cmd_static(args) -> int:
+    if args.out is not None:  # the default <name>_static.csv: checked by static
+        _check_out(args.out, "--out")
     return _lead_module("static").main(args)
 
 
@@ -479,6 +482,8 @@ def cmd_characterise(args) -> int:
     if args.fmin is not None and args.fmax is not None and not args.fmax > args.fmin:
         raise UsageError(f"the frequency range must satisfy fmin < fmax, got fmin = "
                          f"{args.fmin:g} Hz, fmax = {args.fmax:g} Hz")
+    if args.out is not None:  # the default <name>_characterise: checked there
+        _check_out_dir(args.out, "--out")
     return _lead_module("characterise").main(args)
 
 

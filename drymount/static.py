@@ -64,6 +64,9 @@ def main(args) -> int:
     if not args.no_gravity:
         load += gravity_load(system, vertical_dofs(cfg.model, names), g)
     travel = st.travel if args.travel_mm is None else args.travel_mm * 1e-3
+    from drymount.cli_guard import check_out
+
+    out = check_out(Path(args.out or f"{cfg.name}_static.csv"), "--out")
     point = static_equilibrium(system, load)
     what = "no gravity" if args.no_gravity else f"g = {g:g} m/s^2"
     if args.load:
@@ -86,7 +89,6 @@ def main(args) -> int:
     warnings = knee_warnings(system, point, travel)
     for w in warnings:
         print(f"  warning: {w}")
-    out = Path(args.out or f"{cfg.name}_static.csv")
     write_csv(out, ["mount", "axis", "deflection_m", "force_N", "past_knee",
                     "beyond_travel"], rows,
               comment=f"static working point of {cfg.source}: deflection [m] (engine "

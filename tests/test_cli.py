@@ -380,3 +380,25 @@ def test_cosim_needs_a_frequency(tmp_path, capsys):
     path.write_text(text)
     code, _, err = run(["cosim", str(path)], capsys)
     assert code == 2 and "give --freq" in err
+
+
+@pytest.mark.parametrize("argv, body, needle", [
+    (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,0\n1,2\n2,\xff4\n",
+     "line 4: not UTF-8 text (byte 0xff)"),
+    (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,0\n1,2,7\n2,4\n",
+     "line 3: 3 cells, the header has 2"),
+    (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
+     b"time [s],z [mm]\n0,0\n1,\xff\n", "not UTF-8 text (byte 0xff)"),
+    (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
+     b"time [s],z [mm]\n0,0\n1,2,3\n", "row 3 (the header is row 1;"),
+])
+def test_data_file_errors_exit_2_naming_file_and_line(tmp_path, capsys, argv, body,
+                                                       needle):
+    """Issue 25 item 12: a non-UTF-8 file was a UnicodeDecodeError (exit 1), a
+    ragged long row was accepted."""
+    f = tmp_path / "data.csv"
+    f.write_bytes(body)
+    code, _, err = run([a.format(f=f) for a in argv] + ["--out", str(tmp_path / "o")],
+                       capsys)
+    assert code == 2, err
+    assert str(f) in err and needle in err and "Traceback" not in err, err

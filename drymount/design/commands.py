@@ -9,6 +9,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from drymount.cli_guard import check_out_dir
+
 __all__ = ["add_commands", "cmd_explore", "cmd_optimize"]
 
 
@@ -94,6 +96,7 @@ def cmd_explore(args, load, usage_error) -> int:
 
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"explore-{cfg.name}")
+    check_out_dir(out, "--out")
     print(f"{cfg.name}: {space.size()} designs ({space.method.value}), "
           f"{len(space.variables)} variables, on {backend.describe()}", file=sys.stderr)
     try:
@@ -115,6 +118,7 @@ def cmd_optimize(args, load, usage_error) -> int:
 
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"optimize-{cfg.name}")
+    check_out_dir(out, "--out")
     names = [o.name for o in space.objectives]
     if args.objective is not None and args.objective not in names:
         raise usage_error(f"--objective must be one of {', '.join(names)} (the "
