@@ -45,6 +45,7 @@ from drymount.cli_guard import (
     EXIT_INTERRUPTED,
     EXIT_TERMINATED,
     UsageError,
+    events_sibling,
     fmu_path,
     interrupted,
     outputs,
@@ -226,6 +227,7 @@ def cmd_hbm(args) -> int:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
     out = outputs(args, cfg, "hbm")
+    events = events_sibling(out)
     import drymount.hbm as hbm
 
     try:
@@ -240,7 +242,6 @@ def cmd_hbm(args) -> int:
                                     progress=not args.quiet)
     _write_with(out, fr.to_csv,
                 partial=None if fr.success else f"numerical failure: {fr.message}")
-    events = Path(fr.events_path(out))
     _write_with(events, fr.events_to_csv)
     _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {fr.harmonics}, "
           f"N = {fr.n_samples or 'closed forms'}) and {events} (folds and peaks)")

@@ -23,7 +23,7 @@ from pathlib import Path
 
 __all__ = ["UsageError", "EXIT_INTERRUPTED", "EXIT_TERMINATED", "signals_interrupt",
            "interrupted", "partial_on_stop", "write_with", "outputs", "check_out",
-           "check_out_dir",
+           "check_out_dir", "events_sibling",
            "fmu_path", "stopped_by"]
 
 #: Interrupted by SIGINT (128 + 2); SIGTERM gives 128 + 15 = 143.
@@ -211,6 +211,23 @@ def _check_default_out(path: Path) -> Path:
                          f"move the file")
     if path.exists():
         _info(f"replacing {path} (an earlier drymount result)")
+    return path
+
+
+def events_sibling(out: Path) -> Path:
+    """``<out stem>_events.csv`` beside ``hbm``'s CSV (FrequencyResponse.events_path),
+    checked before computing. The user did not name it: like a default output, an
+    existing file there is replaced only when drymount wrote it."""
+    import os
+
+    root, _ = os.path.splitext(os.fspath(out))
+    path = check_out(Path(root + "_events.csv"), "--out")
+    if path.exists() and not _written_by_drymount(path):
+        raise UsageError(f"--out: the folds-and-peaks file {str(path)!r} written "
+                         f"beside "
+                         f"{str(out)!r} exists and was not written by drymount (its "
+                         f"first line does not start with '# drymount'); choose "
+                         f"another --out, or move the file")
     return path
 
 

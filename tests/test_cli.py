@@ -402,3 +402,17 @@ def test_data_file_errors_exit_2_naming_file_and_line(tmp_path, capsys, argv, bo
                        capsys)
     assert code == 2, err
     assert str(f) in err and needle in err and "Traceback" not in err, err
+
+
+def test_hbm_events_sibling_checked_before_computing(tmp_path, capsys):
+    """Issue 25 item 9: <out>_events.csv overwrote a user's file, after computing.
+    The rule (docs/cli.md): replaced only when drymount wrote it."""
+    out, events = tmp_path / "curve.csv", tmp_path / "curve_events.csv"
+    events.write_text("my own notes\n")
+    code, _, err = run(["hbm", "sdof_linear", "--out", str(out), "-q"], capsys)
+    assert code == 2 and "curve_events.csv" in err and "not written by drymount" in err
+    assert events.read_text() == "my own notes\n" and not out.exists()
+    events.write_text("# drymount HBM an earlier result\nkind\n")
+    code, _, err = run(["hbm", "sdof_linear", "--out", str(out), "-q"], capsys)
+    assert code == 0, err
+    assert events.read_text().startswith("# drymount HBM sdof_linear")
