@@ -115,6 +115,7 @@ def cmd_explore(args, load, usage_error) -> int:
 def cmd_optimize(args, load, usage_error) -> int:
     from drymount.design.backends import BackendError
     from drymount.design.optimize import OptimizeSettings, optimize
+    from drymount.design.table import TableError
 
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"optimize-{cfg.name}")
@@ -128,11 +129,12 @@ def cmd_optimize(args, load, usage_error) -> int:
                          polish_maxfev=args.polish)
     try:
         res = optimize(cfg, space, out, backend, s, progress=not args.quiet)
-    except BackendError as exc:
+    except (BackendError, TableError) as exc:
         raise usage_error(str(exc)) from None
     vals = ", ".join(f"{v.name} = {x:.6g}" for v, x in
                      zip(space.variables, res.best.values, strict=True))
     print(f"{cfg.name}: best {res.objective} = {res.value:.5g} "
-          f"(feasible {res.best.feasible}) at {vals}; {res.n_evaluations} designs; "
+          f"(feasible {res.best.feasible}) at {vals}; {res.n_evaluations} designs "
+          f"({res.resumed} resumed); "
           f"wrote {out}/summary.md")
     return 0 if res.best.feasible else 1
