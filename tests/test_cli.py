@@ -389,6 +389,15 @@ def test_cosim_needs_a_frequency(tmp_path, capsys):
      "line 3: 3 cells, the header has 2"),
     (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
      b"time [s],z [mm]\n0,0\n1,\xff\n", "not UTF-8 text (byte 0xff)"),
+    # fit on data no law resolves: was "Initial guess is outside of provided
+    # bounds" (exit 1), R^2 = nan with a denormal knee, or overflow
+    (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,5\n1,5\n2,5\n",
+     "the force is constant (5 N)"),
+    (["fit", "elastic", "{f}"],
+     b"deflection [m],force [N]\n0,0\n1e-320,2\n2e-320,4\n",
+     "the deflections span 2e-320 m; at least 1e-06 m"),
+    (["fit", "elastic", "{f}"], b"deflection [m],force [N]\n0,0\n1e-3,1e300\n2e-3,4\n",
+     "a force of 1e+300 N; at most 1e+06 N"),
     (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
      b"time [s],z [mm]\n0,0\n1,2,3\n", "row 3 (the header is row 1;"),
 ])
