@@ -201,8 +201,9 @@ DESIGN = str(ROOT / "examples" / "design" / "sdof_n0.toml")
 #: a chunk of several seconds when the signal arrives
 SLOW_DESIGNS = ["--set", "design.harmonics=7", "--set", "design.chunk=4", "-q"]
 WORKER_RUNS = {
-    "sweep": ["sweep", "sdof_halved", "--points", "24", "--backend", "native",
-              "--workers", "2", "-q"],
+    # 200 frequencies at 4096 steps per period: minutes, never done before the signal
+    "sweep": ["sweep", "sdof_halved", "--points", "200", "--steps-per-period", "4096",
+              "--backend", "native", "--workers", "2", "-q"],
     "explore": ["explore", DESIGN, "--set", "design.samples=16", *SLOW_DESIGNS,
                 "--workers", "2"],
     "optimize": ["optimize", DESIGN, "--popsize", "4", "--maxiter", "2",
