@@ -250,15 +250,17 @@ def _check_method(args) -> tuple[str, Path | None]:
 
 def main(args) -> int:
     """Run ``drymount characterise`` (CLI arguments in ``args``); exit status."""
-    from drymount.config import resolve_config
+    from drymount.paths import load_with_overrides
 
-    cfg = resolve_config(args.config)
+    cfg = load_with_overrides(args.config, getattr(args, "overrides", None) or ())
     fmin = args.fmin if args.fmin is not None else cfg.sweep.fmin_hz
     fmax = args.fmax if args.fmax is not None else cfg.sweep.fmax_hz
     freqs = np.linspace(fmin, fmax, args.points)
     amps = np.array(args.amplitudes_mm) * 1e-3
     preloads = np.array(args.preloads)
-    out = Path(args.out or f"{cfg.name}_characterise")
+    from drymount.cli_guard import check_out_dir
+
+    out = check_out_dir(Path(args.out or f"{cfg.name}_characterise"), "--out")
     out.mkdir(parents=True, exist_ok=True)
     maps = characterise(cfg.system, freqs, amps, preloads, progress=not args.quiet)
     for am in maps:

@@ -46,6 +46,7 @@ from drymount.cli_guard import (
     EXIT_INTERRUPTED,
     EXIT_TERMINATED,
     UsageError,
+    events_sibling,
     fmu_path,
     interrupted,
     outputs,
@@ -209,9 +210,15 @@ def cmd_build_fmu(args) -> int:
 def cmd_export_ssp(args) -> int:
     from drymount.ssp import export_ssp
 
-    cfg = _load(args.config)
-    if args.fmu is not None and not args.fmu.is_file():
-        raise UsageError(f"`--fmu` {args.fmu} does not exist")
+    from drymount.ssp import SspError, check_mount_fmu
+
+    cfg = _load(args.config, args.overrides)
+    if args.fmu is not None:
+        fmu_path(args.fmu)  # exists, a zip with a modelDescription.xml
+        try:
+            check_mount_fmu(args.fmu)
+        except SspError as exc:
+            raise UsageError(str(exc)) from None
     _check_out(args.out, "--out")
     exp = export_ssp(cfg, args.out, native=args.native, fmu_path=args.fmu)
     _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
@@ -229,6 +236,7 @@ def cmd_hbm(args) -> int:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
     out = outputs(args, cfg, "hbm")
+    events = events_sibling(out)
     import drymount.hbm as hbm
 
     try:
@@ -243,7 +251,6 @@ def cmd_hbm(args) -> int:
                                     progress=not args.quiet)
     _write_with(out, fr.to_csv,
                 partial=None if fr.success else f"numerical failure: {fr.message}")
-    events = Path(fr.events_path(out))
     _write_with(events, fr.events_to_csv)
     _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {fr.harmonics}, "
           f"N = {fr.n_samples or 'closed forms'}) and {events} (folds and peaks)")
@@ -471,10 +478,13 @@ def cmd_demo(args) -> int:
 
 
 def cmd_fit(args) -> int:
+    _check_out_dir(args.out, "--out")
     return _lead_module("fit").main(args)
 
 
 def cmd_static(args) -> int:
+    if args.out is not None:  # the default <name>_static.csv: checked by static
+        _check_out(args.out, "--out")
     return _lead_module("static").main(args)
 
 
@@ -482,6 +492,8 @@ def cmd_characterise(args) -> int:
     if args.fmin is not None and args.fmax is not None and not args.fmax > args.fmin:
         raise UsageError(f"the frequency range must satisfy fmin < fmax, got fmin = "
                          f"{args.fmin:g} Hz, fmax = {args.fmax:g} Hz")
+    if args.out is not None:  # the default <name>_characterise: checked there
+        _check_out_dir(args.out, "--out")
     return _lead_module("characterise").main(args)
 
 
@@ -539,11 +551,26 @@ def main(argv: list[str] | None = None) -> int:
         # lazy import) even when it was handled, and would end the process with
         # SIGINT (status -2) instead of this code: leave without finalisation (the
         # results are written and the workers stopped).
+        _release_process_resources()
         for stream in (sys.stdout, sys.stderr):
             with contextlib.suppress(Exception):
                 stream.flush()
         os._exit(code)
     return code
+
+
+def _release_process_resources(timeout: float = 2.0) -> None:
+    """What multiprocessing releases at a normal exit (os._exit skips it): the
+    semaphores of the stopped worker pools, or its resource tracker prints a
+    'leaked semaphore objects' warning after the run. At most ``timeout`` s."""
+    if "multiprocessing.util" not in sys.modules:
+        return
+    import threading
+    from multiprocessing import util
+
+    t = threading.Thread(target=util._run_finalizers, daemon=True)
+    t.start()
+    t.join(timeout)
 
 
 def _run(argv) -> int:

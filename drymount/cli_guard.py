@@ -23,8 +23,8 @@ from pathlib import Path
 
 __all__ = ["UsageError", "EXIT_INTERRUPTED", "EXIT_TERMINATED", "signals_interrupt",
            "interrupted", "partial_on_stop", "write_with", "outputs", "check_out",
-           "check_out_dir",
-           "fmu_path", "stopped_by"]
+           "check_out_dir", "events_sibling",
+           "fmu_path", "stopped_by", "stop_reason"]
 
 #: Interrupted by SIGINT (128 + 2); SIGTERM gives 128 + 15 = 143.
 EXIT_INTERRUPTED = 130
@@ -98,7 +98,8 @@ def signals_interrupt(program: bool = False):
             signal.signal(s, signal.SIG_IGN if program else h)
 
 
-def _stop_reason(exc: BaseException) -> str:
+def stop_reason(exc: BaseException) -> str:
+    """Why a run stopped, for a ``# partial:`` line: the signal, or the error."""
     if _stopped_by is not None:
         return f"interrupted by {signal.Signals(_stopped_by).name}"
     if isinstance(exc, KeyboardInterrupt):
@@ -116,7 +117,7 @@ def partial_on_stop(out: Path, what: str):
         res = getattr(exc, "partial_result", None)
         n = len(getattr(res, "freq_hz", getattr(res, "t", ())))
         if res is not None and n:
-            reason = f"{_stop_reason(exc)}; {n} {what} computed before the run stopped"
+            reason = f"{stop_reason(exc)}; {n} {what} computed before the run stopped"
             write_with(out, res.to_csv, partial=reason)
             _info(f"wrote {out} (partial: {n} {what})")
         raise
@@ -211,6 +212,23 @@ def _check_default_out(path: Path) -> Path:
                          f"move the file")
     if path.exists():
         _info(f"replacing {path} (an earlier drymount result)")
+    return path
+
+
+def events_sibling(out: Path) -> Path:
+    """``<out stem>_events.csv`` beside ``hbm``'s CSV (FrequencyResponse.events_path),
+    checked before computing. The user did not name it: like a default output, an
+    existing file there is replaced only when drymount wrote it."""
+    import os
+
+    root, _ = os.path.splitext(os.fspath(out))
+    path = check_out(Path(root + "_events.csv"), "--out")
+    if path.exists() and not _written_by_drymount(path):
+        raise UsageError(f"--out: the folds-and-peaks file {str(path)!r} written "
+                         f"beside "
+                         f"{str(out)!r} exists and was not written by drymount (its "
+                         f"first line does not start with '# drymount'); choose "
+                         f"another --out, or move the file")
     return path
 
 

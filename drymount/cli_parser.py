@@ -30,6 +30,38 @@ def _positive_float(text: str) -> float:
     return x
 
 
+def _finite_float(minimum: float | None = None, maximum: float | None = None,
+                  above: float | None = None):
+    """A finite number >= minimum (or > above) and <= maximum (each optional)."""
+    parts = ([f">= {minimum:g}"] if minimum is not None else []) + (
+        [f"> {above:g}"] if above is not None else []) + (
+        [f"<= {maximum:g}"] if maximum is not None else [])
+    rng = "a finite number" + (" " + " and ".join(parts) if parts else "")
+
+    def parse(text: str) -> float:
+        try:
+            x = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be {rng}, got {text!r}") from None
+        if not (math.isfinite(x) and (minimum is None or x >= minimum)
+                and (above is None or x > above)
+                and (maximum is None or x <= maximum)):
+            raise argparse.ArgumentTypeError(f"must be {rng}, got {text!r}")
+        return x
+
+    parse.__name__ = rng
+    return parse
+
+
+#: Limits of options the configuration does not bound (each a run that would not
+#: fit in memory or finish beyond them): steps per period, simulated seconds,
+#: differential-evolution generations and population per variable.
+MAX_STEPS_PER_PERIOD = 65_536
+MAX_DURATION_S = 3_600.0
+MAX_MAXITER = 10_000
+MAX_POPSIZE = 1_000
+
+
 def _int_at_least(minimum: int, maximum: int | None = None):
     rng = f">= {minimum}" if maximum is None else f"in {minimum}..{maximum}"
 
@@ -84,9 +116,11 @@ def _add(sub, name: str, help_: str, description: str, examples: list[str]):
 
 def _harness_args(p, kind: str) -> None:
     """Options shared by ``cosim`` and ``sweep``: step, FMU, output files."""
-    p.add_argument("--steps-per-period", type=_int_at_least(8), default=None,
-                   help="fixed steps per excitation period (default: [cosim] "
-                        "steps_per_period, else the harness default)")
+    p.add_argument("--steps-per-period",
+                   type=_int_at_least(8, MAX_STEPS_PER_PERIOD), default=None,
+                   help=f"fixed steps per excitation period, 8..{MAX_STEPS_PER_PERIOD} "
+                        f"(default: [cosim] steps_per_period, else the harness "
+                        f"default)")
     p.add_argument("--fmu", type=_path, default=None,
                    help="FMU to use, never modified (default: dist/FrictionMount.fmu, "
                         "built or rebuilt when missing or older than drymount's "
@@ -106,9 +140,12 @@ def _hbm_accuracy_args(p) -> None:
                         "are raised until the error estimate is below tol/2 (unless "
                         "--harmonics/--n-samples fix them), and the step until reading "
                         "between CSV rows stays within tol/2")
-    g.add_argument("--max-harmonics", type=_int_at_least(1), default=None,
-                   help="cap on H when --tol raises it (default 25; 13 for "
-                        "systems of more than 3 DOF, the 6-DOF presets)")
+    from drymount.config import MAX_HARMONICS
+
+    g.add_argument("--max-harmonics", type=_int_at_least(1, MAX_HARMONICS),
+                   default=None,
+                   help=f"cap on H when --tol raises it, 1..{MAX_HARMONICS} (default "
+                        f"25; 13 for systems of more than 3 DOF, the 6-DOF presets)")
     for flag, what in (("--ds-initial", "first"), ("--ds-min", "smallest"),
                        ("--ds-max", "largest")):
         g.add_argument(flag, type=_positive_float, default=None,
@@ -270,9 +307,10 @@ def _cmd_cosim(sub) -> None:
     _config_arg(p)
     p.add_argument("--freq", type=_positive_float, default=None,
                    help="excitation frequency in Hz (default: [cosim] freq_hz)")
-    p.add_argument("--duration", type=_positive_float, default=None,
-                   help="simulated time in s (default: [cosim] duration, else the "
-                        "harness default)")
+    p.add_argument("--duration", type=_finite_float(above=0.0, maximum=MAX_DURATION_S),
+                   default=None,
+                   help=f"simulated time in s, at most {MAX_DURATION_S:g} (default: "
+                        f"[cosim] duration, else the harness default)")
     p.add_argument("--backend", choices=("fmu", "native"), default=None,
                    help="fmu: FMU instances through fmpy; native: in-process law "
                         "(default: [cosim] backend)")
@@ -289,7 +327,7 @@ def _cmd_cosim(sub) -> None:
                    help="write the PSDs of the mount forces and DOF accelerations")
     p.add_argument("--spectra-plot", type=_path, default=None, metavar="PNG",
                    help="plot the PSDs")
-    p.add_argument("--skip", type=float, default=0.0, metavar="SECONDS",
+    p.add_argument("--skip", type=_finite_float(0.0), default=0.0, metavar="SECONDS",
                    help="start-up transient left out of the spectra (default 0 s)")
     _harness_args(p, "cosim")
 
@@ -421,7 +459,7 @@ def _cmd_fit(sub) -> None:
     p.add_argument("--law", default="auto",
                    choices=("auto", "linear", "cubic", "piecewise", "piecewise_asym"),
                    help="elastic: the law to write (default: lowest AIC)")
-    p.add_argument("--c", type=float, default=None, metavar="N_S_PER_M",
+    p.add_argument("--c", type=_finite_float(0.0), default=None, metavar="N_S_PER_M",
                    help="elastic: viscous damping to write into mount.toml (a "
                         "quasi-static curve does not identify it; without --c it is "
                         "left out, marked unknown)")
@@ -452,14 +490,17 @@ def _cmd_characterise(sub) -> None:
     p.add_argument("--amplitudes-mm", type=_positive_float, nargs="+",
                    default=[0.1, 0.5, 1.0, 2.0], metavar="MM",
                    help="displacement amplitudes in mm")
-    p.add_argument("--preloads", type=float, nargs="+", default=[0.0], metavar="N",
+    p.add_argument("--preloads", type=_finite_float(), nargs="+", default=[0.0],
+                   metavar="N",
                    help="static preloads in N (e.g. the engine weight on the mount)")
     p.add_argument("--fmin", type=_positive_float, default=None,
                    help="lowest frequency, Hz (default: [sweep] fmin_hz)")
     p.add_argument("--fmax", type=_positive_float, default=None,
                    help="highest frequency, Hz (default: [sweep] fmax_hz)")
-    p.add_argument("--points", type=_int_at_least(2), default=40,
-                   help="frequencies, evenly spaced")
+    from drymount.config import MAX_POINTS
+
+    p.add_argument("--points", type=_int_at_least(2, MAX_POINTS), default=40,
+                   help=f"frequencies, evenly spaced, 2..{MAX_POINTS}")
     p.add_argument("--check", choices=("auto", "fmu", "law"), default="auto",
                    help="time-domain cross-check: through the FMU (auto: if fmpy is "
                         "installed) or by marching the law")

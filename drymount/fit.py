@@ -195,6 +195,7 @@ def _elastic(args, out: Path) -> AxisParameters:
     from drymount.rigdata import read_curve
 
     u, F = read_curve(args.data)
+    _check_curve(args.data, u, F)
     cmp = compare_elastic(u, F)
     chosen = cmp.best if args.law == "auto" else next(f for f in cmp.fits
                                                       if f.model == args.law)
@@ -216,6 +217,33 @@ def _elastic(args, out: Path) -> AxisParameters:
         c_known=c_known)
     atomic_write_text(out / "mount.toml", text)
     return axis
+
+
+#: Ranges of a mount's quasi-static curve that a fit can resolve: deflections span
+#: at least a micrometre and stay within a metre, forces within a meganewton.
+MIN_SPAN_M, MAX_DEFLECTION_M, MAX_FORCE_N = 1e-6, 1.0, 1e6
+
+
+def _check_curve(path, u, F) -> None:
+    """DataError (before fitting) for a curve no law can be fitted to."""
+    problems = []
+    if u.size < 3:
+        problems.append(f"{path}: {u.size} points; a fit needs at least 3")
+    if u.size and np.ptp(u) < MIN_SPAN_M:
+        problems.append(f"{path}: the deflections span {np.ptp(u):.3g} m; at least "
+                        f"{MIN_SPAN_M:g} m is needed (is the unit in the header "
+                        f"right?)")
+    if u.size and np.ptp(F) == 0:
+        problems.append(f"{path}: the force is constant ({F[0]:g} N): no stiffness "
+                        f"can be fitted")
+    if u.size and np.max(np.abs(u)) > MAX_DEFLECTION_M:
+        problems.append(f"{path}: a deflection of {np.max(np.abs(u)):.3g} m; at most "
+                        f"{MAX_DEFLECTION_M:g} m (is the unit in the header right?)")
+    if u.size and np.max(np.abs(F)) > MAX_FORCE_N:
+        problems.append(f"{path}: a force of {np.max(np.abs(F)):.3g} N; at most "
+                        f"{MAX_FORCE_N:g} N (is the unit in the header right?)")
+    if problems:
+        raise DataError(problems)
 
 
 def _friction(args, out: Path) -> AxisParameters:

@@ -130,6 +130,16 @@ def read_measured(path, units=None) -> MeasuredTable:
     except OSError as exc:
         raise MeasuredInputError(
             f"cannot read the measured input {path}: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise MeasuredInputError(f"{path}: not UTF-8 text (byte "
+                                 f"0x{exc.object[exc.start]:02x}); save the file as "
+                                 f"UTF-8 CSV") from None
+    ragged = [i for i, r in enumerate(rows[1:], start=2) if len(r) != len(rows[0])]
+    if rows and ragged:
+        n = ragged[0]
+        raise MeasuredInputError(f"{path}: row {n} (the header is row 1; '#' and "
+                                 f"empty lines not counted) has {len(rows[n - 1])} "
+                                 f"values for {len(rows[0])} header columns")
     if len(rows) < 2:
         raise MeasuredInputError(f"{path}: needs a header row and data rows")
     cols, unit_of, dim_of = {}, {}, {}

@@ -101,6 +101,11 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
         text = path.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise DataError([f"cannot read {path}: {exc.strerror or exc}"]) from None
+    except UnicodeDecodeError as exc:
+        line = exc.object[:exc.start].count(b"\n") + 1
+        raise DataError([f"{path}, line {line}: not UTF-8 text (byte "
+                         f"0x{exc.object[exc.start]:02x}); save the file as UTF-8 "
+                         f"CSV"]) from None
     rows = [(n, r) for n, r in enumerate(csv.reader(text.splitlines()), start=1)
             if r and not r[0].lstrip().startswith("#")]
     if not rows:
@@ -111,7 +116,7 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
     labels = [] if text_column else None
     problems = []
     for line, r in body:
-        if len(r) < len(head):
+        if len(r) != len(head):  # a short or a ragged long row
             problems.append(f"{path}, line {line}: {len(r)} cells, the header has "
                             f"{len(head)}")
             continue

@@ -37,8 +37,8 @@ from drymount.fmu_build.native import write_zip
 from drymount.fmu_src import interface
 from drymount.fmu_src.mount_law import AXES, friction_kind_code, law_code
 
-__all__ = ["SspExport", "export_ssp", "parameter_set", "system_structure",
-           "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OSP"]
+__all__ = ["SspExport", "SspError", "check_mount_fmu", "export_ssp", "parameter_set",
+           "system_structure", "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OSP"]
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
@@ -183,6 +183,41 @@ def _readme(cfg, fmu_name: str, set_name: str) -> bytes:
         lines.append(f"  {el.name}: B = {el.B.tolist()}, G = {el.G.tolist()}")
     lines += ["", "Variables, units and the coupling advice: docs/fmu.md of drymount."]
     return ("\n".join(lines) + "\n").encode()
+
+
+class SspError(ValueError):
+    """An FMU that an SSP 1.0 archive of the mounts cannot carry."""
+
+
+def check_mount_fmu(path) -> None:
+    """:class:`SspError` unless ``path`` is an FMI 2.0 FrictionMount FMU: a zip whose
+    ``modelDescription.xml`` parses, says ``fmiVersion="2.0"`` (SSP 1.0 predates
+    FMI 3.0) and declares every variable the archive's parameter sets and connectors
+    name."""
+    import zipfile
+    from xml.etree.ElementTree import ParseError, fromstring
+
+    where = f"--fmu: {str(path)!r}"
+    try:
+        with zipfile.ZipFile(path) as z:
+            root = fromstring(z.read("modelDescription.xml"))
+    except (OSError, zipfile.BadZipFile, KeyError) as exc:
+        raise SspError(f"{where} is not an FMU (a zip with modelDescription.xml): "
+                       f"{exc}") from None
+    except ParseError as exc:
+        raise SspError(f"{where}: its modelDescription.xml is not XML "
+                       f"({exc})") from None
+    version = root.get("fmiVersion")
+    if version != "2.0":
+        raise SspError(f"{where} is an FMI {version} FMU; an SSP 1.0 archive carries "
+                       f"FMI 2.0 FMUs (build one with `drymount build-fmu` or "
+                       f"`build-fmu --native --fmi 2`)")
+    names = {v.get("name") for v in root.iter("ScalarVariable")}
+    missing = [v.name for v in interface.VARIABLES if v.name not in names]
+    if missing:
+        raise SspError(f"{where} is not a FrictionMount FMU: it lacks "
+                       f"{len(missing)} of its variables ({', '.join(missing[:4])}"
+                       f"{', ...' if len(missing) > 4 else ''})")
 
 
 def _fmu_file(native: bool, fmu_path) -> Path:

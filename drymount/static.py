@@ -47,10 +47,10 @@ def _loads(specs, dof_names) -> np.ndarray:
 
 def main(args) -> int:
     """Run ``drymount static`` (CLI arguments in ``args``); the exit status."""
-    from drymount.config import resolve_config
+    from drymount.paths import load_with_overrides
     from drymount.config.static import vertical_dofs
 
-    cfg = resolve_config(args.config)
+    cfg = load_with_overrides(args.config, getattr(args, "overrides", None) or ())
     system, st = cfg.system, cfg.static
     names = list(system.dof_names)
     try:
@@ -64,6 +64,9 @@ def main(args) -> int:
     if not args.no_gravity:
         load += gravity_load(system, vertical_dofs(cfg.model, names), g)
     travel = st.travel if args.travel_mm is None else args.travel_mm * 1e-3
+    from drymount.cli_guard import check_out
+
+    out = check_out(Path(args.out or f"{cfg.name}_static.csv"), "--out")
     point = static_equilibrium(system, load)
     what = "no gravity" if args.no_gravity else f"g = {g:g} m/s^2"
     if args.load:
@@ -86,7 +89,6 @@ def main(args) -> int:
     warnings = knee_warnings(system, point, travel)
     for w in warnings:
         print(f"  warning: {w}")
-    out = Path(args.out or f"{cfg.name}_static.csv")
     write_csv(out, ["mount", "axis", "deflection_m", "force_N", "past_knee",
                     "beyond_travel"], rows,
               comment=f"static working point of {cfg.source}: deflection [m] (engine "

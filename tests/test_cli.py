@@ -134,6 +134,27 @@ def test_bad_config_through_a_subprocess_has_no_traceback(tmp_path):
     (["presets", "show", "nope"], "unknown preset `nope`"),
     (["frobnicate"], "invalid choice"),
     ([], "required"),
+    # issue 25 items 11-12: bounded, finite, before computing (were MemoryError,
+    # a fit reported after its run, a bar before the error)
+    (["cosim", "sdof_halved", "--freq", "5", "--steps-per-period", "1e9"],
+     "must be an integer in 8..65536"),
+    (["cosim", "sdof_halved", "--freq", "5", "--duration", "1e12"],
+     "must be a finite number > 0 and <= 3600, got '1e12'"),
+    (["cosim", "sdof_halved", "--freq", "5", "--skip", "-1"],
+     "argument --skip: must be a finite number >= 0, got '-1'"),
+    (["characterise", "sdof_halved", "--points", "1000000000"],
+     "must be an integer in 2..10000"),
+    (["characterise", "sdof_halved", "--preloads", "0", "nan"],
+     "argument --preloads: must be a finite number, got 'nan'"),
+    (["fit", "elastic", "x.csv", "--c", "-1"],
+     "argument --c: must be a finite number >= 0, got '-1'"),
+    (["hbm", "sdof_halved", "--max-harmonics", "1000"],
+     "argument --max-harmonics: must be an integer in 1..50, got 1000"),
+    (["optimize", "sdof_halved", "--maxiter", "1000000000"],
+     "must be an integer in 1..10000"),
+    (["optimize", "sdof_halved", "--popsize", "1000000000"],
+     "must be an integer in 2..1000"),
+    (["explore", "sdof_halved", "--workers", "100000"], "in 1..256"),
 ])
 def test_usage_errors_exit_2(argv, needle, capsys):
     code, _, err = run(argv, capsys)
@@ -359,3 +380,48 @@ def test_cosim_needs_a_frequency(tmp_path, capsys):
     path.write_text(text)
     code, _, err = run(["cosim", str(path)], capsys)
     assert code == 2 and "give --freq" in err
+
+
+@pytest.mark.parametrize("argv, body, needle", [
+    (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,0\n1,2\n2,\xff4\n",
+     "line 4: not UTF-8 text (byte 0xff)"),
+    (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,0\n1,2,7\n2,4\n",
+     "line 3: 3 cells, the header has 2"),
+    (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
+     b"time [s],z [mm]\n0,0\n1,\xff\n", "not UTF-8 text (byte 0xff)"),
+    # fit on data no law resolves: was "Initial guess is outside of provided
+    # bounds" (exit 1), R^2 = nan with a denormal knee, or overflow
+    (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,5\n1,5\n2,5\n",
+     "the force is constant (5 N)"),
+    (["fit", "elastic", "{f}"],
+     b"deflection [m],force [N]\n0,0\n1e-320,2\n2e-320,4\n",
+     "the deflections span 2e-320 m; at least 1e-06 m"),
+    (["fit", "elastic", "{f}"], b"deflection [m],force [N]\n0,0\n1e-3,1e300\n2e-3,4\n",
+     "a force of 1e+300 N; at most 1e+06 N"),
+    (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
+     b"time [s],z [mm]\n0,0\n1,2,3\n", "row 3 (the header is row 1;"),
+])
+def test_data_file_errors_exit_2_naming_file_and_line(tmp_path, capsys, argv, body,
+                                                       needle):
+    """Issue 25 item 12: a non-UTF-8 file was a UnicodeDecodeError (exit 1), a
+    ragged long row was accepted."""
+    f = tmp_path / "data.csv"
+    f.write_bytes(body)
+    code, _, err = run([a.format(f=f) for a in argv] + ["--out", str(tmp_path / "o")],
+                       capsys)
+    assert code == 2, err
+    assert str(f) in err and needle in err and "Traceback" not in err, err
+
+
+def test_hbm_events_sibling_checked_before_computing(tmp_path, capsys):
+    """Issue 25 item 9: <out>_events.csv overwrote a user's file, after computing.
+    The rule (docs/cli.md): replaced only when drymount wrote it."""
+    out, events = tmp_path / "curve.csv", tmp_path / "curve_events.csv"
+    events.write_text("my own notes\n")
+    code, _, err = run(["hbm", "sdof_linear", "--out", str(out), "-q"], capsys)
+    assert code == 2 and "curve_events.csv" in err and "not written by drymount" in err
+    assert events.read_text() == "my own notes\n" and not out.exists()
+    events.write_text("# drymount HBM an earlier result\nkind\n")
+    code, _, err = run(["hbm", "sdof_linear", "--out", str(out), "-q"], capsys)
+    assert code == 0, err
+    assert events.read_text().startswith("# drymount HBM sdof_linear")

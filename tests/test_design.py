@@ -21,7 +21,8 @@ import pytest
 from drymount import cli
 from drymount.config import ConfigError, load_config, preset_text
 from drymount.design import design_space, explore, parse_backend
-from drymount.design.backends import BackendError, BackendKind
+from drymount.design.backends import (MAX_WORKERS, BackendError, BackendKind,
+                                      _check_reachable)
 from drymount.design.evaluate import band_rms
 from drymount.design.optimize import OptimizeSettings, optimize
 from drymount.design.report import pareto_mask
@@ -313,6 +314,27 @@ def test_parse_backend():
             parse_backend(1, bad)
     with pytest.raises(BackendError, match="not both"):
         parse_backend(2, "local:2")
+    # bounded (issue 25: local:100000 was accepted)
+    assert parse_backend(1, f"local:{MAX_WORKERS}").workers == MAX_WORKERS
+    for bad in ("local:0", f"local:{MAX_WORKERS + 1}", "local:100000"):
+        with pytest.raises(BackendError, match=rf"in 1\.\.{MAX_WORKERS}, got"):
+            parse_backend(1, bad)
+    with pytest.raises(BackendError, match=r"--workers must be an integer in 1\.\."):
+        parse_backend(MAX_WORKERS + 1)
+
+
+def test_a_refused_scheduler_address_fails_at_once():
+    """A port nothing listens on is refused at the first connection attempt, not
+    after distributed.Client's 30 s of retries (issue 25: tcp://127.0.0.1:9)."""
+    import socket
+
+    with socket.socket() as s:  # a port that is free now, so refused
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    with pytest.raises(BackendError, match="cannot reach the Dask scheduler"):
+        _check_reachable(f"tcp://127.0.0.1:{port}")
+    with pytest.raises(BackendError, match="must read tcp://HOST:PORT"):
+        _check_reachable("tcp://127.0.0.1")
 
 
 def test_dask_missing_says_how_to_install(monkeypatch, tmp_path, capsys):

@@ -200,3 +200,56 @@ def test_units_in_the_header_are_converted(tmp_path):
     a, b = _mount(tmp_path / "si"), _mount(tmp_path / "mm")
     for k in ("k1", "k2", "delta"):
         assert getattr(b, k) == pytest.approx(getattr(a, k), rel=1e-9)
+
+
+_OPT = ["optimize", str(Path(__file__).resolve().parents[1] / "examples" / "design" /
+                         "sdof_n0.toml"), "--popsize", "3", "--maxiter", "3",
+        "--polish", "5", "-q"]
+
+
+def _history_rows(path: Path) -> list:
+    return [r for r in csv.reader(ln for ln in path.read_text().splitlines()
+                                  if not ln.startswith("#"))][1:]
+
+
+def test_optimize_marks_an_interrupted_history_and_resumes_it(tmp_path, capsys,
+                                                             monkeypatch):
+    """Issue 23 item 3: an interrupted history had no `# partial:` line and a rerun
+    started from zero, overwriting it."""
+    from drymount.design import optimize as opt
+
+    ref = tmp_path / "ref"
+    assert main([*_OPT, "--out", str(ref)]) == 0
+    ref_rows = _history_rows(ref / "history.csv")
+    assert "(0 resumed)" in capsys.readouterr().out
+    # stop the second run after its first generation
+    calls = {"n": 0}
+    evaluate = opt._Problem.evaluate
+
+    def stop_after_one(self, xs):
+        calls["n"] += 1
+        if calls["n"] > 1:
+            raise KeyboardInterrupt
+        return evaluate(self, xs)
+
+    out = tmp_path / "run"
+    monkeypatch.setattr(opt._Problem, "evaluate", stop_after_one)
+    assert main([*_OPT, "--out", str(out)]) == 130
+    text = (out / "history.csv").read_text()
+    first = _history_rows(out / "history.csv")
+    assert text.startswith("# partial: interrupted; ") and "to resume" in text
+    assert 0 < len(first) < len(ref_rows) and first == ref_rows[:len(first)]
+    monkeypatch.setattr(opt._Problem, "evaluate", evaluate)
+    capsys.readouterr()
+    assert main([*_OPT, "--out", str(out)]) == 0
+    assert f"({len(first)} resumed)" in capsys.readouterr().out
+    # the same seed replays the same search: every row as in the uninterrupted run
+    assert _history_rows(out / "history.csv") == ref_rows
+    assert not (out / "history.csv").read_text().startswith("# partial")
+
+
+def test_optimize_refuses_another_history(tmp_path, capsys):
+    (tmp_path / "history.csv").write_text("phase,design\nde,0\n")
+    assert main([*_OPT, "--out", str(tmp_path)]) == 2
+    assert "is not a history of this optimization" in capsys.readouterr().err
+    assert (tmp_path / "history.csv").read_text() == "phase,design\nde,0\n"

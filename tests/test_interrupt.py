@@ -192,3 +192,80 @@ def test_signals_many_moments(tmp_path):
     _inject(tmp_path, args, 10, signal.SIGINT, subset=True)
     _inject(tmp_path, [*SWEEP_ARGS[:3], "24", *SWEEP_ARGS[4:], "--workers", "2"], 10,
             signal.SIGTERM, subset=True)
+
+
+# ---------------------------------------------------- workers after a signal (issue 25)
+
+DESIGN = str(ROOT / "examples" / "design" / "sdof_n0.toml")
+#: H = 7 (about 3 s per design on a loaded core) in chunks of 4: each worker is inside
+#: a chunk of several seconds when the signal arrives
+SLOW_DESIGNS = ["--set", "design.harmonics=7", "--set", "design.chunk=4", "-q"]
+WORKER_RUNS = {
+    # 200 frequencies at 4096 steps per period: minutes, never done before the signal
+    "sweep": ["sweep", "sdof_halved", "--points", "200", "--steps-per-period", "4096",
+              "--backend", "native", "--workers", "2", "-q"],
+    "explore": ["explore", DESIGN, "--set", "design.samples=16", *SLOW_DESIGNS,
+                "--workers", "2"],
+    "optimize": ["optimize", DESIGN, "--popsize", "4", "--maxiter", "2",
+                 "--polish", "0", *SLOW_DESIGNS, "--workers", "2"],
+}
+
+
+def _workers_of(pid: int) -> list[int]:
+    """The spawned worker processes (multiprocessing's spawn_main) whose parent is
+    ``pid`` (Linux /proc)."""
+    found = []
+    for status in Path("/proc").glob("[0-9]*/status"):
+        try:
+            fields = dict(line.split(":", 1) for line in status.read_text().splitlines()
+                          if ":" in line)
+            cmd = (status.parent / "cmdline").read_bytes()
+        except OSError:
+            continue
+        if int(fields.get("PPid", "0")) == pid and b"spawn_main" in cmd:
+            found.append(int(status.parent.name))
+    return found
+
+
+def _alive(pids) -> list[int]:
+    out = []
+    for p in pids:
+        try:
+            os.kill(p, 0)
+            state = Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except (OSError, IndexError):
+            continue
+        if state != "Z":
+            out.append(p)
+    return out
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs Linux /proc")
+@pytest.mark.parametrize(("command", "sig"), [("sweep", signal.SIGINT),
+                                               ("explore", signal.SIGTERM),
+                                               ("optimize", signal.SIGINT),
+                                               ("optimize", signal.SIGTERM)])
+def test_no_worker_outlives_a_signal_to_the_parent_alone(tmp_path, command, sig):
+    """kill/systemd/CI time-outs signal the main pid only (not the process group, as
+    Ctrl-C does): the workers must be gone within CHILD_GRACE_S, the parent's status
+    128 + sig, and the caller reading its stdout must not hang."""
+    out = tmp_path / ("run.csv" if command == "sweep" else "run")
+    p = _cli(WORKER_RUNS[command], out, tmp_path)
+    end = time.monotonic() + STARTUP_TIMEOUT_S
+    workers = []
+    while len(workers) < 2 and p.poll() is None and time.monotonic() < end:
+        time.sleep(0.1)
+        workers = _workers_of(p.pid)
+    assert len(workers) == 2, (workers, p.poll())
+    time.sleep(1.0)  # the workers are inside their first chunk
+    p.send_signal(sig)  # the parent alone
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 128 + sig, err.decode()
+    end = time.monotonic() + CHILD_GRACE_S
+    while _alive(workers) and time.monotonic() < end:
+        time.sleep(0.05)
+    assert not _alive(workers), f"workers {_alive(workers)} outlived the parent"
+    err = err.decode()
+    assert "Traceback" not in err and "leaked semaphore" not in err, err
+    assert err.strip().splitlines()[-1] in ("drymount: error: interrupted",
+                                            "drymount: error: terminated (SIGTERM)")

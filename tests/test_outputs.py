@@ -422,3 +422,42 @@ def test_default_output_never_replaces_a_users_file(tmp_path, capsys, monkeypatc
     assert first.startswith("# drymount HBM"), first
     code, _, err = run(["hbm", "sdof_linear", "--harmonics", "1"], capsys)
     assert code == 0 and "replacing sdof_linear_hbm.csv" in err, err
+
+
+DESIGN = str(Path(__file__).resolve().parents[1] / "examples" / "design" /
+             "sdof_n0.toml")
+#: the commands that wrote into --out only after computing (issue 25 item 10)
+LATE_OUT = {"fit": ["fit", "elastic", "{data}"],
+            "explore": ["explore", DESIGN], "optimize": ["optimize", DESIGN],
+            "characterise": ["characterise", "sdof_halved"],
+            "static": ["static", "sdof_halved"]}
+
+
+@pytest.mark.parametrize("command", sorted(LATE_OUT))
+@pytest.mark.parametrize("where", ["under_file", "read_only"])
+def test_output_folders_checked_before_computing(tmp_path, capsys, command, where,
+                                                 monkeypatch):
+    from drymount import cli
+
+    data = tmp_path / "curve.csv"
+    data.write_text("deflection [mm],force [N]\n0,0\n1,90\n2,185\n3,290\n")
+    (tmp_path / "f").write_text("a file")
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    if where == "read_only":
+        if os.geteuid() == 0:
+            pytest.skip("root writes into read-only folders")
+        os.chmod(ro, 0o555)
+    out = tmp_path / ("f" if where == "under_file" else "ro") / (
+        "x.csv" if command == "static" else "x")
+    argv = [a.format(data=data) for a in LATE_OUT[command]] + ["--out", str(out)]
+    monkeypatch.chdir(tmp_path)
+    before = sorted(p.name for p in tmp_path.iterdir())
+    try:
+        code = cli.main(argv)
+    finally:
+        os.chmod(ro, 0o755)
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "--out" in err and str(out.parent.name) in err and "OSError" not in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == before

@@ -176,3 +176,37 @@ def test_cli_export_ssp(tmp_path):
     assert "1 mount components" in proc.stderr
     names = zipfile.ZipFile(out).namelist()
     assert f"resources/{fmu.name}" in names and "SystemStructure.ssd" in names
+
+
+def _zip(path, files: dict):
+    with zipfile.ZipFile(path, "w") as z:
+        for name, data in files.items():
+            z.writestr(name, data)
+    return path
+
+
+def test_cli_export_ssp_refuses_what_ssp_1_cannot_carry(tmp_path, capsys):
+    """Issue 25 item 8: a non-zip, garbage XML, an unrelated FMU or an FMI 3.0 FMU
+    was packed with exit 0; now exit 2 naming --fmu, nothing written."""
+    from drymount import cli
+
+    fmu3 = build(tmp_path / "b3", 3)
+    other = ('<?xml version="1.0"?><fmiModelDescription fmiVersion="2.0" '
+             'modelName="Other"><ModelVariables><ScalarVariable name="x"/>'
+             '</ModelVariables></fmiModelDescription>')
+    cases = {
+        "not a zip": (tmp_path / "a.fmu", "is not an FMU (not a zip file)"),
+        "garbage XML": (_zip(tmp_path / "b.fmu", {"modelDescription.xml": "<a><"}),
+                        "its modelDescription.xml is not XML"),
+        "unrelated": (_zip(tmp_path / "c.fmu", {"modelDescription.xml": other}),
+                      "is not a FrictionMount FMU: it lacks"),
+        "FMI 3.0": (fmu3, "is an FMI 3.0 FMU; an SSP 1.0 archive carries FMI 2.0"),
+    }
+    cases["not a zip"][0].write_bytes(b"not a zip at all")
+    for what, (fmu, needle) in cases.items():
+        out = tmp_path / f"{what}.ssp"
+        code = cli.main(["export-ssp", "sdof_halved", "--out", str(out), "--fmu",
+                         str(fmu)])
+        err = capsys.readouterr().err
+        assert code == 2 and "--fmu" in err and needle in err, (what, err)
+        assert not out.exists(), what

@@ -6,7 +6,9 @@ and yields each chunk's results as soon as it is done
 
 - ``serial``: in this process;
 - ``processes``: ``concurrent.futures.ProcessPoolExecutor`` with the ``spawn`` start
-  method (``--workers N``);
+  method (``--workers N``). The workers ignore SIGINT (the parent handles it), exit
+  within a second of their parent's death, and are terminated when the run stops
+  early (a signal or an error): no worker outlives the run (docs/cli.md);
 - ``dask``: ``dask.distributed``: ``--dask local[:N]`` starts a ``LocalCluster`` of N
   single-threaded worker processes, ``--dask tcp://host:8786`` connects to a running
   scheduler (docs/explore.md: starting ``dask scheduler`` and ``dask worker``).
@@ -17,6 +19,7 @@ the same numbers.
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
@@ -26,9 +29,14 @@ from dataclasses import dataclass
 from enum import Enum
 
 __all__ = ["BackendKind", "BackendSpec", "BackendError", "Runner", "parse_backend",
-           "DASK_INSTALL"]
+           "DASK_INSTALL", "MAX_WORKERS", "CONNECT_TIMEOUT_S"]
 
 DASK_INSTALL = "pip install 'drymount[dask]'  (or: pip install 'dask[distributed]')"
+#: Most local processes of ``--workers N`` and ``--dask local:N`` (each one is a
+#: Python interpreter with NumPy and SciPy loaded, about 100 MB).
+MAX_WORKERS = 256
+#: Seconds to reach a Dask scheduler's port (a refused connection fails at once).
+CONNECT_TIMEOUT_S = 10.0
 
 
 class BackendError(ValueError):
@@ -62,8 +70,9 @@ class BackendSpec:
 def parse_backend(workers: int = 1, dask: str | None = None) -> BackendSpec:
     """The backend of ``--workers N`` and ``--dask local[:N]|tcp://host:port``."""
     if dask is None:
-        if workers < 1:
-            raise BackendError(f"--workers must be an integer >= 1, got {workers}")
+        if not 1 <= workers <= MAX_WORKERS:
+            raise BackendError(f"--workers must be an integer in 1..{MAX_WORKERS}, "
+                               f"got {workers}")
         return BackendSpec(BackendKind.PROCESSES if workers > 1 else BackendKind.SERIAL,
                            workers)
     if workers != 1:
@@ -71,8 +80,10 @@ def parse_backend(workers: int = 1, dask: str | None = None) -> BackendSpec:
                            "the workers are the cluster's: local:N)")
     if dask == "local" or dask.startswith("local:"):
         n = dask.partition(":")[2] or str(os.cpu_count() or 1)
-        if not n.isdigit() or int(n) < 1:
-            raise BackendError(f"--dask local:N needs an integer N >= 1, got {dask!r}")
+        if not n.isdigit() or not 1 <= int(n) <= MAX_WORKERS:
+            raise BackendError(f"--dask local:N needs an integer N in "
+                               f"1..{MAX_WORKERS}, "
+                               f"got {dask!r}")
         return BackendSpec(BackendKind.DASK, int(n))
     if "://" in dask:
         return BackendSpec(BackendKind.DASK, 0, dask)
@@ -89,6 +100,38 @@ def _import_distributed():
     return distributed
 
 
+def _check_reachable(address: str) -> None:
+    """BackendError at once if nothing listens at a ``tcp://host:port`` address
+    (``distributed.Client`` would retry a refused connection for its whole timeout)."""
+    import socket
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address)
+    if parts.scheme != "tcp":
+        return
+    try:
+        port = parts.port
+    except ValueError:
+        port = None
+    if not parts.hostname or port is None:
+        raise BackendError(f"--dask: {address!r} must read tcp://HOST:PORT, e.g. "
+                           f"tcp://10.0.0.5:8786")
+    try:
+        socket.create_connection((parts.hostname, port), CONNECT_TIMEOUT_S).close()
+    except OSError as exc:
+        raise BackendError(f"cannot reach the Dask scheduler {address}: "
+                           f"{exc.strerror or exc} (start it with `dask scheduler`, "
+                           f"docs/explore.md)") from None
+
+
+def _quiet_dask() -> None:
+    """No Dask WARNING lines while a stopped run closes its cluster."""
+    import logging
+
+    for name in ("distributed", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(logging.CRITICAL)
+
+
 class Runner:
     """Context manager running chunks on a backend (see the module docstring)."""
 
@@ -99,9 +142,13 @@ class Runner:
     def __enter__(self) -> Runner:
         kind = self.spec.kind
         if kind is BackendKind.PROCESSES:
+            from drymount.vehicle.sweep import _init_worker
+
+            # the sweep's worker set-up: SIGINT ignored, exit when the parent dies
             self._pool = ProcessPoolExecutor(
                 max_workers=self.spec.workers,
-                mp_context=multiprocessing.get_context("spawn"))
+                mp_context=multiprocessing.get_context("spawn"),
+                initializer=_init_worker, initargs=(None,))
         elif kind is BackendKind.DASK:
             distributed = _import_distributed()
             if self.spec.address is None:
@@ -109,9 +156,10 @@ class Runner:
                     n_workers=self.spec.workers, threads_per_worker=1, processes=True,
                     # ':0' = a free port: a fixed 8787 fails the start (a warning,
                     # an error under -W error) while another cluster holds it
-                    dashboard_address=":0")
+                    dashboard_address=":0", silence_logs=logging.ERROR)
                 self._client = distributed.Client(self._cluster)
             else:
+                _check_reachable(self.spec.address)
                 try:
                     self._client = distributed.Client(self.spec.address, timeout=30)
                 except OSError as exc:
@@ -121,7 +169,14 @@ class Runner:
 
     def __exit__(self, *exc) -> None:
         if self._pool is not None:
-            self._pool.shutdown(wait=exc[0] is None, cancel_futures=True)
+            if exc[0] is None:
+                self._pool.shutdown(wait=True)
+            else:  # a signal or an error: a running chunk can take minutes
+                from drymount.vehicle.sweep import _stop_pool
+
+                _stop_pool(self._pool)  # terminated and reaped, as the sweep's
+        if exc[0] is not None and self._client is not None:
+            _quiet_dask()
         if self._client is not None:
             self._client.close()
         if self._cluster is not None:

@@ -9,14 +9,19 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from drymount.cli_guard import check_out_dir
+
 __all__ = ["add_commands", "cmd_explore", "cmd_optimize"]
 
 
 def _backend_args(p, int_at_least) -> None:
-    p.add_argument("--workers", type=int_at_least(1), default=1,
-                   help="local processes evaluating designs")
+    from drymount.design.backends import MAX_WORKERS
+
+    p.add_argument("--workers", type=int_at_least(1, MAX_WORKERS), default=1,
+                   help=f"local processes evaluating designs, 1..{MAX_WORKERS}")
     p.add_argument("--dask", default=None, metavar="local[:N]|tcp://HOST:PORT",
-                   help="run on Dask: `local:N` starts a LocalCluster of N workers, "
+                   help=f"run on Dask: `local:N` starts a LocalCluster of N workers "
+                        f"(1..{MAX_WORKERS}), "
                         "an address uses a running `dask scheduler` (docs/explore.md); "
                         "needs pip install 'drymount[dask]'")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
@@ -58,10 +63,12 @@ def add_commands(sub, add, config_arg, int_at_least) -> None:
                    help="output folder (default: optimize-<name>)")
     p.add_argument("--objective", default=None,
                    help="name of the objective to minimise (default: the first)")
-    p.add_argument("--maxiter", type=int_at_least(1), default=30,
-                   help="differential-evolution generations")
-    p.add_argument("--popsize", type=int_at_least(2), default=10,
-                   help="population per variable (scipy's popsize)")
+    from drymount.cli_parser import MAX_MAXITER, MAX_POPSIZE
+
+    p.add_argument("--maxiter", type=int_at_least(1, MAX_MAXITER), default=30,
+                   help=f"differential-evolution generations, 1..{MAX_MAXITER}")
+    p.add_argument("--popsize", type=int_at_least(2, MAX_POPSIZE), default=10,
+                   help=f"population per variable (scipy's popsize), 2..{MAX_POPSIZE}")
     p.add_argument("--seed", type=int_at_least(0), default=None,
                    help="random seed (default: [design] seed)")
     p.add_argument("--polish", type=int_at_least(0), default=60, metavar="MAXFEV",
@@ -89,6 +96,7 @@ def cmd_explore(args, load, usage_error) -> int:
 
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"explore-{cfg.name}")
+    check_out_dir(out, "--out")
     print(f"{cfg.name}: {space.size()} designs ({space.method.value}), "
           f"{len(space.variables)} variables, on {backend.describe()}", file=sys.stderr)
     try:
@@ -107,9 +115,11 @@ def cmd_explore(args, load, usage_error) -> int:
 def cmd_optimize(args, load, usage_error) -> int:
     from drymount.design.backends import BackendError
     from drymount.design.optimize import OptimizeSettings, optimize
+    from drymount.design.table import TableError
 
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"optimize-{cfg.name}")
+    check_out_dir(out, "--out")
     names = [o.name for o in space.objectives]
     if args.objective is not None and args.objective not in names:
         raise usage_error(f"--objective must be one of {', '.join(names)} (the "
@@ -119,11 +129,12 @@ def cmd_optimize(args, load, usage_error) -> int:
                          polish_maxfev=args.polish)
     try:
         res = optimize(cfg, space, out, backend, s, progress=not args.quiet)
-    except BackendError as exc:
+    except (BackendError, TableError) as exc:
         raise usage_error(str(exc)) from None
     vals = ", ".join(f"{v.name} = {x:.6g}" for v, x in
                      zip(space.variables, res.best.values, strict=True))
     print(f"{cfg.name}: best {res.objective} = {res.value:.5g} "
-          f"(feasible {res.best.feasible}) at {vals}; {res.n_evaluations} designs; "
+          f"(feasible {res.best.feasible}) at {vals}; {res.n_evaluations} designs "
+          f"({res.resumed} resumed); "
           f"wrote {out}/summary.md")
     return 0 if res.best.feasible else 1

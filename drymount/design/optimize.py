@@ -34,7 +34,8 @@ from drymount.design.backends import BackendSpec, Runner
 from drymount.design.evaluate import DesignResult, DesignStatus, evaluate_chunk
 from drymount.design.explore import chunks
 from drymount.design.space import DesignSpace
-from drymount.design.table import columns, table_row
+from drymount.design.table import (TableError, columns, fingerprint, parse_row,
+                                   table_row)
 
 __all__ = ["OptimizeResult", "OptimizeSettings", "optimize", "PENALTY"]
 
@@ -77,6 +78,8 @@ class OptimizeResult:
     n_evaluations : int
     seconds : float
     files : tuple of Path
+    resumed : int
+        Evaluations read back from an earlier (interrupted) run's history.
     """
 
     best: DesignResult
@@ -89,6 +92,7 @@ class OptimizeResult:
     n_evaluations: int
     seconds: float
     files: tuple
+    resumed: int = 0
 
 
 class _Problem:
@@ -99,12 +103,16 @@ class _Problem:
         self.cfg, self.space, self.j, self.runner = cfg, space, j, runner
         self.sign = -1.0 if space.objectives[j].sense == "max" else 1.0
         self.history: list = []
+        fp = fingerprint(cfg.data, space)
+        #: evaluations of an earlier run of this configuration and space, by values
+        self.resumed = read_history(path, space, fp) if path.exists() else {}
         self.cache: dict = {}
         self.phase = "de"
         self.scale = [max(abs(getattr(c, "limit", 0.0)), 1e-12) if math.isfinite(
             getattr(c, "limit", math.nan)) else 1e-3 for c in space.constraints]
         self.path = path
-        self._head = (f"# drymount optimize of {cfg.source}: every evaluation; "
+        self._head = (f"# drymount optimize of {cfg.source}; fingerprint {fp}: every "
+                      f"evaluation; "
                       f"objective {space.objectives[j].name} "
                       f"({space.objectives[j].sense}); design = evaluation number\n")
         self._fh = open(path, "w", encoding="utf-8", newline="")
@@ -115,6 +123,7 @@ class _Problem:
 
         self.bar = tqdm(total=total, unit="design", desc="optimize",
                         disable=not progress, file=sys.stderr)
+        self.n_resumed = 0
 
     def decode(self, x) -> tuple:
         out = []
@@ -131,13 +140,21 @@ class _Problem:
         return self.sign * r.objectives[self.j]
 
     def evaluate(self, xs) -> list[float]:
-        todo = []
+        todo, arrived = [], []
         keys = [self.decode(x) for x in xs]
         for k in dict.fromkeys(keys):
-            if k not in self.cache:
-                todo.append((len(self.history) + len(todo), k))
+            if k in self.cache:
+                continue
+            if k in self.resumed:  # evaluated by the interrupted run: replayed
+                _, r = self.resumed.pop(k)
+                self.cache[k] = r
+                self._w.writerow([self.phase, *table_row(r)])
+                arrived.append(r)
+                self.n_resumed += 1
+                continue
+            todo.append((len(self.history) + len(arrived) + len(todo), k))
+        self.bar.update(len(arrived))
         tasks = chunks(self.space, self.cfg.data, self.cfg.source, self.cfg.name, todo)
-        arrived = []
         for results in self.runner.as_completed(evaluate_chunk, tasks):
             for r in results:
                 self.cache[r.values] = r
@@ -152,22 +169,54 @@ class _Problem:
     def map(self, func, xs):  # differential_evolution's ``workers``
         return self.evaluate(list(xs))
 
-    def close(self) -> None:
+    def close(self, partial: str | None = None) -> None:
         """Close the history and rewrite it ordered by evaluation number (rows of a
-        generation arrive in any order from parallel workers)."""
+        generation arrive in any order from parallel workers); with ``partial`` (why
+        the run stopped) its first line is ``# partial: <partial>``. Evaluations of
+        an earlier run that this one did not replay are kept at the end."""
         import io
 
-        from drymount.io import atomic_write_text
+        from drymount.io import PARTIAL_PREFIX, atomic_write_text
 
         self._fh.close()
         buf = io.StringIO()
+        if partial is not None:
+            buf.write(f"{PARTIAL_PREFIX}{partial}\n")
         buf.write(self._head)
         w = csv.writer(buf, lineterminator="\n")
         w.writerow(["phase", *columns(self.space)])
         for phase, r in self.history:
             w.writerow([phase, *table_row(r)])
+        for phase, r in self.resumed.values():
+            w.writerow([phase, *table_row(r)])
         atomic_write_text(self.path, buf.getvalue())
         self.bar.close()
+
+
+def read_history(path: Path, space: DesignSpace, fp: str) -> dict:
+    """``values -> (phase, DesignResult)`` of the complete rows of an earlier
+    ``history.csv`` of the same configuration and space (fingerprint ``fp``);
+    TableError if it is another optimization's."""
+    import io
+
+    lines = Path(path).read_text(encoding="utf-8").splitlines(keepends=True)
+    if lines and lines[0].startswith("# partial: "):
+        lines = lines[1:]
+    if not lines or f"fingerprint {fp}:" not in lines[0]:
+        raise TableError(f"{path} is not a history of this optimization (another "
+                         f"configuration or [design], or not written by drymount "
+                         f"optimize); choose another --out folder")
+    rows = list(csv.reader(io.StringIO("".join(ln for ln in lines[1:]
+                                               if ln.endswith("\n")))))
+    head = ["phase", *columns(space)]
+    if not rows or rows[0] != head:
+        raise TableError(f"{path}: its columns differ from this design space's")
+    out = {}
+    for row in rows[1:]:
+        if len(row) == len(head):  # not a row cut by an interruption
+            r = parse_row(space, row[1:])
+            out.setdefault(r.values, (row[0], r))
+    return out
 
 
 def _de_kwargs(seed) -> dict:
@@ -231,13 +280,19 @@ def optimize(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = Non
         prob = _Problem(cfg, space, j, runner, out / HISTORY_NAME, progress, total)
         try:
             de, polish_msg = _run(prob, space, settings)
-        finally:
-            prob.close()
+        except BaseException as exc:
+            from drymount.cli_guard import stop_reason
+
+            prob.close(partial=f"{stop_reason(exc)}; {len(prob.history)} "
+                               f"evaluations before the run stopped (run again with "
+                               f"the same --out to resume)")
+            raise
+        prob.close()
     seconds = time.perf_counter() - t0
     best = min((r for _, r in prob.history), key=prob.penalised)
     res = OptimizeResult(best, name, j, best.objectives[j], prob.history,
                          str(de.message), polish_msg, len(prob.history), seconds,
-                         (out / HISTORY_NAME, out / "summary.md"))
+                         (out / HISTORY_NAME, out / "summary.md"), prob.n_resumed)
     from drymount.design.report_optimize import write_report
 
     write_report(cfg, space, res, out, backend)

@@ -21,7 +21,8 @@ from drymount.design.evaluate import DesignResult, DesignStatus
 from drymount.design.space import DesignSpace
 from drymount.io import atomic_write_text
 
-__all__ = ["ResultsTable", "fingerprint", "read_table", "columns", "TableError",
+__all__ = ["ResultsTable", "fingerprint", "read_table", "parse_row", "columns",
+           "TableError",
            "table_row"]
 
 
@@ -82,17 +83,18 @@ def read_table(path: Path, space: DesignSpace, fp: str) -> list[DesignResult]:
     rows = list(csv.reader(complete))
     if not rows or rows[0] != columns(space):
         raise TableError(f"{path}: its columns differ from this design space's")
+    return [parse_row(space, row) for row in rows[1:]
+            if len(row) == len(rows[0])]  # not a row cut by an interruption
+
+
+def parse_row(space: DesignSpace, row: list) -> DesignResult:
+    """The :class:`DesignResult` of a row written by :func:`table_row`."""
     nv, no = len(space.variables), len(space.objectives)
     nc = len(space.constraints)
-    out = []
-    for row in rows[1:]:
-        if len(row) != len(rows[0]):
-            continue  # a row cut by an interruption
-        nums = [float(x) for x in row[3:3 + nv + no + nc]]
-        out.append(DesignResult(int(row[0]), tuple(nums[:nv]),
-                                tuple(nums[nv:nv + no]), tuple(nums[nv + no:]),
-                                DesignStatus(row[1]), row[-1], int(row[-2])))
-    return out
+    nums = [float(x) for x in row[3:3 + nv + no + nc]]
+    return DesignResult(int(row[0]), tuple(nums[:nv]), tuple(nums[nv:nv + no]),
+                        tuple(nums[nv + no:]), DesignStatus(row[1]), row[-1],
+                        int(row[-2]))
 
 
 class ResultsTable:
