@@ -197,9 +197,10 @@ def test_cli_export_ssp_refuses_what_ssp_1_cannot_carry(tmp_path, capsys):
     cases = {
         "not a zip": (tmp_path / "a.fmu", "is not an FMU (not a zip file)"),
         "garbage XML": (_zip(tmp_path / "b.fmu", {"modelDescription.xml": "<a><"}),
-                        "its modelDescription.xml is not XML"),
+                        "modelDescription.xml"),  # cli_guard reads it first
         "unrelated": (_zip(tmp_path / "c.fmu", {"modelDescription.xml": other}),
-                      "is not a FrictionMount FMU: it lacks"),
+                      # cli_guard validates the description first (no ModelStructure)
+                      "has an invalid modelDescription.xml"),
         "FMI 3.0": (fmu3, "is an FMI 3.0 FMU; an SSP 1.0 archive carries FMI 2.0"),
     }
     cases["not a zip"][0].write_bytes(b"not a zip at all")
