@@ -212,6 +212,8 @@ def cmd_export_ssp(args) -> int:
 
 
 def cmd_hbm(args) -> int:
+    from drymount.config import MAX_HARMONICS
+
     cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
@@ -219,6 +221,9 @@ def cmd_hbm(args) -> int:
     if n_samples is not None and n_samples < 2 * H + 1:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
+    if args.max_harmonics is not None and args.max_harmonics > MAX_HARMONICS:
+        raise UsageError(f"--max-harmonics must be an integer in 1..{MAX_HARMONICS} "
+                         f"(the configuration's limit on H), got {args.max_harmonics}")
     out = outputs(args, cfg, "hbm")
     import drymount.hbm as hbm
 
