@@ -171,14 +171,18 @@ class Curve:
 
     def plot(self, path=None):
         """Plot the curve (titled, units on the axes); saved to ``path`` if given.
-        Returns the matplotlib Figure."""
-        if path is None:
-            return self.result.plot()
-        from drymount.io import atomic_path
+        Returns the matplotlib Figure (of an HBM curve and of a sweep alike)."""
+        from matplotlib.figure import Figure
 
-        with atomic_path(path) as tmp:
-            fig = self.result.plot(path=tmp)
-        return fig
+        if path is None:
+            drawn = self.result.plot()
+        else:
+            from drymount.io import atomic_path
+
+            with atomic_path(path) as tmp:
+                drawn = self.result.plot(path=tmp)
+        # FrequencyResponse.plot returns its first Axes, SweepResult.plot the Figure
+        return drawn if isinstance(drawn, Figure) else drawn.figure
 
 
 class CosimResult:

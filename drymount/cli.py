@@ -365,11 +365,18 @@ class _CurveCSV:
 
         import numpy as np
 
+        import re
+
         try:
             with open(path, encoding="utf-8") as fh:
-                lines = [ln for ln in fh if not ln.startswith("#")]
+                text = fh.readlines()
         except OSError as exc:
             raise UsageError(f"--hbm: cannot read {path}: {exc}") from None
+        lines = [ln for ln in text if not ln.startswith("#")]
+        #: the system the header names ("" for a CSV that names none)
+        self.system_name = next((m.group(1) for ln in text if ln.startswith("#")
+                                 for m in [re.match(r"# drymount HBM (.*?): ", ln)]
+                                 if m), "")
         rows = list(csv.reader(lines))
         if len(rows) < 2 or "freq_hz" not in rows[0]:
             raise UsageError(f"--hbm: {path} is not a curve CSV of `drymount hbm` "
@@ -407,6 +414,10 @@ def cmd_sweep(args) -> int:
     freqs = s.freqs_hz()
     backend = args.backend or ("native" if args.batch else cfg.cosim.backend)
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
+    if overlay is not None and overlay.system_name not in ("", cfg.system.name):
+        raise UsageError(f"--hbm: {args.hbm} is a curve of {overlay.system_name!r} "
+                         f"(its header says so), not of {cfg.system.name!r}: give the "
+                         f"`drymount hbm` curve of the same configuration")
     out = outputs(args, cfg, "sweep")
     kw = {}
     spp = args.steps_per_period or cfg.cosim.steps_per_period
