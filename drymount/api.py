@@ -145,8 +145,13 @@ class Curve:
 
     def peak(self, dof: str | None = None) -> Peak:
         """The maximum over the curve: of the transmissibility (``dof=None``, what
-        the CLI prints), or of the per-point peak ``max |q(t)|`` of ``dof`` (m or
+        the CLI prints; an HBM curve's located between its points to 1e-6 Hz, a
+        sweep's largest point), or of the per-point peak ``max |q(t)|`` of ``dof`` (m or
         rad). NaN points (gaps between segments) are skipped."""
+        located = getattr(self.result, "transmissibility_peak", None)
+        if dof is None and located is not None:  # an HBM curve: its located peak
+            return Peak(float(located.freq_hz), float(located.transmissibility),
+                        "transmissibility", "")
         if dof is None:
             y, quantity, unit = self.transmissibility, "transmissibility", ""
         else:

@@ -109,14 +109,20 @@ _fmu_path = fmu_path
 
 
 def _peak_text(name: str, freq_hz, transmissibility) -> str:
-    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value)."""
+    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value) of
+    the largest row (a stepped sweep's)."""
     import numpy as np
 
     t = np.asarray(transmissibility, dtype=float)
     if not np.any(np.isfinite(t)):
         return ""
     i = int(np.nanargmax(t))
-    return f"{name}: peak transmissibility {t[i]:.4g} at {freq_hz[i]:.4g} Hz"
+    return _peak_line(name, float(freq_hz[i]), float(t[i]))
+
+
+def _peak_line(name: str, freq_hz: float, value: float) -> str:
+    """The one format every command prints a peak transmissibility in."""
+    return f"{name}: peak transmissibility {value:.4g} at {freq_hz:.4g} Hz"
 
 
 def _band(args, cfg) -> tuple[float, float]:
@@ -250,7 +256,8 @@ def cmd_hbm(args) -> int:
     if len(fr.freq_hz):
         import numpy as np
 
-        peak = _peak_text(cfg.name, fr.freq_hz, fr.transmissibility)
+        f_peak, t_peak = fr.transmissibility_max()  # located, as the DOF peaks
+        peak = _peak_line(cfg.name, f_peak, t_peak) if t_peak == t_peak else ""
         if peak:
             print(f"{peak}; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
