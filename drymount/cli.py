@@ -406,6 +406,36 @@ class _CurveCSV:
         self.harmonics = None
         self.turning_points = ()
         self.success = True
+        self.peak_located = _located_peak(path)
+
+    def transmissibility_max(self) -> tuple[float, float]:
+        """``(freq_hz, transmissibility)`` of the peak: the located one of the
+        ``_events.csv`` beside the curve if there is one, else the largest row."""
+        import numpy as np
+
+        if self.peak_located is not None:
+            return self.peak_located
+        t = self.transmissibility
+        if not np.any(np.isfinite(t)):
+            return float("nan"), float("nan")
+        i = int(np.nanargmax(t))
+        return float(self.freq_hz[i]), float(t[i])
+
+
+def _located_peak(path: Path):
+    """``(freq_hz, transmissibility)`` of the ``peak,transmissibility`` row of the
+    curve's ``_events.csv`` (written by ``drymount hbm``), None without one."""
+    import csv
+
+    events = path.with_name(path.stem + "_events.csv")
+    try:
+        with open(events, encoding="utf-8") as fh:
+            rows = list(csv.DictReader(ln for ln in fh if not ln.startswith("#")))
+        row = next(r for r in rows if r["kind"] == "peak"
+                   and r["dof"] == "transmissibility")
+        return float(row["freq_hz"]), float(row["transmissibility"])
+    except (OSError, StopIteration, KeyError, ValueError):
+        return None
 
 
 def cmd_sweep(args) -> int:
@@ -448,12 +478,35 @@ def cmd_sweep(args) -> int:
     peak = _peak_text(cfg.name, res.freq_hz, res.transmissibility)
     if peak:
         print(f"{peak} ({int(conv.sum())}/{len(conv)} frequencies converged)")
+    if overlay is not None and not args.refine:
+        hint = _missed_peak(res.transmissibility, overlay)
+        if hint:
+            print(hint)
     if not np.all(conv):
         bad = ", ".join(f"{f:g}" for f in np.asarray(res.freq_hz)[~conv])
         _err(f"no steady state reached at {bad} Hz (those rows have converged = 0 in "
              f"{out})")
         return EXIT_FAILURE
     return EXIT_OK
+
+
+#: A stepped sweep whose peak is this much below the HBM curve's is told to refine.
+MISSED_PEAK = 0.05
+
+
+def _missed_peak(transmissibility, overlay) -> str:
+    """A hint to use ``--refine`` when the stepped sweep's largest transmissibility
+    is more than MISSED_PEAK below the ``--hbm`` curve's peak ("" otherwise)."""
+    import numpy as np
+
+    t = np.asarray(transmissibility, float)
+    f_hbm, t_hbm = overlay.transmissibility_max()
+    if not (np.any(np.isfinite(t)) and t_hbm == t_hbm) or \
+            np.nanmax(t) >= (1 - MISSED_PEAK) * t_hbm:
+        return ""
+    return (f"  the sweep's steps miss the peak: {np.nanmax(t):.4g} against "
+            f"{t_hbm:.4g} at {f_hbm:.4g} Hz on the --hbm curve; `--refine N` adds "
+            f"frequencies there")
 
 
 def _lead_module(name: str):

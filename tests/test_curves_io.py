@@ -74,3 +74,17 @@ def test_curve_plot_returns_a_figure(kind, tmp_path):
     assert isinstance(curve.plot(), Figure)
     fig = curve.plot(tmp_path / "c.png")
     assert isinstance(fig, Figure) and (tmp_path / "c.png").stat().st_size > 1000
+
+
+def test_a_sweep_that_misses_the_hbm_peak_suggests_refine(tmp_path):
+    curve = cli._CurveCSV(_curve_csv(tmp_path / "own.csv", "sdof_halved"))
+    assert curve.transmissibility_max() == (3.0, 2.5)  # no events: the largest row
+    (tmp_path / "own_events.csv").write_text(
+        "# events\nkind,dof,freq_hz,after_row,converged,x_amp,x_peak,"
+        "transmissibility\npeak,x,2.9,0,1,2e-3,2e-3,2.6\n"
+        "peak,transmissibility,2.95,0,1,2e-3,2e-3,3.08\n", encoding="utf-8")
+    curve = cli._CurveCSV(tmp_path / "own.csv")
+    assert curve.transmissibility_max() == (2.95, 3.08)
+    hint = cli._missed_peak([1.0, 2.75, 1.5], curve)
+    assert "2.75 against 3.08 at 2.95 Hz" in hint and "--refine" in hint
+    assert cli._missed_peak([1.0, 3.0, 1.5], curve) == ""  # within 5 %
