@@ -8,6 +8,13 @@ Documents the public API (``drymount``: :mod:`drymount.api`) and the modules it
 hands out: measured inputs, spectra, field paths, and the result types of the layers
 below (``hbm.result.FrequencyResponse``, ``vehicle.sweep.SweepResult``,
 ``vehicle.results.TimeHistory``, ``vehicle.sampled``). Run from the repository root.
+
+docs/api/ is committed and kept current: ``tests/test_api.py`` rebuilds it and
+compares it page by page with the committed one (pdoc's output is deterministic: two
+builds are byte-identical); after changing a docstring of these modules, run this
+script and commit docs/api/ with the change. The committed pages are pdoc
+``PDOC_VERSION``'s; another pdoc version renders differently, and the test then skips
+the comparison and says why.
 """
 
 from __future__ import annotations
@@ -21,6 +28,8 @@ OUT = REPO / "docs" / "api"
 MODULES = ["drymount", "drymount.api", "drymount.measured", "drymount.spectra",
            "drymount.paths", "drymount.hbm.result", "drymount.vehicle.sweep",
            "drymount.vehicle.results", "drymount.vehicle.sampled"]
+#: The pdoc version the committed docs/api/ was built with.
+PDOC_VERSION = "16.0.0"
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -146,8 +146,13 @@ class Curve:
 
     def peak(self, dof: str | None = None) -> Peak:
         """The maximum over the curve: of the transmissibility (``dof=None``, what
-        the CLI prints), or of the per-point peak ``max |q(t)|`` of ``dof`` (m or
+        the CLI prints; an HBM curve's located between its points to 1e-6 Hz, a
+        sweep's largest point), or of the per-point peak ``max |q(t)|`` of ``dof`` (m or
         rad). NaN points (gaps between segments) are skipped."""
+        located = getattr(self.result, "transmissibility_peak", None)
+        if dof is None and located is not None:  # an HBM curve: its located peak
+            return Peak(float(located.freq_hz), float(located.transmissibility),
+                        "transmissibility", "")
         if dof is None:
             y, quantity, unit = self.transmissibility, "transmissibility", ""
         else:
@@ -172,14 +177,18 @@ class Curve:
 
     def plot(self, path=None):
         """Plot the curve (titled, units on the axes); saved to ``path`` if given.
-        Returns the matplotlib Figure."""
-        if path is None:
-            return self.result.plot()
-        from drymount.io import atomic_path
+        Returns the matplotlib Figure (of an HBM curve and of a sweep alike)."""
+        from matplotlib.figure import Figure
 
-        with atomic_path(path) as tmp:
-            fig = self.result.plot(path=tmp)
-        return fig
+        if path is None:
+            drawn = self.result.plot()
+        else:
+            from drymount.io import atomic_path
+
+            with atomic_path(path) as tmp:
+                drawn = self.result.plot(path=tmp)
+        # FrequencyResponse.plot returns its first Axes, SweepResult.plot the Figure
+        return drawn if isinstance(drawn, Figure) else drawn.figure
 
 
 class CosimResult:

@@ -111,14 +111,20 @@ _fmu_path = fmu_path
 
 
 def _peak_text(name: str, freq_hz, transmissibility) -> str:
-    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value)."""
+    """``"<name>: peak transmissibility T at F Hz"`` ("" without a finite value) of
+    the largest row (a stepped sweep's)."""
     import numpy as np
 
     t = np.asarray(transmissibility, dtype=float)
     if not np.any(np.isfinite(t)):
         return ""
     i = int(np.nanargmax(t))
-    return f"{name}: peak transmissibility {t[i]:.4g} at {freq_hz[i]:.4g} Hz"
+    return _peak_line(name, float(freq_hz[i]), float(t[i]))
+
+
+def _peak_line(name: str, freq_hz: float, value: float) -> str:
+    """The one format every command prints a peak transmissibility in."""
+    return f"{name}: peak transmissibility {value:.4g} at {freq_hz:.4g} Hz"
 
 
 def _band(args, cfg) -> tuple[float, float]:
@@ -228,6 +234,8 @@ def cmd_export_ssp(args) -> int:
 
 
 def cmd_hbm(args) -> int:
+    from drymount.config import MAX_HARMONICS
+
     cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
@@ -235,6 +243,9 @@ def cmd_hbm(args) -> int:
     if n_samples is not None and n_samples < 2 * H + 1:
         raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
                          f"got {n_samples}")
+    if args.max_harmonics is not None and args.max_harmonics > MAX_HARMONICS:
+        raise UsageError(f"--max-harmonics must be an integer in 1..{MAX_HARMONICS} "
+                         f"(the configuration's limit on H), got {args.max_harmonics}")
     out = outputs(args, cfg, "hbm")
     events = events_sibling(out)
     import drymount.hbm as hbm
@@ -261,7 +272,8 @@ def cmd_hbm(args) -> int:
     if len(fr.freq_hz):
         import numpy as np
 
-        peak = _peak_text(cfg.name, fr.freq_hz, fr.transmissibility)
+        f_peak, t_peak = fr.transmissibility_max()  # located, as the DOF peaks
+        peak = _peak_line(cfg.name, f_peak, t_peak) if t_peak == t_peak else ""
         if peak:
             print(f"{peak}; {len(fr.turning_points)} turning point(s); "
                   f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
@@ -376,11 +388,18 @@ class _CurveCSV:
 
         import numpy as np
 
+        import re
+
         try:
             with open(path, encoding="utf-8") as fh:
-                lines = [ln for ln in fh if not ln.startswith("#")]
+                text = fh.readlines()
         except OSError as exc:
             raise UsageError(f"--hbm: cannot read {path}: {exc}") from None
+        lines = [ln for ln in text if not ln.startswith("#")]
+        #: the system the header names ("" for a CSV that names none)
+        self.system_name = next((m.group(1) for ln in text if ln.startswith("#")
+                                 for m in [re.match(r"# drymount HBM (.*?): ", ln)]
+                                 if m), "")
         rows = list(csv.reader(lines))
         if len(rows) < 2 or "freq_hz" not in rows[0]:
             raise UsageError(f"--hbm: {path} is not a curve CSV of `drymount hbm` "
@@ -403,6 +422,36 @@ class _CurveCSV:
         self.harmonics = None
         self.turning_points = ()
         self.success = True
+        self.peak_located = _located_peak(path)
+
+    def transmissibility_max(self) -> tuple[float, float]:
+        """``(freq_hz, transmissibility)`` of the peak: the located one of the
+        ``_events.csv`` beside the curve if there is one, else the largest row."""
+        import numpy as np
+
+        if self.peak_located is not None:
+            return self.peak_located
+        t = self.transmissibility
+        if not np.any(np.isfinite(t)):
+            return float("nan"), float("nan")
+        i = int(np.nanargmax(t))
+        return float(self.freq_hz[i]), float(t[i])
+
+
+def _located_peak(path: Path):
+    """``(freq_hz, transmissibility)`` of the ``peak,transmissibility`` row of the
+    curve's ``_events.csv`` (written by ``drymount hbm``), None without one."""
+    import csv
+
+    events = path.with_name(path.stem + "_events.csv")
+    try:
+        with open(events, encoding="utf-8") as fh:
+            rows = list(csv.DictReader(ln for ln in fh if not ln.startswith("#")))
+        row = next(r for r in rows if r["kind"] == "peak"
+                   and r["dof"] == "transmissibility")
+        return float(row["freq_hz"]), float(row["transmissibility"])
+    except (OSError, StopIteration, KeyError, ValueError):
+        return None
 
 
 def cmd_sweep(args) -> int:
@@ -418,6 +467,10 @@ def cmd_sweep(args) -> int:
     freqs = s.freqs_hz()
     backend = args.backend or ("native" if args.batch else cfg.cosim.backend)
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
+    if overlay is not None and overlay.system_name not in ("", cfg.system.name):
+        raise UsageError(f"--hbm: {args.hbm} is a curve of {overlay.system_name!r} "
+                         f"(its header says so), not of {cfg.system.name!r}: give the "
+                         f"`drymount hbm` curve of the same configuration")
     out = outputs(args, cfg, "sweep")
     kw = {}
     spp = args.steps_per_period or cfg.cosim.steps_per_period
@@ -441,12 +494,35 @@ def cmd_sweep(args) -> int:
     peak = _peak_text(cfg.name, res.freq_hz, res.transmissibility)
     if peak:
         print(f"{peak} ({int(conv.sum())}/{len(conv)} frequencies converged)")
+    if overlay is not None and not args.refine:
+        hint = _missed_peak(res.transmissibility, overlay)
+        if hint:
+            print(hint)
     if not np.all(conv):
         bad = ", ".join(f"{f:g}" for f in np.asarray(res.freq_hz)[~conv])
         _err(f"no steady state reached at {bad} Hz (those rows have converged = 0 in "
              f"{out})")
         return EXIT_FAILURE
     return EXIT_OK
+
+
+#: A stepped sweep whose peak is this much below the HBM curve's is told to refine.
+MISSED_PEAK = 0.05
+
+
+def _missed_peak(transmissibility, overlay) -> str:
+    """A hint to use ``--refine`` when the stepped sweep's largest transmissibility
+    is more than MISSED_PEAK below the ``--hbm`` curve's peak ("" otherwise)."""
+    import numpy as np
+
+    t = np.asarray(transmissibility, float)
+    f_hbm, t_hbm = overlay.transmissibility_max()
+    if not (np.any(np.isfinite(t)) and t_hbm == t_hbm) or \
+            np.nanmax(t) >= (1 - MISSED_PEAK) * t_hbm:
+        return ""
+    return (f"  the sweep's steps miss the peak: {np.nanmax(t):.4g} against "
+            f"{t_hbm:.4g} at {f_hbm:.4g} Hz on the --hbm curve; `--refine N` adds "
+            f"frequencies there")
 
 
 def _lead_module(name: str):

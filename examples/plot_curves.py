@@ -3,7 +3,8 @@
     python examples/plot_curves.py OUT.png CURVE.csv=LABEL [CURVE.csv=LABEL ...]
 
 Each CSV is a ``drymount hbm`` output (columns ``freq_hz``, ``transmissibility``,
-``stable``); unstable points are marked with x.
+``stable``) or a ``drymount sweep`` output (``converged`` instead of ``stable``);
+unstable (HBM) or not converged (sweep) points are marked with x.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ def read(path):
     rows = list(csv.DictReader(lines))
     return ([float(r["freq_hz"]) for r in rows],
             [float(r["transmissibility"]) for r in rows],
-            [r["stable"] == "1" for r in rows])
+            [r.get("stable", r.get("converged", "1")) in ("1", "1.0") for r in rows])
 
 
 def main(argv=None) -> int:
@@ -38,7 +39,7 @@ def main(argv=None) -> int:
                 [y for y, s in zip(t, stable) if not s], "x", ms=3,
                 color=line.get_color())
     ax.set(yscale="log", xlabel="frequency [Hz]", ylabel="transmissibility [-]",
-           title="Harmonic balance (x: unstable)")
+           title="Transmissibility (x: unstable or not converged)")
     ax.grid(alpha=0.3, which="both")
     ax.legend()
     fig.savefig(argv[0], dpi=120)

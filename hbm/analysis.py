@@ -10,6 +10,7 @@ Both return a :class:`hbm.result.FrequencyResponse`.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import sys
@@ -118,10 +119,14 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     # curves traced only to estimate their error skip stability and events; the last
     # one gets them (_finish)
     light = opts.tol is not None and opts.max_restarts == 0
-    floor, raised = None, []
+    floor, raised, result = None, [], None
     while True:
-        result = _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts, progress,
-                        floor, light)
+        try:
+            result = _curve(system, fmin_hz, fmax_hz, H, N, closed_form, opts,
+                            progress, floor, light)
+        except Exception as exc:  # a failure at a raised resolution: keep the last
+            _attach_partial(exc, result, opts)  # whole curve for the caller to write
+            raise
         if opts.tol is None or not result.success:
             break
         trunc = finite_max(result.error_truncation)
@@ -135,8 +140,12 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
                                              pin_n, cap)
         probes = []
         if H_new is not None and system.n_dof > MULTI_DOF:  # where curves are costly
-            H_new, N_new, probes = probe(system, fmin_hz, fmax_hz, result, H_new,
-                                          N_new, goal, opts, pin_h, pin_n, cap)
+            try:
+                H_new, N_new, probes = probe(system, fmin_hz, fmax_hz, result, H_new,
+                                              N_new, goal, opts, pin_h, pin_n, cap)
+            except Exception as exc:
+                _attach_partial(exc, result, opts)
+                raise
         if H_new is None:
             result.tol_met = False
             result.message += (f"; the error estimate {trunc + samp:.2g} of peak "
@@ -153,6 +162,18 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
                            f"{result.n_samples} for tol = {opts.tol:g} (from "
                            + "; ".join(raised) + ")")
     return _finish(result, opts)
+
+
+def _attach_partial(exc: Exception, result: FrequencyResponse | None,
+                    opts: HBMOptions) -> None:
+    """Give ``exc`` the last whole curve (``partial_result``, what the CLI writes
+    marked partial) unless it carries one already."""
+    if result is None or getattr(exc, "partial_result", None) is not None:
+        return
+    with contextlib.suppress(Exception):  # the original error is what matters
+        result.message += (f"; stopped while raising H and N: "
+                           f"{type(exc).__name__}: {exc}")
+        exc.partial_result = _finish(result, opts)
 
 
 def _finish(result: FrequencyResponse, opts: HBMOptions) -> FrequencyResponse:

@@ -87,7 +87,11 @@ def curve_quantities(hb, X: np.ndarray, n_peak: int) -> np.ndarray:
 
 
 def _pad(X: np.ndarray, hb, hb_ref) -> np.ndarray:
-    """Coefficients of ``hb`` (H harmonics) as those of ``hb_ref`` (more harmonics)."""
+    """Coefficients of ``hb`` (H harmonics) as those of ``hb_ref`` (as many or more
+    harmonics: a solution is never cut down to fewer)."""
+    if hb_ref.m < hb.m:
+        raise ValueError(f"cannot pad a solution of H = {hb.H} harmonics into one of "
+                         f"H = {hb_ref.H}: the reference must not have fewer")
     out = np.zeros((hb_ref.m, hb_ref.n))
     out[:hb.m] = X.reshape(hb.m, hb.n)
     return out.ravel()

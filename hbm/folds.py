@@ -30,7 +30,7 @@ from drymount.hbm.continuation import (Branch, ContinuationSettings, continue_br
                                        newton, tangent_at)
 
 __all__ = ["FREQ_TOL_HZ", "EventKind", "CurveEvent", "locate_folds", "locate_peaks",
-           "merge_spurious_pairs", "ZigzagReport"]
+           "locate_maximum", "merge_spurious_pairs", "ZigzagReport"]
 
 #: Tolerance of the located fold and peak frequencies, Hz.
 FREQ_TOL_HZ = 1e-6
@@ -203,32 +203,42 @@ def locate_peaks(prob, br: Branch, settings: ContinuationSettings, to_hz: Callab
     ``da/ds`` changes sign. A maximum at the first or last point is reported with
     ``interior=False``.
     """
-    npts = len(br.y)
-    if npts == 0:
+    if not br.y:
         return []
     amps = np.array([amplitude(y)[0] for y in br.y])
     out = []
     for j in range(n_dof):
-        k = int(np.argmax(amps[:, j]))
-        slope = [float(amplitude(br.y[i])[1][j] @ br.tangent[i]) for i in
-                 range(max(k - 1, 0), min(k + 2, npts))]
-        base = max(k - 1, 0)
-        y_best, idx, ok, interior = br.y[k], k, True, 0 < k < npts - 1
-        for a, b in ((k - 1, k), (k, k + 1)):
-            if a < 0 or b >= npts:
-                continue
-            if slope[a - base] > 0 >= slope[b - base]:
-                def g(y, t, j=j):
-                    return float(amplitude(y)[1][j] @ t)
-                y, conv = _locate(prob, br, b, g, to_hz, settings, ARC_TOL)
-                if y is not None and amplitude(y)[0][j] >= amps[k, j] * (1 - 1e-12):
-                    y_best, idx, ok, interior = y, b, conv, True
-                elif y is None:
-                    ok = False
-                break
-        out.append(CurveEvent(EventKind.PEAK, float(to_hz(y_best[-1])), int(idx),
-                              y_best, dof=j, converged=ok, interior=interior))
+        def slope(y, t, j=j):
+            return float(amplitude(y)[1][j] @ t)
+        out.append(locate_maximum(prob, br, settings, to_hz, amps[:, j], slope,
+                                  lambda y, j=j: amplitude(y)[0][j], dof=j))
     return out
+
+
+def locate_maximum(prob, br: Branch, settings: ContinuationSettings,
+                   to_hz: Callable, values, slope: Callable, value: Callable,
+                   dof: int | None = None) -> CurveEvent:
+    """The maximum along ``br`` of a quantity with ``values`` at the curve points,
+    ``value(y)`` anywhere and derivative ``slope(y, t)`` along the unit tangent:
+    located like a DOF's peak (:func:`locate_peaks`) on the arc next to the largest
+    point where the slope changes sign."""
+    npts = len(br.y)
+    k = int(np.nanargmax(values))
+    slopes = {i: slope(br.y[i], br.tangent[i])
+              for i in range(max(k - 1, 0), min(k + 2, npts))}
+    y_best, idx, ok, interior = br.y[k], k, True, 0 < k < npts - 1
+    for a, b in ((k - 1, k), (k, k + 1)):
+        if a < 0 or b >= npts:
+            continue
+        if slopes[a] > 0 >= slopes[b]:
+            y, conv = _locate(prob, br, b, slope, to_hz, settings, ARC_TOL)
+            if y is not None and value(y) >= values[k] * (1 - 1e-12):
+                y_best, idx, ok, interior = y, b, conv, True
+            elif y is None:
+                ok = False
+            break
+    return CurveEvent(EventKind.PEAK, float(to_hz(y_best[-1])), int(idx), y_best,
+                      dof=dof, converged=ok, interior=interior)
 
 
 # -------------------------------------------------------------------------------------

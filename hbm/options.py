@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING
 
-from drymount.hbm.continuation import ContinuationSettings
+if TYPE_CHECKING:  # imported where used: the configuration's checks need no solver
+    from drymount.hbm.continuation import ContinuationSettings
 
 __all__ = ["HBMOptions", "MAX_HARMONICS", "ADAPTIVE_MAX_HARMONICS",
            "MULTI_DOF_MAX_HARMONICS"]
@@ -178,6 +180,8 @@ class HBMOptions:
         return ADAPTIVE_MAX_HARMONICS if n_dof <= MULTI_DOF else MULTI_DOF_MAX_HARMONICS
 
     def continuation_settings(self) -> ContinuationSettings:
+        from drymount.hbm.continuation import ContinuationSettings
+
         return ContinuationSettings(
             ds_initial=min(max(self.ds_initial, self.ds_min), self.ds_max),
             ds_min=self.ds_min, ds_max=self.ds_max, n_norm=self.n_norm,

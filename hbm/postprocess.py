@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from drymount.hbm.continuation import Branch
-from drymount.hbm.folds import CurveEvent, locate_folds, locate_peaks
+from drymount.hbm.folds import CurveEvent, locate_folds, locate_maximum, locate_peaks
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.problem import _amplitude_fn, _point_quantities, _Problem, _to_hz
 from drymount.hbm.result import FrequencyResponse, MarkedPoint
@@ -29,7 +29,7 @@ def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
     """Located folds and per-DOF peaks (empty without tangents); ``located``: folds
     already located on a finer re-trace, by turning-point index."""
     if not br.tangent or len(br.tangent) != len(br.y):
-        return [], []
+        return [], [], None
     settings = opts.continuation_settings()
     folds = []
     if len(turning):
@@ -40,7 +40,31 @@ def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
     peaks = locate_peaks(prob, br, settings, _to_hz(prob), _amplitude_fn(prob),
                          prob.hb.n)
     return ([_marked(prob, e, opts.n_peak) for e in folds],
-            [_marked(prob, e, opts.n_peak) for e in peaks])
+            [_marked(prob, e, opts.n_peak) for e in peaks],
+            _transmissibility_peak(prob, br, settings, opts.n_peak))
+
+
+#: Step along the unit tangent (scaled unknowns) of the central difference that gives
+#: the transmissibility's slope (a ratio of fundamentals, smooth along the branch).
+SLOPE_STEP = 1e-6
+
+
+def _transmissibility_peak(prob: _Problem, br: Branch, settings, n_peak: int):
+    """The transmissibility's maximum along the branch, located like a DOF's peak
+    (to ``hbm.folds.FREQ_TOL_HZ``); None where it is not finite anywhere."""
+    def value(y):
+        return float(_point_quantities(prob, y)[3])
+
+    values = np.array([value(y) for y in br.y])
+    if not np.any(np.isfinite(values)):
+        return None
+
+    def slope(y, t):
+        return (value(y + SLOPE_STEP * t) - value(y - SLOPE_STEP * t)) / (
+            2 * SLOPE_STEP)
+
+    ev = locate_maximum(prob, br, settings, _to_hz(prob), values, slope, value)
+    return _marked(prob, ev, n_peak)
 
 
 def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
@@ -68,8 +92,8 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                               opts.n_peak)
     if opts.stability and npts:
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
-    folds, peaks = (_events(prob, br, opts, turning, located or {}) if events
-                    else ([], []))
+    folds, peaks, t_peak = (_events(prob, br, opts, turning, located or {})
+                            if events else ([], [], None))
     return FrequencyResponse(
         turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
@@ -79,7 +103,7 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         n_steps=br.n_steps, dof_names=tuple(sysm.dof_names), harmonics=H,
         n_samples=0 if hb.closed_form else hb.n_samples, closed_form=hb.closed_form,
         floquet_max_real=fmr, newton_per_point=np.asarray(br.n_iter, dtype=int),
-        system_name=sysm.name, folds=folds, peaks=peaks,
+        system_name=sysm.name, folds=folds, peaks=peaks, transmissibility_peak=t_peak,
         transmissibility_label=_transmissibility_label(sysm))
 
 

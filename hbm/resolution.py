@@ -54,7 +54,9 @@ def next_resolution(result: FrequencyResponse, trunc: float, samp: float,
     H_new, N_new = H, N
     if trunc > 0.5 * goal and not pin_h:
         want = math.ceil(H * (trunc / (0.5 * goal)) ** (1 / 1.5))
-        H_new = min(cap, max(H + 2, min(want, 2 * H + 1)))
+        # never above the cap, never below the curve's own H (a curve started above
+        # the cap stays where it is)
+        H_new = max(H, min(cap, max(H + 2, min(want, 2 * H + 1))))
         if pin_n:
             H_new = max(H, min(H_new, (N - 1) // 2))  # N > 2H stays true
     if samp > 0.5 * goal and not pin_n:
@@ -108,6 +110,7 @@ def _fit_level(x0, e0, x1, e1, target, lo, hi, default_rate):
     """Smallest x in [lo, hi] with error below ``target`` for errors ``e0`` at x0 and
     ``e1`` at x1 decaying like ``x^-p`` (p fitted from the two, else
     ``default_rate``)."""
+    lo = min(lo, hi)  # the cap wins over the floor (a curve already at the cap)
     if not (np.isfinite(e1) and e1 > 0):
         return max(lo, min(x1, hi))
     x = x1 * (e1 / target) ** (1.0 / _rate(x0, e0, x1, e1, default_rate))
@@ -126,7 +129,9 @@ def probe(system, fmin_hz, fmax_hz, result, H1, N1, goal, opts, pin_h, pin_n, ca
     """``(H, N, notes)``: the resolution to trace next, predicted from probes at a few
     points of ``result`` (PROBE_POINTS, MAX_PROBES); ``(H1, N1)`` (the rule of
     :func:`_next_resolution`) is the first probe. Without the curve's branch (a
-    curve of restarted segments) ``(H1, N1, [])``."""
+    curve of restarted segments) ``(H1, N1, [])``. No probe and no prediction is
+    above ``cap`` or below the curve's own H (a probe starts from the curve's
+    points, which are padded to the probe's H, never truncated)."""
     level = getattr(result, "_level", None)
     pts = _probe_points(result)
     if level is None or not pts or not level.br.tangent:
@@ -137,6 +142,8 @@ def probe(system, fmin_hz, fmax_hz, result, H1, N1, goal, opts, pin_h, pin_n, ca
 
     H0 = result.harmonics
     N0 = result.n_samples if not result.closed_form else default_n_samples(H0)
+    if H1 < H0:
+        raise ValueError(f"a probe at H = {H1} below the curve's H = {H0}")
     t0 = finite_max(result.error_truncation[pts])
     s0 = finite_max(result.error_sampling[pts]) if not result.closed_form else np.nan
     scale = curve_scale(level.prob, level.br.y, opts.n_peak)
@@ -157,7 +164,7 @@ def probe(system, fmin_hz, fmax_hz, result, H1, N1, goal, opts, pin_h, pin_n, ca
             best = (H, N)
         # the next candidate from the decay between the curve and this probe
         H_next = H if pin_h else _fit_level(H0, t0, H, t, half, H0 + (t0 > half),
-                                            cap, 1.5)
+                                            max(cap, H0), 1.5)
         N_next = N
         if not pin_n:
             # sampling need not be far below the truncation left at the cap

@@ -126,6 +126,9 @@ class FrequencyResponse:
         re-solves to 1e-6 Hz (``folds``).
     folds, peaks : list of MarkedPoint
         The located folds (one per turning point) and each DOF's resonance peak.
+    transmissibility_peak : MarkedPoint or None
+        The transmissibility's maximum along the curve (``dof`` None), located like
+        the DOF peaks to ``hbm.folds.FREQ_TOL_HZ`` (None if not located).
     turning_points_merged : int
         Turning points dropped as zigzags of the sampled residual (pairs that
         vanished when re-traced with more AFT samples).
@@ -168,6 +171,7 @@ class FrequencyResponse:
     restarts: tuple = ()
     folds: list = field(default_factory=list)
     peaks: list = field(default_factory=list)
+    transmissibility_peak: MarkedPoint | None = None
     turning_points_merged: int = 0
     error_truncation: np.ndarray | None = None
     error_sampling: np.ndarray | None = None
@@ -201,6 +205,19 @@ class FrequencyResponse:
                 return fo.freq_hz
         return None
 
+
+    def transmissibility_max(self) -> tuple[float, float]:
+        """``(freq_hz, transmissibility)`` of the transmissibility's peak: the
+        located one (:attr:`transmissibility_peak`) if any, else the largest point
+        (NaNs if none is finite). What every command prints."""
+        p = self.transmissibility_peak
+        if p is not None:
+            return float(p.freq_hz), float(p.transmissibility)
+        t = np.asarray(self.transmissibility, float)
+        if not np.any(np.isfinite(t)):
+            return float("nan"), float("nan")
+        i = int(np.nanargmax(t))
+        return float(self.freq_hz[i]), float(t[i])
 
     @property
     def n_points(self) -> int:
@@ -316,7 +333,8 @@ class FrequencyResponse:
     def events_to_csv(self, path: str | os.PathLike) -> None:
         """Write the located folds and peaks: ``kind, dof, freq_hz, after_row,
         converged, <dof>_amp, <dof>_peak, ..., transmissibility``; ``after_row`` is
-        the 0-based data row of the curve CSV the event follows."""
+        the 0-based data row of the curve CSV the event follows. The
+        transmissibility's peak is the row with ``dof`` = ``transmissibility``."""
         cols = ["kind", "dof", "freq_hz", "after_row", "converged"]
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
@@ -324,12 +342,18 @@ class FrequencyResponse:
         from drymount.hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(f"# drymount HBM {self.system_name}: folds (extremum of the "
-                     f"frequency along the curve) and each DOF's resonance peak "
-                     f"(extremum of its fundamental amplitude), located to 1e-6 Hz; "
+                     f"frequency along the curve), each DOF's resonance peak "
+                     f"(extremum of its fundamental amplitude) and the "
+                     f"transmissibility's (dof = transmissibility), located to "
+                     f"1e-6 Hz; "
                      f"amplitudes m or rad\n")
             fh.write(",".join(cols) + "\n")
-            for e in list(self.folds) + list(self.peaks):
-                vals = [e.kind, e.dof or "", f"{e.freq_hz:.10f}", str(e.index - 1),
+            t_peak = [] if self.transmissibility_peak is None else [
+                self.transmissibility_peak]
+            for e in list(self.folds) + list(self.peaks) + t_peak:
+                dof = e.dof or ("transmissibility" if e is self.transmissibility_peak
+                                else "")
+                vals = [e.kind, dof, f"{e.freq_hz:.10f}", str(e.index - 1),
                         str(int(e.converged))]
                 for a, p in zip(e.amplitude, e.peak, strict=True):
                     vals += [f"{a:.10g}", f"{p:.10g}"]

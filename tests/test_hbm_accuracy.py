@@ -67,7 +67,8 @@ def test_events_csv(tmp_path):
     assert lines[0].strip() == ("kind,dof,freq_hz,after_row,converged,x_amp,x_peak,"
                                 "transmissibility")
     rows = [ln.strip().split(",") for ln in lines[1:]]
-    assert [row[0] for row in rows] == ["fold", "fold", "peak"]
+    assert [row[:2] for row in rows] == [["fold", ""], ["fold", ""], ["peak", "x"],
+                                         ["peak", "transmissibility"]]
     np.testing.assert_allclose([float(row[2]) for row in rows[:2]],
                                r.turning_freq_hz, atol=1e-9)
     # the fold lies between the curve rows after_row and after_row + 1
@@ -367,7 +368,41 @@ def test_probe_at_the_curves_resolution_reproduces_its_estimates():
                        lambda H, N, cf: build_problem(s, 2.0, 15.0, H, N, cf),
                        opts.continuation_settings(), opts.n_peak, 5, 128,
                        curve_scale(prob, br.y, opts.n_peak))
+    # atol: estimates of round-off size (2.7e-17 measured) differ at random
     np.testing.assert_allclose(est.truncation, r.error_truncation[pts],
-                               rtol=PROBE_SELF_RTOL)
+                               rtol=PROBE_SELF_RTOL, atol=1e-12)
     np.testing.assert_allclose(est.sampling, r.error_sampling[pts],
                                rtol=PROBE_SELF_RTOL, atol=1e-12)
+
+
+def test_transmissibility_peak_located_like_the_dof_peaks(tmp_path):
+    """Linear single DOF, force excitation: T(w) = |k + i c w| / |k - m w^2 + i c w|,
+    its maximum from the closed form's derivative (a dense grid, then the golden
+    section on it, written here) against the located peak (issue 23 item 4)."""
+    s = sdof(M, MountParameters(axial=AxisParameters(law="linear", k1=K, c=C)),
+             "force", F)
+    r = hbm.frequency_response(s, 2.0, 15.0, harmonics=1)
+
+    def T(f):
+        w = 2 * np.pi * f
+        return abs(K + 1j * C * w) / abs(K - M * w**2 + 1j * C * w)
+
+    lo, hi = 2.0, 15.0
+    f = np.linspace(lo, hi, 20001)
+    i = int(np.argmax(T(f)))
+    lo, hi = f[i - 1], f[i + 1]
+    g = (np.sqrt(5) - 1) / 2
+    while hi - lo > 1e-10:
+        a, b = hi - g * (hi - lo), lo + g * (hi - lo)
+        lo, hi = (a, hi) if T(a) < T(b) else (lo, b)
+    f_ref = 0.5 * (lo + hi)
+    p = r.transmissibility_peak
+    assert p.kind == "peak" and p.dof is None and p.converged and p.interior
+    assert abs(p.freq_hz - f_ref) < 1e-6  # FREQ_TOL_HZ
+    assert abs(p.transmissibility / T(f_ref) - 1) < 1e-9
+    assert p.transmissibility >= r.transmissibility.max()
+    assert r.transmissibility_max() == (p.freq_hz, p.transmissibility)
+    side = tmp_path / "e.csv"
+    r.events_to_csv(side)
+    rows = side.read_text().splitlines()
+    assert any(row.startswith("peak,transmissibility,") for row in rows), rows

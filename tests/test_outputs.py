@@ -11,7 +11,6 @@ import os
 import stat
 import subprocess
 import sys
-import time
 import zipfile
 from pathlib import Path
 
@@ -31,11 +30,11 @@ from drymount.config import (
 )
 
 ROOT = Path(__file__).resolve().parents[1]
-#: A usage error must be reported before any computation: the CLI starts, reads the
-#: configuration and checks the paths in well under this much CPU time (measured
-#: 0.45-0.6 s user+sys for a whole `python -m drymount.cli` process; the sweep asked
-#: for would take minutes). CPU time, not wall time: the test machine is shared.
-USAGE_ERROR_S = 1.0
+#: A usage error must be reported before any computation, and the start-up must not
+#: pay for the solvers (issue 27 item 1): guarded by what the CLI process imported
+#: (``python -X importtime``), not by a timer (a CPU budget failed on a loaded
+#: machine, issue 23 item 2). These packages (and their submodules) must not load.
+HEAVY = ("scipy", "matplotlib", "numba")
 ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
            PYTHONPATH=str(ROOT))
 
@@ -147,16 +146,21 @@ def test_failed_writer_leaves_old_file_and_no_temporary(tmp_path):
 # ======================================================================================
 
 
-def _timed_cli(args, cwd) -> tuple[int, str, float]:
-    """Exit status, stderr and the CPU seconds (user + sys) of the CLI process."""
-    import resource
+def _cli_imports(args, cwd) -> tuple[int, str, set]:
+    """Exit status, stderr (without the import timings) and the modules imported by
+    a CLI process (``-X importtime``)."""
+    p = subprocess.run([sys.executable, "-X", "importtime", "-m", "drymount.cli",
+                        *map(str, args)], cwd=cwd, env=ENV, capture_output=True,
+                       text=True, timeout=120)
+    lines = p.stderr.splitlines()
+    modules = {ln.split("|")[-1].strip() for ln in lines
+               if ln.startswith("import time:")}
+    err = "\n".join(ln for ln in lines if not ln.startswith("import time:"))
+    return p.returncode, err, modules
 
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    p = subprocess.run([sys.executable, "-m", "drymount.cli", *map(str, args)],
-                       cwd=cwd, env=ENV, capture_output=True, text=True, timeout=120)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return p.returncode, p.stderr, cpu
+
+def _heavy(modules: set) -> list[str]:
+    return sorted(m for m in modules if m.split(".")[0] in HEAVY)
 
 
 @pytest.mark.parametrize("case", ["devnull", "dir", "empty", "under_file", "fifo",
@@ -164,7 +168,8 @@ def _timed_cli(args, cwd) -> tuple[int, str, float]:
                                   "fmu_zip_not_fmu"])
 def test_bad_paths_exit_2_before_computing(tmp_path, case):
     """The sweep asked for runs for minutes (2000 FMU points); a bad path must be
-    reported within a second, naming the path, with nothing written."""
+    reported before anything heavy is imported, naming the path, with nothing
+    written."""
     (tmp_path / "d").mkdir()
     (tmp_path / "f").write_text("a file")
     os.mkfifo(tmp_path / "fifo")
@@ -184,17 +189,19 @@ def test_bad_paths_exit_2_before_computing(tmp_path, case):
         "fmu_zip_not_fmu": (["--fmu", "other.fmu"], "modelDescription.xml"),
     }[case]
     before = sorted(p.name for p in tmp_path.iterdir())
-    code, err, elapsed = _timed_cli(base + extra, tmp_path)
+    code, err, modules = _cli_imports(base + extra, tmp_path)
     assert code == 2, err
     assert word in err, err
     assert "Traceback" not in err
-    assert elapsed < USAGE_ERROR_S, elapsed  # CPU seconds of the whole process
+    assert "drymount.cli" in modules or "drymount.cli_parser" in modules
+    assert not _heavy(modules), _heavy(modules)
     assert sorted(p.name for p in tmp_path.iterdir()) == before, "something was written"
     assert not (tmp_path / "typo.fmu").exists()
 
 
-def test_usage_errors_in_process_are_fast(tmp_path, capsys, monkeypatch):
-    """In-process (no interpreter start): within USAGE_ERROR_S of CPU, exit 2."""
+def test_usage_errors_in_process_exit_2(tmp_path, capsys, monkeypatch):
+    """In-process (no interpreter start): exit 2, nothing written (what they
+    import is guarded in a fresh process: test_start_up_imports_no_solver)."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "d").mkdir()
     (tmp_path / "f").write_text("a file")
@@ -207,12 +214,33 @@ def test_usage_errors_in_process_are_fast(tmp_path, capsys, monkeypatch):
                  ["study", "jump", "--quick", "--out", "f"],
                  ["demo", "--out", "/dev/null"],
                  ["validate", "--quick", "--out", "f/sub"]):
-        t0 = time.process_time()
         code, _, err = run(argv, capsys)
-        elapsed = time.process_time() - t0
         assert code == 2, (argv, err)
-        assert elapsed < USAGE_ERROR_S, (argv, elapsed)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["d", "f"]
+
+
+@pytest.mark.parametrize("argv, code", [
+    (["--help"], 0), (["--version"], 0), (["presets", "list"], 0),
+    *[([cmd, "--help"], 0) for cmd in (
+        "presets", "build-fmu", "export-ssp", "hbm", "cosim", "sweep", "validate",
+        "study", "demo", "fit", "characterise", "static", "explore", "optimize")],
+    (["hbm"], 2),  # missing CONFIG
+    (["hbm", "no_such_preset"], 2),
+    (["hbm", "sdof_halved", "--set", "mount.k1=-1"], 2),
+    (["hbm", "sdof_halved", "--harmonics", "200"], 2),
+    (["hbm", "sdof_halved", "--out", "/dev/null"], 2),
+    (["cosim", "sdof_halved", "--freq", "5", "--out", "/dev/null"], 2),
+    (["sweep", "sdof_halved", "--fmin", "5", "--fmax", "2"], 2),
+    (["demo", "--out", "/dev/null"], 2),
+])
+def test_start_up_imports_no_solver(argv, code, tmp_path):
+    """Help, listings and usage or configuration errors: no scipy, matplotlib or
+    numba loaded (issue 27 item 1; scipy.linalg came in through drymount.config ->
+    hbm.options -> hbm.continuation and cost 1.2 of 1.4 s CPU)."""
+    got, err, modules = _cli_imports(argv, tmp_path)
+    assert got == code, err
+    assert "Traceback" not in err
+    assert not _heavy(modules), _heavy(modules)
 
 
 @pytest.mark.parametrize("argv, limit", [
