@@ -58,8 +58,6 @@ def _finite_float(minimum: float | None = None, maximum: float | None = None,
 #: differential-evolution generations and population per variable.
 MAX_STEPS_PER_PERIOD = 65_536
 MAX_DURATION_S = 3_600.0
-MAX_MAXITER = 10_000
-MAX_POPSIZE = 1_000
 
 
 def _int_at_least(minimum: int, maximum: int | None = None):

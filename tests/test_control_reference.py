@@ -126,8 +126,8 @@ def _controller(name, system):
     if name == "growth":
         return vc.GrowthControl(N_ON, 0.0, contact=contact)
     if name == "skyhook":
-        return vc.SkyhookControl(N_ON, 0.0, contact=contact, velocity=vc.engine_velocity(
-            system, "mount", "axial"))
+        velocity = vc.engine_velocity(system, "mount", "axial")
+        return vc.SkyhookControl(N_ON, 0.0, contact=contact, velocity=velocity)
     return vc.ScheduledControl((1.0, 10.0), (N_ON, N_ON), signal=lambda t: FREQ)
 
 

@@ -163,8 +163,8 @@ class SwitchingControl:
         return (f"{type(self).__name__}(n_on={self.n_on!r}, n_off={self.n_off!r}, "
                 f"limits={self.limits!r})")
 
-    def signals(self, u: float, v: float, row, h: float) -> tuple[float, float, float | None,
-                                                         float | None]:
+    def signals(self, u: float, v: float, row, h: float
+                ) -> tuple[float, float, float | None, float | None]:
         """``(a, b, da/dt, db/dt)`` at the step; a rate None: from the history."""
         raise NotImplementedError
 
@@ -315,7 +315,8 @@ def engine_velocity(system, mount: str, axis: str) -> Callable:
     n, o = system.n_dof, 2 * sum(len(el.active_axes) for el in system.elements)
 
     def velocity(row, h: float) -> float:
-        return float(b @ row[o + n:o + 2 * n] + 0.5 * h * (b @ row[o + 2 * n:o + 3 * n]))
+        acc = b @ row[o + 2 * n:o + 3 * n]
+        return float(b @ row[o + n:o + 2 * n] + 0.5 * h * acc)
 
     return velocity
 

@@ -11,6 +11,10 @@ from pathlib import Path
 
 from drymount.cli_guard import check_out_dir
 
+#: Bounds of optimize's --maxiter and --popsize (listed in its --help).
+MAX_MAXITER = 10_000
+MAX_POPSIZE = 1_000
+
 __all__ = ["add_commands", "cmd_explore", "cmd_optimize"]
 
 
@@ -63,8 +67,6 @@ def add_commands(sub, add, config_arg, int_at_least) -> None:
                    help="output folder (default: optimize-<name>)")
     p.add_argument("--objective", default=None,
                    help="name of the objective to minimise (default: the first)")
-    from drymount.cli_parser import MAX_MAXITER, MAX_POPSIZE
-
     p.add_argument("--maxiter", type=int_at_least(1, MAX_MAXITER), default=30,
                    help=f"differential-evolution generations, 1..{MAX_MAXITER}")
     p.add_argument("--popsize", type=int_at_least(2, MAX_POPSIZE), default=10,
