@@ -40,6 +40,33 @@ class _HarmonicBalance(_types.ModuleType):
         return frequency_response(*args, **kwargs)
 
 
+def _source_tree_layers() -> None:
+    """In a source checkout that is not installed, find ``drymount.hbm`` (and the
+    other lower layers) in the folders beside ``drymount/``, as the build backend's
+    package-dir mapping does once installed. Appended last: an installed copy wins."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    layers = {f"drymount.{name}": root / name
+              for name in ("fmu_src", "fmu_build", "hbm", "vehicle")}
+    if not all((folder / "__init__.py").is_file() for folder in layers.values()):
+        return  # an installed wheel: the layers are inside drymount/
+
+    class _Layers:
+        @staticmethod
+        def find_spec(fullname, path=None, target=None):
+            folder = layers.get(fullname)
+            if folder is None:
+                return None
+            return importlib.util.spec_from_file_location(
+                fullname, folder / "__init__.py",
+                submodule_search_locations=[str(folder)])
+
+    sys.meta_path.append(_Layers)
+
+
 def _callable_hbm_package():
     import importlib
 
@@ -48,6 +75,7 @@ def _callable_hbm_package():
     return package
 
 
+_source_tree_layers()
 hbm = _callable_hbm_package()
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from matplotlib.figure import Figure
+Figure = pytest.importorskip("matplotlib.figure").Figure
 
 import drymount
 from drymount import cli
