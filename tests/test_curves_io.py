@@ -7,10 +7,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-Figure = pytest.importorskip("matplotlib.figure").Figure
 
 import drymount
 from drymount import cli
+
+Figure = pytest.importorskip("matplotlib.figure").Figure
 
 ROOT = Path(__file__).resolve().parents[1]
 
