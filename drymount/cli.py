@@ -283,11 +283,51 @@ def cmd_hbm(args) -> int:
                           f"without a fold)" for f, _, k in fr.sweep_jumps(direction)]
                 if events:
                     print(f"  a slow sweep {direction} " + "; then ".join(events))
+            _print_bifurcations(fr, args.config)
     if not fr.success:
         _err(f"harmonic balance did not complete: {fr.message}; the "
              f"{len(fr.freq_hz)} points computed so far are in {out}")
         return EXIT_FAILURE
     return EXIT_OK
+
+
+#: What each bifurcation kind (hbm.bifurcation) means for the steady state.
+_BIFURCATION_TEXT = {
+    "period-doubling": ("period doubling (a Floquet multiplier through -1)",
+                        "a motion of twice the period (or a cascade towards chaos)"),
+    "neimark-sacker": ("Neimark-Sacker bifurcation (a complex pair of Floquet "
+                       "multipliers through the unit circle)",
+                       "a quasi-periodic motion with a second frequency"),
+    "branch-point": ("branch point (a Floquet multiplier through +1 where the curve "
+                     "does not turn)", "another periodic solution, which this curve "
+                     "does not contain"),
+}
+
+
+def _print_bifurcations(fr, config: str) -> None:
+    """One line per located bifurcation that is not a fold, with what it means and
+    where the co-simulation shows the steady state the HBM cannot."""
+    for e in getattr(fr, "bifurcations", []):
+        what, instead = _BIFURCATION_TEXT[e.kind]
+        mu = "" if e.multiplier is None else f", multiplier {_complex(e.multiplier)}"
+        near = _unstable_frequency(fr, e)
+        print(f"  {what} at {e.freq_hz:.6f} Hz{mu}: on the unstable side the steady "
+              f"state is not this periodic solution but {instead}; `drymount cosim "
+              f"{config} --freq {near:.4g}` shows what happens instead")
+
+
+def _complex(z: complex) -> str:
+    return f"{z.real:.3g}" if abs(z.imag) < 1e-9 * abs(z) else \
+        f"{z.real:.3g}{z.imag:+.3g}i"
+
+
+def _unstable_frequency(fr, e) -> float:
+    """A curve frequency on the unstable side of the bifurcation ``e``."""
+    import numpy as np
+
+    st = np.asarray(fr.stable, bool)
+    i = min(max(e.index, 1), len(st) - 1)
+    return float(fr.freq_hz[i] if not st[i] else fr.freq_hz[i - 1])
 
 
 def _print_hbm_accuracy(fr) -> None:

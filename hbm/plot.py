@@ -56,11 +56,39 @@ def _ylabel(fr, quantity: str, name: str | None) -> str:
 
 def _values(fr, quantity: str, name: str | None):
     """Curve values and the values at the located folds."""
+    return _curve_values(fr, quantity, name), _event_values(fr.folds, quantity, fr,
+                                                            name)
+
+
+def _curve_values(fr, quantity: str, name: str | None) -> np.ndarray:
     if quantity == "transmissibility":
-        return fr.transmissibility, [e.transmissibility for e in fr.folds]
-    j = fr.dof_names.index(name)
+        return fr.transmissibility
     arr = fr.amplitude if quantity == "amplitude" else fr.peak
-    return arr[:, j], [getattr(e, quantity)[j] for e in fr.folds]
+    return arr[:, fr.dof_names.index(name)]
+
+
+def _event_values(events, quantity: str, fr, name: str | None) -> list:
+    if quantity == "transmissibility":
+        return [e.transmissibility for e in events]
+    j = fr.dof_names.index(name)
+    return [getattr(e, quantity)[j] for e in events]
+
+
+#: Marker and legend text of each bifurcation kind (hbm.bifurcation).
+BIFURCATION_MARKERS = {"period-doubling": ("s", "period doubling"),
+                       "neimark-sacker": ("D", "Neimark-Sacker"),
+                       "branch-point": ("^", "branch point")}
+
+
+def _plot_bifurcations(fr, ax, quantity: str, name: str | None, color) -> None:
+    """Mark each located bifurcation that is not a fold, one legend entry per kind."""
+    for kind, (marker, text) in BIFURCATION_MARKERS.items():
+        events = [e for e in getattr(fr, "bifurcations", []) if e.kind == kind]
+        if events:
+            ax.plot([e.freq_hz for e in events],
+                    _event_values(events, quantity, fr, name), marker, ms=7,
+                    mfc="none", mew=1.5, color=color,
+                    label=f"{text} (located to 1e-6 Hz)", ls="none")
 
 
 def plot_curve(fr, ax, quantity: str = "transmissibility", dof: str | None = None,
@@ -88,6 +116,7 @@ def plot_curve(fr, ax, quantity: str = "transmissibility", dof: str | None = Non
     if fr.folds:
         ax.plot([e.freq_hz for e in fr.folds], y_fold, "o", mfc="none", ms=7,
                 color=line.get_color(), label="folds (located to 1e-6 Hz)")
+    _plot_bifurcations(fr, ax, quantity, name, line.get_color())
     if jumps:
         fr._plot_jumps(ax, y)
     if logy and np.all(y[np.isfinite(y)] > 0):

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from drymount.hbm.bifurcation import Bifurcation, locate_bifurcations
 from drymount.hbm.continuation import Branch
 from drymount.hbm.folds import CurveEvent, locate_folds, locate_maximum, locate_peaks
 from drymount.hbm.options import HBMOptions
@@ -42,6 +43,24 @@ def _events(prob: _Problem, br: Branch, opts: HBMOptions, turning, located):
     return ([_marked(prob, e, opts.n_peak) for e in folds],
             [_marked(prob, e, opts.n_peak) for e in peaks],
             _transmissibility_peak(prob, br, settings, opts.n_peak))
+
+
+def _bifurcations(prob: _Problem, br: Branch, opts: HBMOptions, stable, turning
+                  ) -> list[MarkedPoint]:
+    """The changes of stability that are not folds, classified and located
+    (:mod:`hbm.bifurcation`), as marked points; none without tangents."""
+    if not br.tangent or len(br.tangent) != len(br.y) or len(stable) != len(br.y):
+        return []
+    found = locate_bifurcations(prob, br, stable, turning,
+                                opts.continuation_settings())
+    return [_marked_bifurcation(prob, b, opts.n_peak) for b in found]
+
+
+def _marked_bifurcation(prob: _Problem, b: Bifurcation, n_peak: int) -> MarkedPoint:
+    f, Xr, amp, trans = _point_quantities(prob, b.y)
+    return MarkedPoint(b.kind.value, float(f), None, b.index,
+                       amp, prob.hb.peak_abs(Xr.ravel(), n_peak), float(trans),
+                       b.converged, True, b.multiplier)
 
 
 #: Step along the unit tangent (scaled unknowns) of the central difference that gives
@@ -94,6 +113,8 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
     folds, peaks, t_peak = (_events(prob, br, opts, turning, located or {})
                             if events else ([], [], None))
+    bifurcations = (_bifurcations(prob, br, opts, stable, turning)
+                    if events and opts.stability else [])
     return FrequencyResponse(
         turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
@@ -104,6 +125,7 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         n_samples=0 if hb.closed_form else hb.n_samples, closed_form=hb.closed_form,
         floquet_max_real=fmr, newton_per_point=np.asarray(br.n_iter, dtype=int),
         system_name=sysm.name, folds=folds, peaks=peaks, transmissibility_peak=t_peak,
+        bifurcations=bifurcations,
         transmissibility_label=_transmissibility_label(sysm))
 
 

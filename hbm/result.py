@@ -43,6 +43,9 @@ class MarkedPoint:
         cubic-interpolation estimate (folds) or the largest curve point (peaks).
     interior : bool
         False for a peak at an end of the range (not an extremum).
+    multiplier : complex or None
+        For a bifurcation (``kind`` other than fold and peak): the critical Floquet
+        multiplier just past it, on the unstable side (None otherwise).
     """
 
     kind: str
@@ -54,6 +57,7 @@ class MarkedPoint:
     transmissibility: float
     converged: bool = True
     interior: bool = True
+    multiplier: complex | None = None
 
 
 def _landing(f, st, amp, i: int, sgn: float):
@@ -142,6 +146,12 @@ class FrequencyResponse:
         Whether the error estimate met ``HBMOptions.tol / 2`` (None: not asked).
     transmissibility_label : str
         What ``transmissibility`` is (its definition), for plots.
+    bifurcations : list of MarkedPoint
+        Every change of stability that is not a fold, classified from the critical
+        Floquet multiplier (:mod:`hbm.bifurcation`): ``kind`` ``"period-doubling"``
+        (through -1), ``"neimark-sacker"`` (a complex pair) or ``"branch-point"``
+        (through +1 where the curve does not turn), located to 1e-6 Hz like the folds
+        (every fold is itself the bifurcation of a multiplier through +1).
     restarts : tuple of hbm.segments.Restart
         ``(freq_hz, reason)`` of every restart (``HBMOptions.max_restarts``): the
         curve is in ``len(restarts) + 1`` segments separated by one gap row each
@@ -178,6 +188,7 @@ class FrequencyResponse:
     error_reference: str = ""
     tol_met: bool | None = None
     transmissibility_label: str = ""
+    bifurcations: list = field(default_factory=list)
 
     def __post_init__(self):
         nan = np.full(self.freq_hz.size, np.nan)
@@ -205,6 +216,14 @@ class FrequencyResponse:
                 return fo.freq_hz
         return None
 
+    def bifurcation_freq_at(self, i: int, j: int) -> float | None:
+        """The located bifurcation between neighbouring points i and j, Hz (None if
+        none)."""
+        k = max(i, j)
+        for b in self.bifurcations:
+            if b.index == k:
+                return b.freq_hz
+        return None
 
     def transmissibility_max(self) -> tuple[float, float]:
         """``(freq_hz, transmissibility)`` of the transmissibility's peak: the
@@ -257,7 +276,8 @@ class FrequencyResponse:
         -------
         list of ``(freq_hz, from_index, to_index)``
             ``freq_hz`` is the located fold frequency (``folds``) where the sweep
-            jumps at a fold, else the frequency of the last point before the jump.
+            jumps at a fold, the located bifurcation (``bifurcations``) where it
+            leaves the curve at one, else the frequency of the last point before.
             ``to_index`` is -1 where the solution loses stability away from a fold
             (a bifurcation, e.g. symmetry breaking, onto a solution the curve does not
             contain): the sweep leaves the curve there and the walk ends. The walk
@@ -296,7 +316,8 @@ class FrequencyResponse:
             if sgn * (f[j] - f[i]) >= 0 and not near_fold:
                 # stability lost away from a fold: a bifurcation onto a solution
                 # this curve does not contain; the sweep leaves the curve
-                jumps.append((float(f[i]), i, -1))
+                f_bif = self.bifurcation_freq_at(i, j)
+                jumps.append((float(f[i]) if f_bif is None else f_bif, i, -1))
                 break
             # a fold: the solution ends here; land on another stable part
             best = _landing(f, st, amp, i, sgn)
@@ -331,10 +352,12 @@ class FrequencyResponse:
         return root + "_events.csv"
 
     def events_to_csv(self, path: str | os.PathLike) -> None:
-        """Write the located folds and peaks: ``kind, dof, freq_hz, after_row,
-        converged, <dof>_amp, <dof>_peak, ..., transmissibility``; ``after_row`` is
-        the 0-based data row of the curve CSV the event follows. The
-        transmissibility's peak is the row with ``dof`` = ``transmissibility``."""
+        """Write the located folds, bifurcations and peaks: ``kind, dof, freq_hz,
+        after_row, converged, <dof>_amp, <dof>_peak, ..., transmissibility``;
+        ``after_row`` is the 0-based data row of the curve CSV the event follows.
+        The transmissibility's peak is the row with ``dof`` = ``transmissibility``;
+        the bifurcations (:attr:`bifurcations`) are the rows of kind
+        ``period-doubling``, ``neimark-sacker`` and ``branch-point``."""
         cols = ["kind", "dof", "freq_hz", "after_row", "converged"]
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
@@ -342,7 +365,10 @@ class FrequencyResponse:
         from drymount.hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(f"# drymount HBM {self.system_name}: folds (extremum of the "
-                     f"frequency along the curve), each DOF's resonance peak "
+                     f"frequency along the curve; Floquet multiplier +1), the "
+                     f"other changes of stability (period-doubling: multiplier -1; "
+                     f"neimark-sacker: a complex pair; branch-point: +1 without a "
+                     f"fold), each DOF's resonance peak "
                      f"(extremum of its fundamental amplitude) and the "
                      f"transmissibility's (dof = transmissibility), located to "
                      f"1e-6 Hz; "
@@ -350,7 +376,9 @@ class FrequencyResponse:
             fh.write(",".join(cols) + "\n")
             t_peak = [] if self.transmissibility_peak is None else [
                 self.transmissibility_peak]
-            for e in list(self.folds) + list(self.peaks) + t_peak:
+            events = (list(self.folds) + list(self.bifurcations) + list(self.peaks)
+                      + t_peak)
+            for e in events:
                 dof = e.dof or ("transmissibility" if e is self.transmissibility_peak
                                 else "")
                 vals = [e.kind, dof, f"{e.freq_hz:.10f}", str(e.index - 1),

@@ -59,6 +59,7 @@ def clip(fr: FrequencyResponse, fmin: float, fmax: float) -> FrequencyResponse:
         fr, **{k: _points(fr, k)[keep] for k in _POINT_FIELDS},
         turning_points=tps, turning_freq_hz=fold,
         folds=_moved(fr.folds, keep, new_index),
+        bifurcations=_moved(fr.bifurcations, keep, new_index),
         peaks=_moved(fr.peaks, keep, new_index))
 
 
@@ -114,6 +115,9 @@ def join(parts: list[FrequencyResponse], restarts: list[Restart], fmax: float
         tps += [n + int(t) for t in fr.turning_points]
         n += len(fr.freq_hz)
     folds, peaks = _joined_events(parts, offsets)
+    bifurcations = [dataclasses.replace(e, index=e.index + n)
+                    for fr, n in zip(parts, offsets, strict=True)
+                    for e in fr.bifurcations]
     last = parts[-1]
     reached = bool(len(last.freq_hz)) and \
         float(np.max(last.freq_hz)) >= fmax * (1 - BAND_RTOL)
@@ -127,5 +131,5 @@ def join(parts: list[FrequencyResponse], restarts: list[Restart], fmax: float
         success=success, status=Status.DONE if success else last.status,
         message=message, n_newton=sum(p.n_newton for p in parts),
         n_steps=sum(p.n_steps for p in parts), restarts=tuple(restarts),
-        folds=folds, peaks=peaks,
+        folds=folds, peaks=peaks, bifurcations=bifurcations,
         turning_points_merged=sum(p.turning_points_merged for p in parts))

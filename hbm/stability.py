@@ -33,6 +33,9 @@ from drymount.hbm.residual import HarmonicBalance
 #: A Floquet exponent counts as unstable above RTOL * omega (round-off of the
 #: eigenvalues of neutral exponents).
 RTOL = 1e-7
+#: Half-width of the edge of the fundamental strip, relative to omega
+#: (:func:`_selected`).
+EDGE = 0.05
 #: :func:`hill_verdict` solves again at ARPACK's tight tolerance when the largest real
 #: part is within GUARD * TOL * (largest modulus of the exponents) of the threshold
 #: (an eigenvalue error of up to GUARD times the Ritz residual bound).
@@ -65,16 +68,33 @@ def hill_eigenvalues(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.nda
     return scipy.linalg.eigvals(A, check_finite=False, overwrite_a=True)
 
 
-def _selected(lam: np.ndarray, n: int) -> np.ndarray:
-    """The 2 n eigenvalues of smallest imaginary part: the Floquet exponents."""
-    order = np.argsort(np.abs(lam.imag), kind="stable")
-    return lam[order[: 2 * n]]
+def _selected(lam: np.ndarray, n: int, omega: float) -> np.ndarray:
+    """The Floquet exponents: the 2 n eigenvalues of smallest imaginary part, and
+    every eigenvalue at the edge ``|Im| = omega / 2`` of the fundamental strip (within
+    ``EDGE * omega``) when the 2 n reach it.
+
+    A negative real Floquet multiplier (period doubling) has its exponent on the edge,
+    ``a + i omega / 2``, and Hill's matrix holds it twice, as ``a + i omega / 2`` and
+    its copy ``a - i omega / 2`` (a conjugate pair). Two negative multipliers thus give
+    four eigenvalues of the same imaginary part for two places: the cut at 2 n kept
+    one exponent twice and dropped the other (on the thesis's cubic mount under
+    gravity, multipliers -1.02 and -0.84 gave the verdict stable). Keeping the whole
+    edge keeps both; a copy only repeats an exponent, which does not change the
+    largest real part."""
+    mag = np.abs(lam.imag)
+    order = np.argsort(mag, kind="stable")
+    chosen = np.zeros(lam.size, dtype=bool)
+    chosen[order[: 2 * n]] = True
+    if lam.size > 2 * n and mag[order[2 * n - 1]] >= (0.5 - EDGE) * omega:
+        chosen |= (mag >= (0.5 - EDGE) * omega) & (mag <= (0.5 + EDGE) * omega)
+    return lam[chosen]
 
 
 def floquet_exponents(hb: HarmonicBalance, J: np.ndarray, omega: float) -> np.ndarray:
-    """Approximate Floquet exponents (2 n,) in 1/s from Hill's matrix (parameters as
-    :func:`hill_eigenvalues`)."""
-    return _selected(hill_eigenvalues(hb, J, omega), hb.n)
+    """Approximate Floquet exponents in 1/s from Hill's matrix (parameters as
+    :func:`hill_eigenvalues`): 2 n of them, more where some sit at the edge
+    ``|Im| = omega / 2`` of the strip (:func:`_selected`)."""
+    return _selected(hill_eigenvalues(hb, J, omega), hb.n, omega)
 
 
 class Stability(NamedTuple):
@@ -89,7 +109,7 @@ def stability_of(lam: np.ndarray, n: int, omega: float,
                  rtol: float = RTOL) -> Stability:
     """The verdict from all of Hill's eigenvalues ``lam``: unstable if a Floquet
     exponent has a real part above ``rtol * omega``."""
-    mr = float(np.max(_selected(lam, n).real))
+    mr = float(np.max(_selected(lam, n, omega).real))
     return Stability(mr <= rtol * omega, mr)
 
 
@@ -128,7 +148,7 @@ def hill_verdict(hb: HarmonicBalance, J: np.ndarray, omega: float, rtol: float =
     lam = central_eigenvalues(hb, J, omega, lu)
     if lam is not None:
         st = stability_of(lam, hb.n, omega, rtol)
-        bound = GUARD * TOL * float(np.max(np.abs(_selected(lam, hb.n))))
+        bound = GUARD * TOL * float(np.max(np.abs(_selected(lam, hb.n, omega))))
         if abs(st.max_real - rtol * omega) > bound:
             return HillVerdict(st.stable, st.max_real, Method.ARNOLDI)
         lam = central_eigenvalues(hb, J, omega, lu, tol=TOL_TIGHT)
