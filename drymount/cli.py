@@ -48,6 +48,7 @@ from drymount.cli_guard import (
     UsageError,
     events_sibling,
     fmu_path,
+    sibling,
     interrupted,
     outputs,
     partial_on_stop,
@@ -248,6 +249,8 @@ def cmd_hbm(args) -> int:
                          f"(the configuration's limit on H), got {args.max_harmonics}")
     out = outputs(args, cfg, "hbm")
     events = events_sibling(out)
+    backbone = (sibling(out, "_backbone.csv", "backbone file") if args.backbone
+                else None)
     import drymount.hbm as hbm
 
     try:
@@ -265,8 +268,9 @@ def cmd_hbm(args) -> int:
     _write_with(events, fr.events_to_csv)
     _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {fr.harmonics}, "
           f"N = {fr.n_samples or 'closed forms'}) and {events} (folds and peaks)")
+    modes = _write_backbone(cfg, fr, opts, backbone) if backbone else None
     if args.plot is not None:
-        _write_with(args.plot, lambda p: fr.plot(path=p, logx=args.log_freq))
+        _write_with(args.plot, lambda p: _plot_hbm(fr, p, args.log_freq, modes))
         _info(f"wrote {args.plot}")
     _print_hbm_accuracy(fr)
     if len(fr.freq_hz):
@@ -289,6 +293,32 @@ def cmd_hbm(args) -> int:
              f"{len(fr.freq_hz)} points computed so far are in {out}")
         return EXIT_FAILURE
     return EXIT_OK
+
+
+def _write_backbone(cfg, fr, opts, path):
+    """The backbones of the modes near the band (:mod:`drymount.backbone`), written
+    to ``path``; None (with a note) when there is none to trace."""
+    from drymount.backbone import backbones
+
+    try:
+        with partial_on_stop(path, "backbone points"):
+            modes = backbones(cfg.system, fr, opts)
+    except ValueError as exc:
+        _info(f"no backbone: {exc}")
+        return None
+    _write_with(path, modes.to_csv)
+    _info(f"wrote {path} (backbones of mode(s) "
+          f"{', '.join(f'{m.index} ({m.label})' for m in modes.modes)})")
+    return modes
+
+
+def _plot_hbm(fr, path, logx: bool, modes) -> None:
+    if modes is None:
+        fr.plot(path=path, logx=logx)
+        return
+    from drymount.hbm.plot import plot_figure
+
+    plot_figure(fr, path, logx=logx, backbones=modes)
 
 
 #: What each bifurcation kind (hbm.bifurcation) means for the steady state.

@@ -217,14 +217,20 @@ def _check_default_out(path: Path) -> Path:
 
 def events_sibling(out: Path) -> Path:
     """``<out stem>_events.csv`` beside ``hbm``'s CSV (FrequencyResponse.events_path),
-    checked before computing. The user did not name it: like a default output, an
-    existing file there is replaced only when drymount wrote it."""
+    checked before computing (:func:`sibling`)."""
+    return sibling(out, "_events.csv", "folds-and-peaks file")
+
+
+def sibling(out: Path, suffix: str, what: str) -> Path:
+    """``<out stem><suffix>`` beside ``out``, checked before computing. The user did
+    not name it: like a default output, an existing file there is replaced only when
+    drymount wrote it."""
     import os
 
     root, _ = os.path.splitext(os.fspath(out))
-    path = check_out(Path(root + "_events.csv"), "--out")
+    path = check_out(Path(root + suffix), "--out")
     if path.exists() and not _written_by_drymount(path):
-        raise UsageError(f"--out: the folds-and-peaks file {str(path)!r} written "
+        raise UsageError(f"--out: the {what} {str(path)!r} written "
                          f"beside "
                          f"{str(out)!r} exists and was not written by drymount (its "
                          f"first line does not start with '# drymount'); choose "

@@ -284,6 +284,11 @@ def _cmd_hbm(sub) -> None:
                    help="CSV file to write (default: <name>_hbm.csv)")
     p.add_argument("--plot", type=_path, default=None,
                    help="plot file to write (.png, .pdf, .svg)")
+    p.add_argument("--backbone", action="store_true",
+                   help="also trace the nonlinear modes near the band (EPMC, as "
+                        "drymount modes) over the curve's amplitudes: written to "
+                        "<out stem>_backbone.csv and drawn on the DOF amplitude "
+                        "panels of --plot; the peaks of forced curves lie on them")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar")
     _hbm_accuracy_args(p)
 

@@ -131,24 +131,42 @@ def plot_curve(fr, ax, quantity: str = "transmissibility", dof: str | None = Non
     return ax
 
 
+def plot_backbones(ax, modes, dof: str, fmin_hz: float, fmax_hz: float) -> None:
+    """Draw each nonlinear mode's backbone (:class:`hbm.modes.NonlinearModes`): the
+    fundamental amplitude of ``dof`` against the mode's frequency, within the band."""
+    j = modes.dof_names.index(dof)
+    for k, mode in enumerate(modes.modes):
+        f, a = mode.freq_hz, mode.dof_amplitude[:, j]
+        inside = (f >= fmin_hz) & (f <= fmax_hz)
+        if np.any(inside):
+            ax.plot(np.where(inside, f, np.nan), a, "-.", lw=1.2, color=f"C{k + 3}",
+                    label=f"backbone, mode {mode.index} ({mode.label})")
+    ax.legend(fontsize="small")
+
+
 def plot_figure(fr, path: str | os.PathLike | None = None, logx: bool = False,
-                logy: bool = True):
+                logy: bool = True, backbones=None):
     """The transmissibility and, for several DOFs, each DOF's amplitude in its own
     panel; titled with the system and H/N. Saved to ``path`` if given. Returns the
-    figure."""
+    figure. ``backbones`` (:class:`hbm.modes.NonlinearModes`): drawn on every DOF's
+    amplitude panel (a single DOF then gets one too, :func:`plot_backbones`)."""
     from matplotlib.figure import Figure
 
     n = len(fr.dof_names)
-    panels = 1 if n == 1 else n + 1
+    panels = 1 if n == 1 and backbones is None else n + 1
     cols = 1 if panels == 1 else 2
     rows = (panels + cols - 1) // cols
     fig = Figure(figsize=(7 * cols, 4.2 * rows), layout="constrained")
     axes = [fig.add_subplot(rows, cols, k + 1) for k in range(panels)]
     plot_curve(fr, axes[0], "transmissibility", logy=logy, logx=logx)
     axes[0].set_title("transmissibility")
-    for k, name in enumerate(fr.dof_names if n > 1 else ()):
+    for k, name in enumerate(fr.dof_names if panels > 1 else ()):
         plot_curve(fr, axes[k + 1], "amplitude", dof=name, logy=logy, logx=logx,
                    jumps=False)
+        if backbones is not None:
+            f = fr.freq_hz[np.isfinite(fr.freq_hz)]
+            plot_backbones(axes[k + 1], backbones, name, float(f.min()),
+                           float(f.max()))
         axes[k + 1].set_title(f"DOF {name}")
     fig.suptitle(title(fr))
     if path is not None:
