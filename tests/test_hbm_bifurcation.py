@@ -169,3 +169,27 @@ def test_the_cli_summary_says_the_steady_state_is_not_periodic(tmp_path, capsys)
     assert len(lines) == 2, out
     assert all("not this periodic solution" in ln and "drymount cosim" in ln
                for ln in lines)
+
+
+@pytest.mark.slow
+def test_the_six_dof_neimark_sacker_leaves_the_periodic_branch_in_cosimulation(
+        tmp_path):
+    """six_dof_halved: HBM says the resonant branch loses stability through a complex
+    pair at 9.49 Hz; a stepped co-simulation sweep up that branch is periodic at 9.4 Hz
+    and not periodic (not converged) at 9.5-9.8 Hz."""
+    from drymount.cli import main
+
+    out = tmp_path / "sweep.csv"
+    main(["sweep", "six_dof_halved", "--fmin", "5", "--fmax", "9.8", "--points", "49",
+          "--direction", "up", "--backend", "native", "--quiet", "--out", str(out)])
+    lines = out.read_text(encoding="utf-8").splitlines()
+    cols = lines[1].split(",")
+    rows = {round(float(r.split(",")[0]), 6): r.split(",") for r in lines[2:]
+            if not r.startswith("#")}
+    conv = cols.index("converged")
+    assert all(rows[round(f, 6)][conv] == "1" for f in np.arange(9.0, 9.41, 0.1))
+    assert all(rows[round(f, 6)][conv] == "0" for f in np.arange(9.5, 9.81, 0.1))
+    fr = drymount.hbm("six_dof_halved", 2.0, 10.5, harmonics=5, n_samples=128,
+                      progress=False).result
+    ns = [b.freq_hz for b in fr.bifurcations if b.kind == "neimark-sacker"]
+    assert len(ns) == 1 and 9.4 < ns[0] < 9.5, fr.bifurcations
