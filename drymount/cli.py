@@ -269,6 +269,8 @@ def cmd_hbm(args) -> int:
         _write_with(args.plot, lambda p: fr.plot(path=p, logx=args.log_freq))
         _info(f"wrote {args.plot}")
     _print_hbm_accuracy(fr)
+    if fr.family_summary():
+        print(f"  {fr.family_summary()}")
     if len(fr.freq_hz):
         import numpy as np
 

@@ -8,6 +8,7 @@ import numpy as np
 
 from drymount.hbm.continuation import Branch
 from drymount.hbm.folds import CurveEvent, locate_folds, locate_maximum, locate_peaks
+from drymount.hbm.inclined import stuck_codes
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.problem import _amplitude_fn, _point_quantities, _Problem, _to_hz
 from drymount.hbm.result import FrequencyResponse, MarkedPoint
@@ -94,6 +95,8 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         stable[:], fmr[:] = _stability(prob, ys, br, opts.stability_stride)
     folds, peaks, t_peak = (_events(prob, br, opts, turning, located or {})
                             if events else ([], [], None))
+    # which surfaces of each inclined element stick for the whole period (a family)
+    stuck = stuck_codes(hb, coef) if events else None
     return FrequencyResponse(
         turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
@@ -104,7 +107,9 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         n_samples=0 if hb.closed_form else hb.n_samples, closed_form=hb.closed_form,
         floquet_max_real=fmr, newton_per_point=np.asarray(br.n_iter, dtype=int),
         system_name=sysm.name, folds=folds, peaks=peaks, transmissibility_peak=t_peak,
-        transmissibility_label=_transmissibility_label(sysm))
+        transmissibility_label=_transmissibility_label(sysm),
+        stuck=stuck, stuck_labels=tuple(hb.axes.labels[a] for a, _ in
+                                        hb.axes.inclined))
 
 
 def _transmissibility_label(sysm: System) -> str:
