@@ -27,6 +27,15 @@ compared because a Jenkins element that never slips keeps whatever slider offset
 start-up left (PHYSICS.md section 1): HBM starts the slider at zero, the time
 simulation keeps its history, and only the offset differs.
 
+The inclined element's family bands (``Case.family_hz``): where one of its surfaces
+sticks for the whole period the periodic state is a family and the member depends on
+the history, so the sweep's co-simulation need not be on the HBM's member. At those
+frequencies the HBM orbit is co-simulated twice, started on the orbit (DOFs and the
+element's sliders at phase 0, :func:`vehicle.steady.orbit_start`; in-process
+backend) and at rest; the first must stay within ``TOL_FAMILY_ORBIT`` of the orbit
+(it counts toward the case's pass), the second's spread is reported (rows with
+direction ``orbit`` and ``rest`` in ``points.csv``, a table in the report).
+
 Outputs in ``--out`` (default ``validation/``): ``validation.md`` (the report),
 ``points.csv`` (every point), one PNG per system. Exit status 0 when every system
 passes, 1 otherwise.
