@@ -136,7 +136,9 @@ CASES = (
          family_hz=(5.5, 9.0)),
     # ... and on the quarter car (road input, the weight of the bodies): measured
     # 0.25 % of peak (engine at 9 Hz, where its stick-slip pattern changes), 13 s.
-    Case("quarter_car_inclined", "quarter_car_inclined", 1.0, 16.0),
+    # The flat surface sticks for the whole period at 8.5-9 Hz (HBM H = 7, N = 64):
+    # from the orbit and from rest both within 0.07 % of the local amplitude there.
+    Case("quarter_car_inclined", "quarter_car_inclined", 1.0, 16.0, family_hz=(9.0,)),
 )
 
 
