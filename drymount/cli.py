@@ -273,6 +273,8 @@ def cmd_hbm(args) -> int:
         _write_with(args.plot, lambda p: _plot_hbm(fr, p, args.log_freq, modes))
         _info(f"wrote {args.plot}")
     _print_hbm_accuracy(fr)
+    if fr.family_summary():
+        print(f"  {fr.family_summary()}")
     if len(fr.freq_hz):
         import numpy as np
 

@@ -45,6 +45,40 @@ def _loads(specs, dof_names) -> np.ndarray:
     return f
 
 
+def _print_inclined_readings(system, load, relaxed) -> None:
+    """With inclined elements: both readings of the working point (relaxed, the
+    one written and run about, and lowered onto the assembled mount) and the
+    admissible range of each inclined axis (hbm.static; docs/physics.md)."""
+    from drymount.fmu_src.inclined import axis_normal_forces, relaxed_state
+    from drymount.hbm.static import admissible_range, lowered_equilibrium
+
+    ranges = admissible_range(system, load)
+    if not ranges:
+        return
+    lowered = lowered_equilibrium(system, load)
+    print(f"  inclined element: two readings of the working point (the HBM and "
+          f"co-simulation run about the relaxed one); lowered "
+          f"{lowered.status.value} in {lowered.iterations} Newton steps")
+    for r in ranges:
+        e = system.elements[r.element]
+        p = e.params.axes[r.axis]
+        q = p.element_params
+        for name, pt, state in (
+                ("relaxed", relaxed, relaxed_state(q, relaxed.deflection[r.element,
+                                                                          r.axis])),
+                ("lowered", lowered, None if lowered.states is None else
+                 lowered.states.get((r.element, r.axis)))):
+            u = pt.deflection[r.element, r.axis]
+            f_el = pt.force[r.element, r.axis] - p.elastic_force(u, p)[0]
+            n1 = "" if state is None else \
+                f", N = {axis_normal_forces(state, q)[0]:.2f} N"
+            print(f"  {e.name:<8} {AXES[r.axis]:<8} {name:<7} deflection "
+                  f"{u * 1e3:9.4f} mm  element force {f_el:9.2f} N{n1}")
+        print(f"  {e.name:<8} {AXES[r.axis]:<8} admissible static deflections "
+              f"{r.low * 1e3:.4f} to {r.high * 1e3:.4f} mm (each surface within its "
+              f"friction limit; the history decides)")
+
+
 def main(args) -> int:
     """Run ``drymount static`` (CLI arguments in ``args``); the exit status."""
     from drymount.paths import load_with_overrides
@@ -86,6 +120,7 @@ def main(args) -> int:
             rows.append((e.name, AXES[j], u, F, past, beyond))
             print(f"  {e.name:<8} {AXES[j]:<8} deflection {u * 1e3:9.4f} mm  force "
                   f"{F:10.2f} N")
+    _print_inclined_readings(system, load, point)
     warnings = knee_warnings(system, point, travel)
     for w in warnings:
         print(f"  warning: {w}")

@@ -30,17 +30,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drymount.fmu_src.inclined import (InclinedParameters, inclined_update,
-                                       relaxed_state, step_derivatives)
+from drymount.fmu_src.inclined import (InclinedParameters, InclinedState,
+                                       inclined_update, relaxed_state,
+                                       step_derivatives)
 
 __all__ = ["PeriodicElement", "inclined_periodic", "inclined_aft",
-           "normal_force_range"]
+           "normal_force_range", "STUCK_INCLINED", "STUCK_FLAT", "stuck_codes",
+           "orbit_element_states"]
 
 #: passes of the periodic march before it gives up (sliders repeat after two or three)
 MAX_PASSES = 20
 #: sliders repeat when they change by less than this times the largest |u| of the
 #: period (m/m) over a pass
 REPEAT_TOL = 1e-13
+#: a surface sticks for the whole period when its slider moves by less than this
+#: times the largest |u| of the period (m/m) over the last pass
+STUCK_TOL = 1e-9
+#: bits of :attr:`PeriodicElement.stuck_code`: the inclined surface (1) or the flat
+#: surface (2) sticks for the whole period (3: both, the element is linear)
+STUCK_INCLINED, STUCK_FLAT = 1, 2
 
 
 @dataclass(frozen=True)
@@ -50,7 +58,8 @@ class PeriodicElement:
     ``force`` the axis force (N, = -N2), ``n1``, ``n2`` the normal forces N and N2
     (N); ``dforce`` (N, 2H+1) its derivative with respect to the deflection
     coefficients (N/m; None without the Jacobian); ``passes`` marched and whether the
-    sliders repeated (``converged``)."""
+    sliders repeated (``converged``); ``w1``, ``w2`` the sliders (m, element
+    coordinates) after each sample of the last pass, ``u`` the samples (m)."""
 
     force: np.ndarray
     n1: np.ndarray
@@ -58,6 +67,27 @@ class PeriodicElement:
     dforce: np.ndarray | None
     passes: int
     converged: bool
+    w1: np.ndarray | None = None
+    w2: np.ndarray | None = None
+    u: np.ndarray | None = None
+
+    @property
+    def stuck_code(self) -> int:
+        """Which surfaces stick for the whole period: ``STUCK_INCLINED`` (1),
+        ``STUCK_FLAT`` (2), both (3) or none (0). Where exactly one sticks the
+        periodic state is a family (its stuck slider is any value of an interval,
+        fixed by the history) and this orbit is one member of it."""
+        tol = STUCK_TOL * (float(np.max(np.abs(self.u))) + 1e-12)
+        code = 0
+        for bit, w in ((STUCK_INCLINED, self.w1), (STUCK_FLAT, self.w2)):
+            if float(np.ptp(w)) <= tol:
+                code |= bit
+        return code
+
+    def state_at(self, k: int) -> InclinedState:
+        """The element's committed state after sample ``k`` of the periodic orbit
+        (the state a time simulation started on the orbit at that phase needs)."""
+        return InclinedState(float(self.w1[k]), float(self.w2[k]), float(self.u[k]))
 
 
 def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0,
@@ -82,6 +112,8 @@ def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0
     dforce = np.empty((n, m)) if jac else None
     n1 = np.empty(n)
     n2 = np.empty(n)
+    w1s = np.empty(n)
+    w2s = np.empty(n)
     scale = REPEAT_TOL * (max(abs(v) for v in us) + 1e-12)
     converged, passes = False, 0
     for passes in range(1, MAX_PASSES + 1):
@@ -99,11 +131,13 @@ def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0
             w1, w2, x_old = st.w1, st.w2, x
             force[i] = -st.force
             n1[i], n2[i] = st.n1, st.n2
+            w1s[i], w2s[i] = w1, w2
         if passes > 1 and abs(w1 - w_begin[0]) <= scale \
                 and abs(w2 - w_begin[1]) <= scale:
             converged = True
             break
-    return PeriodicElement(force, n1, n2, dforce, passes, converged)
+    return PeriodicElement(force, n1, n2, dforce, passes, converged, w1s, w2s,
+                           np.asarray(u, dtype=float).copy())
 
 
 def inclined_aft(u: np.ndarray, ax, basis, jacobian: bool):
@@ -139,3 +173,38 @@ def normal_force_range(u: np.ndarray, p: InclinedParameters, w_start: float = 0.
     return (float(el.n1.min()), float(el.n1.max()), float(el.n2.min()),
             float(el.n2.max()))
 
+
+
+def _orbit_elements(hb, X: np.ndarray) -> list:
+    """``[(a, PeriodicElement)]`` of the inclined axes of the HBM problem ``hb``
+    (:class:`hbm.residual.HarmonicBalance`) on the solution ``X`` (m n,)."""
+    ax = hb.axes
+    if not ax.inclined:
+        return []
+    u = hb.basis.E @ hb.axis_coefficients(np.asarray(X, dtype=float))
+    return [(a, inclined_periodic(u[:, a], p, float(ax.w_start[a])))
+            for a, p in ax.inclined]
+
+
+def stuck_codes(hb, coefficients: np.ndarray) -> np.ndarray | None:
+    """Per point and inclined axis, which surfaces stick for the whole period
+    (:attr:`PeriodicElement.stuck_code`), shape (n_points, n_inclined); None without
+    inclined axes. ``coefficients`` (n_points, n, 2H+1) as
+    :attr:`hbm.result.FrequencyResponse.coefficients` (NaN rows: gaps, code 0)."""
+    if not hb.axes.inclined:
+        return None
+    out = np.zeros((len(coefficients), len(hb.axes.inclined)), dtype=int)
+    for i, c in enumerate(coefficients):
+        if not np.all(np.isfinite(c)):
+            continue
+        for k, (_, el) in enumerate(_orbit_elements(hb, np.asarray(c).T.ravel())):
+            out[i, k] = el.stuck_code
+    return out
+
+
+def orbit_element_states(hb, X: np.ndarray) -> dict:
+    """The inclined elements' states at phase 0 of the HBM orbit ``X`` (m n,):
+    ``{(element index, axis index): InclinedState}`` after the first sample of the
+    periodic march (the orbit's deflection at t = 0), what a time simulation started
+    on the orbit needs besides the DOFs (:mod:`vehicle.steady`)."""
+    return {hb.axes.index[a]: el.state_at(0) for a, el in _orbit_elements(hb, X)}

@@ -5,6 +5,8 @@ located folds marked, predicted sweep jumps as arrows); :func:`plot_figure` make
 figure of ``drymount hbm --plot``: titled with the system and H/N, the
 transmissibility (its definition in the y label) and, for a multi-DOF system, one
 panel per DOF with its fundamental amplitude (as the thesis's Figs. 4.11-4.16).
+Where a surface of an inclined element sticks for the whole period the band is
+shaded grey (:func:`shade_family`): the curve there is one member of a family.
 """
 
 from __future__ import annotations
@@ -13,7 +15,8 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_curve", "plot_figure", "dof_unit", "title", "plain_log_ticks"]
+__all__ = ["plot_curve", "plot_figure", "dof_unit", "title", "plain_log_ticks",
+           "shade_family"]
 
 #: DOF names measured in rad (rotations of the rigid engine); the others in m.
 ROTATIONS = ("alpha", "beta", "gamma", "phi", "theta", "psi")
@@ -119,6 +122,7 @@ def plot_curve(fr, ax, quantity: str = "transmissibility", dof: str | None = Non
     _plot_bifurcations(fr, ax, quantity, name, line.get_color())
     if jumps:
         fr._plot_jumps(ax, y)
+    shade_family(fr, ax)
     if logy and np.all(y[np.isfinite(y)] > 0):
         ax.set_yscale("log")
     if logx:
@@ -142,6 +146,30 @@ def plot_backbones(ax, modes, dof: str, fmin_hz: float, fmax_hz: float) -> None:
             ax.plot(np.where(inside, f, np.nan), a, "-.", lw=1.2, color=f"C{k + 3}",
                     label=f"backbone, mode {mode.index} ({mode.label})")
     ax.legend(fontsize="small")
+
+
+def shade_family(fr, ax) -> None:
+    """Shade the frequencies where a surface of an inclined element sticks for the
+    whole period (:attr:`hbm.result.FrequencyResponse.family`): there the curve is
+    one member of a family of periodic states (edges half-way to the neighbours)."""
+    fam = np.asarray(fr.family, bool) if getattr(fr, "stuck_labels", ()) else ()
+    if not np.any(fam):
+        return
+    f = np.asarray(fr.freq_hz, float)
+    label = "one surface stuck: one member of a family"
+    i, n = 0, f.size
+    while i < n:
+        if not fam[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and fam[j + 1]:
+            j += 1
+        lo = f[i] if i == 0 else 0.5 * (f[i - 1] + f[i])
+        hi = f[j] if j == n - 1 else 0.5 * (f[j] + f[j + 1])
+        ax.axvspan(min(lo, hi), max(lo, hi), color="0.85", zorder=0, label=label)
+        label = None
+        i = j + 1
 
 
 def plot_figure(fr, path: str | os.PathLike | None = None, logx: bool = False,

@@ -9,6 +9,7 @@ import numpy as np
 from drymount.hbm.bifurcation import Bifurcation, locate_bifurcations
 from drymount.hbm.continuation import Branch
 from drymount.hbm.folds import CurveEvent, locate_folds, locate_maximum, locate_peaks
+from drymount.hbm.inclined import stuck_codes
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.problem import _amplitude_fn, _point_quantities, _Problem, _to_hz
 from drymount.hbm.result import FrequencyResponse, MarkedPoint
@@ -115,6 +116,8 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
                             if events else ([], [], None))
     bifurcations = (_bifurcations(prob, br, opts, stable, turning)
                     if events and opts.stability else [])
+    # which surfaces of each inclined element stick for the whole period (a family)
+    stuck = stuck_codes(hb, coef) if events else None
     return FrequencyResponse(
         turning_freq_hz=np.array([e.freq_hz for e in folds], dtype=float),
         freq_hz=freq, coefficients=coef, amplitude=amp, peak=peak,
@@ -126,7 +129,9 @@ def postprocess(prob: _Problem, ys, opts: HBMOptions, br: Branch,
         floquet_max_real=fmr, newton_per_point=np.asarray(br.n_iter, dtype=int),
         system_name=sysm.name, folds=folds, peaks=peaks, transmissibility_peak=t_peak,
         bifurcations=bifurcations,
-        transmissibility_label=_transmissibility_label(sysm))
+        transmissibility_label=_transmissibility_label(sysm),
+        stuck=stuck, stuck_labels=tuple(hb.axes.labels[a] for a, _ in
+                                        hb.axes.inclined))
 
 
 def _transmissibility_label(sysm: System) -> str:

@@ -156,6 +156,14 @@ class FrequencyResponse:
         ``(freq_hz, reason)`` of every restart (``HBMOptions.max_restarts``): the
         curve is in ``len(restarts) + 1`` segments separated by one gap row each
         (NaN values, frequency = the restart frequency); see :attr:`segments`.
+    stuck : ndarray of int, shape (n_points, n_inclined)
+        Per point and inclined element (thesis Ch. 5), which surfaces stick for the
+        whole period (:attr:`hbm.inclined.PeriodicElement.stuck_code`): 0 both slip,
+        1 the inclined surface sticks, 2 the flat surface, 3 both (0 columns without
+        inclined elements). Where exactly one sticks the periodic state is a family
+        and the point is one member of it (:attr:`family`).
+    stuck_labels : tuple of str
+        The ``<mount>_<axis>`` of each column of ``stuck``.
     """
 
     freq_hz: np.ndarray
@@ -189,8 +197,12 @@ class FrequencyResponse:
     tol_met: bool | None = None
     transmissibility_label: str = ""
     bifurcations: list = field(default_factory=list)
+    stuck: np.ndarray | None = None
+    stuck_labels: tuple = ()
 
     def __post_init__(self):
+        if self.stuck is None:
+            self.stuck = np.zeros((self.freq_hz.size, len(self.stuck_labels)), int)
         nan = np.full(self.freq_hz.size, np.nan)
         if self.error_truncation is None:
             self.error_truncation = nan.copy()
@@ -237,6 +249,42 @@ class FrequencyResponse:
             return float("nan"), float("nan")
         i = int(np.nanargmax(t))
         return float(self.freq_hz[i]), float(t[i])
+
+    @property
+    def family(self) -> np.ndarray:
+        """Per point: one surface of an inclined element sticks for the whole
+        period (code 1 or 2 in :attr:`stuck`), so the periodic state is a family
+        (the stuck slider's position, left by the history, selects the member; the
+        amplitude depends on it) and the point is the member this march reached."""
+        st = np.asarray(self.stuck, int).reshape(self.freq_hz.size, -1)
+        return np.any((st == 1) | (st == 2), axis=1)
+
+    def family_bands(self) -> list[tuple[float, float]]:
+        """``(fmin, fmax)`` Hz of each run of consecutive :attr:`family` points."""
+        fam, out, start = self.family, [], None
+        for i, on in enumerate(list(fam) + [False]):
+            if on and start is None:
+                start = i
+            elif not on and start is not None:
+                f = self.freq_hz[start:i]
+                out.append((float(np.nanmin(f)), float(np.nanmax(f))))
+                start = None
+        return out
+
+    def family_summary(self) -> str:
+        """One sentence on the family bands ("" without inclined elements)."""
+        if not self.stuck_labels:
+            return ""
+        bands = self.family_bands()
+        if not bands:
+            return ("no band where one surface of the inclined element sticks for the "
+                    "whole period: the periodic states here are unique in amplitude")
+        where = ", ".join(f"{a:.4g}-{b:.4g} Hz" if b > a else f"{a:.4g} Hz"
+                          for a, b in bands)
+        return (f"one surface of the inclined element sticks for the whole period at "
+                f"{where} (column family = 1): there the periodic state is a family "
+                f"and each point is the member this continuation reached, not the only "
+                f"one (a start from elsewhere settles on another amplitude)")
 
     @property
     def n_points(self) -> int:
@@ -335,15 +383,26 @@ class FrequencyResponse:
         cols = ["freq_hz"]
         for d in self.dof_names:
             cols += [f"{d}_amp", f"{d}_peak"]
-        return cols + ["transmissibility", "stable", "err_truncation", "err_sampling"]
+        cols += ["transmissibility", "stable", "err_truncation", "err_sampling"]
+        return cols + self._stuck_columns()
+
+    def _stuck_columns(self) -> list[str]:
+        """``<label>_stuck`` per inclined element and ``family`` (none without)."""
+        if not self.stuck_labels:
+            return []
+        return [f"{a}_stuck" for a in self.stuck_labels] + ["family"]
 
     def table(self) -> np.ndarray:
-        """The CSV table as an array, shape (n_points, 2 n_dof + 5)."""
+        """The CSV table as an array, shape (n_points, 2 n_dof + 5), plus the
+        columns of :attr:`stuck` and :attr:`family` with inclined elements."""
         parts = [self.freq_hz[:, None]]
         for i in range(len(self.dof_names)):
             parts += [self.amplitude[:, i:i + 1], self.peak[:, i:i + 1]]
         parts += [self.transmissibility[:, None], self.stable[:, None].astype(float),
                   self.error_truncation[:, None], self.error_sampling[:, None]]
+        if self.stuck_labels:
+            parts += [np.asarray(self.stuck, float).reshape(self.n_points, -1),
+                      self.family[:, None].astype(float)]
         return np.hstack(parts)
 
     def events_path(self, path: str | os.PathLike) -> str:
@@ -391,7 +450,9 @@ class FrequencyResponse:
     def to_csv(self, path: str | os.PathLike) -> None:
         """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable,
         err_truncation, err_sampling`` (the estimated errors relative to the peak,
-        :mod:`hbm.error_estimate`; NaN where not estimated).
+        :mod:`hbm.error_estimate`; NaN where not estimated), and with inclined
+        elements ``<mount>_<axis>_stuck, ..., family`` (:attr:`stuck`,
+        :attr:`family`; 0/1/2/3 and 0/1).
 
         The first line is a ``# `` comment with units and provenance; ``stable`` is 1
         or 0; amplitudes in m (rad for rotations).
@@ -402,13 +463,21 @@ class FrequencyResponse:
                    f"fundamental (_amp) and max over the period (_peak); err_* "
                    f"estimated error relative to peak; stable 1/0; "
                    f"folds at Hz {np.round(self.turning_freq_hz, 6).tolist()}")
+        if self.stuck_labels:
+            comment += ("; *_stuck: inclined element's surfaces stuck the whole "
+                        "period (0 none, 1 inclined, 2 flat, 3 both); family 1: one "
+                        "surface sticks, the point is one member of a family of "
+                        "periodic states (history-dependent)")
+        k = len(self._stuck_columns())
         from drymount.hbm.io import atomic_path
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
             fh.write(comment + "\n")
             fh.write(",".join(self.columns()) + "\n")
-            for row in self.table():
+            for full in self.table():
+                row, extra = full[:full.size - k], full[full.size - k:]
                 vals = [f"{v:.10g}" for v in row[:-3]] + [str(int(row[-3]))]
                 vals += [f"{v:.3g}" for v in row[-2:]]
+                vals += [str(int(v)) for v in extra]
                 fh.write(",".join(vals) + "\n")
 
     def _plot_jumps(self, ax, y):

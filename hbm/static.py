@@ -21,6 +21,17 @@ stuck at a position committed before loading
 (e.g. 0), would let them carry up to Fs of the load, a history-dependent share that no
 datasheet knows; it moves the working point by at most Fs / k_tangent per mount.
 
+**Two readings** (issue 26): :func:`static_equilibrium` is the *relaxed* reading
+above. :func:`lowered_equilibrium` is the engine *lowered onto the assembled mount*:
+the load raised quasi-statically from zero on the unloaded mount (every friction
+element relaxed at zero deflection), the elements following their own return maps,
+so a stuck surface carries load. For the inclined element the two differ by far
+more than Fs / k: any deflection between the equilibria of its four slip-slip
+regimes is admissible (:func:`admissible_range`), the relaxed point is one of them
+and the lowered point an end of the range (sdof_inclined: relaxed -10.86 mm,
+lowered -5.87 mm, admissible -13.3 to -5.9 mm). docs/physics.md says which reading
+is the physical one.
+
 References: thesis Sec. 2.1 (models), 2.3-2.4 (elastic laws); PHYSICS.md section 7.
 """
 
@@ -31,11 +42,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drymount.fmu_src.mount_law import AXES, ELASTIC_LAWS, static_force
+from drymount.fmu_src.inclined import _solve as _regime_forces
+from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, axis_force,
+                                        initial_sliders, static_force)
 from drymount.hbm.system import System
 
 __all__ = ["StaticStatus", "StaticPoint", "gravity_load", "static_equilibrium",
-           "working_point", "knee_warnings"]
+           "working_point", "knee_warnings", "lowered_equilibrium",
+           "AdmissibleRange", "admissible_range", "LOWER_STEPS"]
+
+#: load steps of the quasi-static lowering (:func:`lowered_equilibrium`); the march
+#: is exact for any count where each axis's deflection is monotonic in the load
+LOWER_STEPS = 50
 
 #: Newton stops when |R| <= RTOL * (|f_static| + the largest elastic force).
 RTOL = 1e-12
@@ -74,6 +92,12 @@ class StaticPoint:
     status: StaticStatus
     iterations: int
     residual: float
+
+    #: ``"relaxed"`` (:func:`static_equilibrium`) or ``"lowered"``
+    #: (:func:`lowered_equilibrium`)
+    reading: str = "relaxed"
+    #: the lowered reading's friction-element states ``{(element, axis): state}``
+    states: dict | None = None
 
     @property
     def sliders(self) -> np.ndarray:
@@ -193,3 +217,154 @@ def knee_warnings(system: System, point: StaticPoint, travel: float | None = Non
                 out.append(f"{where}: static deflection {u * 1e3:.3f} mm exceeds the "
                            f"travel of {travel * 1e3:.3f} mm")
     return out
+
+
+def _committed_terms(system: System, q: np.ndarray, states: dict):
+    """As :func:`_mount_terms`, the friction elements from their committed
+    ``states`` (their return maps, at rest: v = 0); also the new states."""
+    n_el = len(system.elements)
+    u, F = np.zeros((n_el, 3)), np.zeros((n_el, 3))
+    f = np.zeros(system.n_dof)
+    Kt = np.zeros((system.n_dof, system.n_dof))
+    new = {}
+    for ie, e in enumerate(system.elements):
+        for j in e.active_axes:
+            p = e.params.axes[j]
+            u[ie, j] = float(e.B[j] @ q)
+            if p.friction:
+                r = axis_force(u[ie, j], 0.0, states[(ie, j)], p)
+                F[ie, j], k, new[(ie, j)] = r[0], r[3], r[2]
+            else:
+                F[ie, j], k = static_force(u[ie, j], p)
+            f += e.B[j] * F[ie, j]
+            Kt += k * np.outer(e.B[j], e.B[j])
+    return u, F, f, Kt, new
+
+
+def _lower_step(system: System, load, q, states, max_iter: int):
+    """Newton with backtracking on one load step of the lowering."""
+    K = np.asarray(system.K, dtype=float)
+    u, F, fm, Kt, new = _committed_terms(system, q, states)
+    R = K @ q + fm - load
+    for it in range(max_iter + 1):
+        scale = np.max(np.abs(load)) + np.max(np.abs(F), initial=0.0) + 1.0
+        if np.max(np.abs(R)) <= RTOL * scale:
+            return q, u, F, new, R, it, StaticStatus.CONVERGED
+        if it == max_iter:
+            break
+        try:
+            dq = np.linalg.solve(K + Kt, -R)
+        except np.linalg.LinAlgError:
+            return q, u, F, new, R, it, StaticStatus.SINGULAR
+        step, norm0 = 1.0, np.linalg.norm(R)
+        while True:
+            qn = q + step * dq
+            un, Fn, fmn, Ktn, newn = _committed_terms(system, qn, states)
+            Rn = K @ qn + fmn - load
+            if np.linalg.norm(Rn) < norm0 or step < 1e-6:
+                break
+            step *= 0.5
+        q, u, F, Kt, new, R = qn, un, Fn, Ktn, newn, Rn
+    return q, u, F, new, R, max_iter, StaticStatus.NOT_CONVERGED
+
+
+def lowered_equilibrium(system: System, load, steps: int = LOWER_STEPS,
+                        max_iter: int = MAX_ITER) -> StaticPoint:
+    """The working point with the engine lowered onto the assembled mount: ``load``
+    raised from 0 in ``steps`` equal steps, every friction element starting relaxed
+    at zero deflection and committed after each step (its exact return map, at
+    rest), the equilibrium of each step by Newton. ``reading = "lowered"``; the
+    elements' final states are in ``states``."""
+    f = np.asarray(load, dtype=float)
+    if f.shape != (system.n_dof,) or not np.all(np.isfinite(f)):
+        raise ValueError(f"`load` must be finite with shape ({system.n_dof},), got "
+                         f"{f.tolist()}")
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+        raise ValueError(f"`steps` must be an integer >= 1, got {steps!r}")
+    states = {(ie, j): initial_sliders(e.params.axes[j], 0.0)
+              for ie, e in enumerate(system.elements) for j in e.active_axes
+              if e.params.axes[j].friction}
+    q = np.zeros(system.n_dof)
+    total = 0
+    for k in range(1, steps + 1):
+        q, u, F, states, R, it, status = _lower_step(system, f * (k / steps), q,
+                                                     states, max_iter)
+        total += it
+        if status is not StaticStatus.CONVERGED:
+            break
+    return StaticPoint(q, u, F, f, status, total, float(np.max(np.abs(R))),
+                       reading="lowered", states=states)
+
+
+@dataclass(frozen=True)
+class AdmissibleRange:
+    """Static deflections (m) of one inclined axis at which some state of its
+    element is in equilibrium (both surfaces within their friction limits):
+    ``low`` to ``high``, the equilibria of its slip-slip regimes."""
+
+    element: int
+    axis: int
+    low: float
+    high: float
+
+
+def _vertex_system(system: System, ie: int, j: int, reg):
+    """``system`` with axis (ie, j)'s inclined element replaced by its slip-slip
+    regime ``reg`` (an affine law, added to the elastic law as a ``static_force``)."""
+    p = system.elements[ie].params.axes[j]
+    q = p.element_params
+    s, c = q.sc
+    f0 = -_regime_forces(0.0, 0.0, 0.0, reg, q, s, c)[3]
+    f1 = -_regime_forces(-1.0, 0.0, 0.0, reg, q, s, c)[3]   # axis u = 1: x = -1
+    return f0, f1 - f0
+
+
+def admissible_range(system: System, load) -> list[AdmissibleRange]:
+    """Per inclined axis, the admissible static deflections under ``load``: the
+    axis's element force lies between the extremes of its four slip-slip regimes
+    (the vertices of the friction limits; the axis force is linear in the friction
+    forces), so the range ends are the equilibria with the element in those
+    regimes (the other axes as in :func:`static_equilibrium`)."""
+    out = []
+    for ie, e in enumerate(system.elements):
+        for j in e.active_axes:
+            p = e.params.axes[j]
+            if not (p.friction and p.element.name == "inclined"):
+                continue
+            ends = []
+            for reg in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+                f0, k = _vertex_system(system, ie, j, reg)
+                pt = _static_with(system, load, ie, j, f0, k)
+                if pt is not None:
+                    ends.append(pt)
+            if ends:
+                out.append(AdmissibleRange(ie, j, min(ends), max(ends)))
+    return out
+
+
+def _static_with(system: System, load, ie: int, j: int, f0: float, k: float):
+    """Deflection of axis (ie, j) at the equilibrium with its friction element
+    replaced by the affine force ``f0 + k u`` (None if not found)."""
+    e = system.elements[ie]
+    p = e.params.axes[j]
+    b = np.asarray(e.B[j], dtype=float)
+
+    def terms(q):
+        u, F, f, Kt = _mount_terms(system, q)
+        fr, kr = p.element.relaxed_force(u[ie, j], p)  # replace relaxed by regime
+        dF = f0 + k * u[ie, j] - fr
+        return f + b * dF, Kt + (k - kr) * np.outer(b, b), u
+
+    K = np.asarray(system.K, dtype=float)
+    f = np.asarray(load, dtype=float)
+    q = static_equilibrium(system, f).q
+    for _ in range(MAX_ITER):
+        fm, Kt, u = terms(q)
+        R = K @ q + fm - f
+        if np.max(np.abs(R)) <= RTOL * (np.max(np.abs(f)) + 1.0):
+            return float(u[ie, j])
+        try:
+            q = q - np.linalg.solve(K + Kt, R)
+        except np.linalg.LinAlgError:
+            return None
+    return None

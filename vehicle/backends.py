@@ -39,8 +39,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from drymount.fmu_src.interface import by_causality
-from drymount.fmu_src.mount_law import (AXES, axis_force, friction_kind_code,
-                               initial_sliders, law_code, slider_position)
+from drymount.fmu_src.mount_law import (AXES, axis_force, conform_state,
+                                        friction_kind_code, initial_sliders, law_code,
+                                        slider_position)
 
 __all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
@@ -189,6 +190,15 @@ class _Backend:
         self._n_ctl = []    # their last applied normal forces, N
         self.control_log = None
 
+    def set_element_states(self, states: dict) -> None:
+        """Set whole friction-element states ``{(mount index, axis index): state}``
+        (the element's own state, e.g. an ``fmu_src.inclined.InclinedState``), not
+        only the one-number position of :meth:`set_sliders`. The in-process backend
+        only: an FMU's ``w_<axis>`` relaxes its element there."""
+        raise ValueError(f"the {self.name!r} backend cannot set a whole friction-"
+                         f"element state (its w_<axis> relaxes the element); use "
+                         f"backend 'native' (the same law in-process)")
+
     def set_control(self, controls: dict) -> None:
         """Drive normal forces from ``controls`` = ``{(mount name, axis name):
         controller}`` (:mod:`vehicle.control`) at every step; ``{}`` switches off.
@@ -331,6 +341,15 @@ class NativeBackend(_Backend):
         w = np.asarray(w, dtype=float)
         for (i, e, j) in self.layout.axes():
             self._w[i] = initial_sliders(self._axes[i][5], float(w[e, j]))
+
+    def set_element_states(self, states: dict) -> None:
+        index = {(e, j): i for (i, e, j) in self.layout.axes()}
+        for (e, j), state in states.items():
+            i = index.get((e, j))
+            if i is None:
+                raise ValueError(f"element state for mount {e} axis {j}: not an "
+                                 f"active axis of the system")
+            self._w[i] = conform_state(self._axes[i][5], state)
 
     def energy(self) -> np.ndarray:
         """Committed friction energy per mount, shape (n_mounts,), J."""

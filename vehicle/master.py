@@ -344,9 +344,12 @@ class Master:
         q, vh, a = x[:n], x[n:2 * n], x[2 * n:]
         return q.copy(), vh + 0.5 * h * a, a.copy()
 
-    def set_state(self, q=None, qd=None, qdd=None, sliders=None) -> None:
+    def set_state(self, q=None, qd=None, qdd=None, sliders=None,
+                  elements=None) -> None:
         """Set the integrator state (DOFs in m/rad) and optionally slider positions
-        (shape (n_mounts, 3), m)."""
+        (shape (n_mounts, 3), m) and whole friction-element states ``elements`` =
+        ``{(mount index, axis index): state}`` (set after the sliders; the in-process
+        backend only, :meth:`vehicle.backends.NativeBackend.set_element_states`)."""
         n = self.system.n_dof
         for name, val in (("q", q), ("qd", qd), ("qdd", qdd)):
             if val is not None:
@@ -358,6 +361,8 @@ class Master:
         if sliders is not None:
             self.backend.set_sliders(np.asarray(sliders, dtype=float).reshape(
                 self.layout.n_mounts, 3))
+        if elements:
+            self.backend.set_element_states(elements)
 
     def sliders(self) -> np.ndarray:
         """Slider positions (n_mounts, 3), m."""

@@ -43,8 +43,9 @@ import numpy as np
 from .inputs import HarmonicInput
 from .master import DEFAULT_STEPS_PER_PERIOD, Master
 
-__all__ = ["SteadyState", "State", "steady_state", "run_steady", "linear_start",
-           "DEFAULT_RTOL", "DEFAULT_MAX_PERIODS", "DEFAULT_MIN_PERIODS"]
+__all__ = ["SteadyState", "State", "OrbitStart", "orbit_start", "steady_state",
+           "run_steady", "linear_start", "DEFAULT_RTOL", "DEFAULT_MAX_PERIODS",
+           "DEFAULT_MIN_PERIODS"]
 
 #: Default tolerance on the relative period-to-period change of the state (the
 #: amplitude error it leaves is below the 2.5e-4 discretisation error: measured
@@ -206,6 +207,48 @@ def linear_start(system, freq_hz: float) -> State:
     return State(X.imag.copy(), omega * X.real, -omega ** 2 * X.imag)
 
 
+class OrbitStart(NamedTuple):
+    """Start of a run on a harmonic-balance orbit: the DOFs, their rates and
+    accelerations at phase 0 (m or rad, absolute as the master's ``q``) and the
+    friction elements' states there, ``{(mount index, axis index): state}``
+    (:func:`orbit_start`)."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    elements: dict
+
+
+def orbit_start(system, coefficients, freq_hz: float, n_samples: int) -> OrbitStart:
+    """The :class:`OrbitStart` of the HBM solution ``coefficients`` (n_dof, 2H+1;
+    one row of :attr:`hbm.result.FrequencyResponse.coefficients`, computed with
+    ``n_samples`` AFT samples) at ``freq_hz``.
+
+    The DOFs follow from the Fourier series at t = 0; the inclined elements' states
+    from their periodic march on the orbit (:func:`hbm.inclined.
+    orbit_element_states`): where one of their surfaces sticks for the whole period
+    the orbit is one member of a family, and only its stuck slider tells which. The
+    other friction elements keep the master's sliders (their amplitude does not
+    depend on them)."""
+    from drymount.hbm.inclined import orbit_element_states
+    from drymount.hbm.residual import HarmonicBalance
+
+    c = np.asarray(coefficients, dtype=float)
+    if c.ndim != 2 or c.shape[0] != system.n_dof or c.shape[1] % 2 != 1 \
+            or not np.all(np.isfinite(c)):
+        raise ValueError(f"`coefficients` must be finite with shape ({system.n_dof}, "
+                         f"2H+1), got shape {c.shape}")
+    H = (c.shape[1] - 1) // 2
+    omega = 2.0 * math.pi * float(freq_hz)
+    k = np.arange(1, H + 1)
+    cos, sin = c[:, 1::2], c[:, 2::2]
+    q = c[:, 0] + cos.sum(axis=1)
+    qd = omega * (sin @ k)
+    qdd = -omega ** 2 * (cos @ (k * k))
+    hb = HarmonicBalance(system, H, int(n_samples))
+    return OrbitStart(q, qd, qdd, orbit_element_states(hb, c.T.ravel()))
+
+
 def _transmissibility(system, omega, amp_q, phasor_F_axes, axis_index) -> float:
     tr = system.transmissibility
     if tr.kind == "force":
@@ -243,8 +286,10 @@ def run_steady(master: Master, freq_hz: float, *,
     """Run ``master`` at ``freq_hz`` until the period-to-period change < ``rtol``.
 
     ``start``: ``"continue"`` (the master's current state and sliders), ``"rest"``,
-    ``"linear"`` (:func:`linear_start`; sliders kept) or a :class:`SteadyState`
-    (its end state and sliders). See the module docstring for the outputs.
+    ``"linear"`` (:func:`linear_start`; sliders kept), a :class:`SteadyState`
+    (its end state and sliders) or an :class:`OrbitStart` (on an HBM orbit,
+    :func:`orbit_start`; the in-process backend where it sets element states).
+    See the module docstring for the outputs.
     """
     if not (isinstance(freq_hz, (int, float, np.floating)) and math.isfinite(freq_hz)
             and freq_hz > 0):
@@ -281,14 +326,16 @@ def _begin(master: Master, freq_hz: float, steps_per_period, start):
     E_start = master.backend.energy()
     if isinstance(start, SteadyState):
         master.set_state(start.q_end, start.qd_end, start.qdd_end, start.sliders)
+    elif isinstance(start, OrbitStart):  # on a harmonic-balance orbit
+        master.set_state(start.q, start.qd, start.qdd, elements=start.elements)
     elif start == "rest":  # at rest at the static working point (0 if unloaded)
         master.set_state(master.q_static, np.zeros(n), np.zeros(n))
     elif start == "linear":
         q, qd, qdd = linear_start(system, freq_hz)
         master.set_state(q + master.q_static, qd, qdd)
     elif start != "continue":
-        raise ValueError(f"`start` must be 'continue', 'rest', 'linear' or a "
-                         f"SteadyState, got {start!r}")
+        raise ValueError(f"`start` must be 'continue', 'rest', 'linear', a "
+                         f"SteadyState or an OrbitStart, got {start!r}")
     master.begin_periodic(HarmonicInput(system, freq_hz), N, h)
     return N, h, E_start
 
@@ -352,9 +399,10 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
     rtol : float
         Tolerance on the relative period-to-period change (default 1e-5).
     min_periods, max_periods : int
-    start : {"linear", "rest"} or SteadyState
+    start : {"linear", "rest"}, SteadyState or OrbitStart
         Initial state: the linearised system's steady response (default; sliders at
-        zero), rest, or the end of a previous steady state (state and sliders).
+        zero), rest, the end of a previous steady state (state and sliders), or an
+        HBM orbit (:func:`orbit_start`).
     fmu_path : path-like, optional
 
     Returns
