@@ -27,11 +27,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from drymount.hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
-from drymount.hbm.friction_march import jenkins_aft
+from drymount.hbm.friction_march import jenkins_aft, jenkins_march
 from drymount.hbm.generic_march import generic_aft
 from drymount.hbm.inclined import inclined_aft
 
-__all__ = ["FourierBasis", "default_n_samples", "aft_forces"]
+__all__ = ["FourierBasis", "default_n_samples", "aft_forces", "HARMONIC_FROM"]
+
+#: AFT samples from which the Jacobians are built in harmonic form
+#: (:meth:`FourierBasis.gram`): 14x cheaper than the dense product at H = 7,
+#: N = 1024, no gain at N = 64. Below it the dense products are kept: the two agree
+#: to round-off (5e-16 of the norm), but a round-off change of the Jacobian moves the
+#: continuation's points on the kinked residual of a sampled nonsmooth law
+#: (docs/performance.md, "The 6-DOF curve").
+HARMONIC_FROM = 512
 
 
 def default_n_samples(harmonics: int) -> int:
@@ -74,6 +82,84 @@ class FourierBasis:
         P[0] *= 0.5
         self.E, self.P, self.D = E, P, D
         self.theta = theta
+        self._gram = None
+        self._cum_p = None
+
+    def cumulative_projection(self) -> np.ndarray:
+        """``C[n] = sum_{j < n} P[:, j]``, shape (N + 1, 2H+1) (sums of ``P`` over
+        runs of samples as differences of two rows)."""
+        if self._cum_p is None:
+            cum = np.zeros((self.N + 1, self.P.shape[0]))
+            np.cumsum(self.P.T, axis=0, out=cum[1:])
+            self._cum_p = cum
+        return self._cum_p
+
+    def gram(self, kt: np.ndarray) -> np.ndarray:
+        """``P diag(kt[:, c]) E`` for each column ``c`` of ``kt``, in harmonic form.
+
+        ``kt`` has shape (..., N, C) (C weights sampled at the N phases); returns
+        (..., C, 2H+1, 2H+1), C-contiguous. The entry ``(h, g)`` is ``sum_n P[h, n]
+        kt_n E[n, g]``, and a product of two basis functions of harmonics ``a``,
+        ``b`` is a sum of basis functions of harmonics ``a + b`` and ``|a - b|``
+        (``cos a cos b = (cos(a-b) + cos(a+b)) / 2`` etc.). So the matrix is a
+        fixed linear map of the 4H+1 Fourier sums of ``kt`` up to harmonic 2H: one
+        product with the (4H+1, N) basis ``E2^T`` and one with the (4H+1, m^2) map
+        ``G`` (Toeplitz plus Hankel structure), O(N H + H^3) per column instead of
+        the dense O(N H^2). Exact up to round-off (tested against the dense
+        product).
+        """
+        if self._gram is None:
+            self._gram = _gram_maps(self.H, self.theta)
+        E2t, G = self._gram
+        m = self.E.shape[1]
+        sums = np.swapaxes(E2t @ kt, -1, -2)  # (..., C, 4H+1)
+        return (sums @ G).reshape(*sums.shape[:-1], m, m)
+
+
+def _gram_maps(H: int, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The two factors of :meth:`FourierBasis.gram`: ``E2^T`` (4H+1, N), the basis
+    up to harmonic 2H at ``theta``, and ``G`` (4H+1, m^2) with the row scales of
+    ``P`` (1/N for the static row, 2/N otherwise)."""
+    N, m, m2 = theta.size, 2 * H + 1, 4 * H + 1
+    E2 = np.empty((N, m2))
+    E2[:, 0] = 1.0
+    for k in range(1, 2 * H + 1):
+        E2[:, 2 * k - 1] = np.cos(k * theta)
+        E2[:, 2 * k] = np.sin(k * theta)
+    # basis index j -> (harmonic, is_sine); index 0 is cos 0 = 1
+    harm = [0] + [k for k in range(1, H + 1) for _ in (0, 1)]
+    sine = [False] + [s for _ in range(1, H + 1) for s in (False, True)]
+    G = np.zeros((m2, m, m))
+
+    def add(h, g, k, is_sine, w):
+        if is_sine:
+            if k == 0:
+                return  # sin 0 = 0
+            w, k = (w, k) if k > 0 else (-w, -k)  # sin(-x) = -sin x
+            G[2 * k, h, g] += w
+        else:
+            k = abs(k)
+            G[0 if k == 0 else 2 * k - 1, h, g] += w
+
+    for h in range(m):
+        a, sa = harm[h], sine[h]
+        scale = (1.0 if h == 0 else 2.0) / N
+        for g in range(m):
+            b, sb = harm[g], sine[g]
+            w = 0.5 * scale
+            if not sa and not sb:    # cos a cos b
+                add(h, g, a - b, False, w)
+                add(h, g, a + b, False, w)
+            elif sa and sb:          # sin a sin b
+                add(h, g, a - b, False, w)
+                add(h, g, a + b, False, -w)
+            elif not sa:             # cos a sin b = (sin(a+b) - sin(a-b)) / 2
+                add(h, g, a + b, True, w)
+                add(h, g, a - b, True, -w)
+            else:                    # sin a cos b = (sin(a+b) + sin(a-b)) / 2
+                add(h, g, a + b, True, w)
+                add(h, g, a - b, True, w)
+    return np.ascontiguousarray(E2.T), G.reshape(m2, m * m)
 
 
 @dataclass(frozen=True)
@@ -150,20 +236,63 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
 
 def _aft_jenkins(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
                  jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
-    """:func:`aft_forces` of the elastic remainders and the Jenkins elements."""
-    E, P = basis.E, basis.P
+    """:func:`aft_forces` of the elastic remainders and the Jenkins elements: the
+    Jacobian in harmonic form from :data:`HARMONIC_FROM` samples on
+    (:func:`_aft_harmonic`), by the dense products below (:func:`_aft_dense`)."""
     if _has_slider_banks(ax):   # micro-slip or non-symmetric sliders: per slider
         return _aft_banks(U, ax, basis, jacobian)
+    if jacobian and basis.N >= HARMONIC_FROM:
+        return _aft_harmonic(U, ax, basis)
+    return _aft_dense(U, ax, basis, jacobian)
+
+
+def _samples(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis):
+    """The plan of ``ax``, the deflection samples ``u = E U`` (..., N, n_ax) and the
+    elastic remainder's force and tangent there (None, None without one)."""
     plan = _plan(ax)
-    u = E @ U  # (..., N, n_ax)
+    u = basis.E @ U
     if plan.elastic:
-        f, kt = elastic_remainder(u, ax)
-    else:
-        f = kt = None
-    dF_fr = None
+        return (plan, u, *elastic_remainder(u, ax))
+    return plan, u, None, None
+
+
+def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_aft_jenkins` with the Jacobian in harmonic form: ``P diag(kt) E``
+    with ``kt`` the elastic tangent plus ``kf`` at every stuck sample
+    (:meth:`FourierBasis.gram`), minus the slip memory of the Jenkins elements
+    (:func:`_subtract_slip_memory`). Equal to the dense products to round-off."""
+    P = basis.P
+    plan, u, f, kt = _samples(U, ax, basis)
+    if f is None:
+        f = np.zeros_like(u)
+    march = None
     if plan.friction.size:
         # the Jenkins elements, all at once (hbm.friction_march: equal to the scalar
         # march of hbm.elements.jenkins_periodic, without a per-sample Python loop)
+        fr = plan.friction
+        march = jenkins_march(u if plan.all_friction else u[..., fr], plan.kf,
+                              plan.fs, plan.w_start)
+        f[..., fr] += march.force
+    F = P @ f
+    if kt is None:
+        kt = np.zeros_like(u)
+    if march is not None:
+        kt[..., plan.friction] += plan.kf * march.stuck
+    dF = basis.gram(kt)
+    if march is not None:
+        _subtract_slip_memory(dF, march, plan, basis)
+    return F, dF
+
+
+def _aft_dense(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
+               jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`_aft_jenkins` by the dense products ``P diag(kt) E`` and ``P Z``
+    (:func:`hbm.friction_march.jenkins_aft`)."""
+    E, P = basis.E, basis.P
+    plan, u, f, kt = _samples(U, ax, basis)
+    dF_fr = None
+    if plan.friction.size:
         fr = plan.friction
         ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
                                 plan.fs, plan.w_start, E, P, jacobian)
@@ -191,6 +320,42 @@ def _aft_jenkins(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         if dF_fr is not None:
             dF[..., fr, :, :] = dF_fr
     return F, dF
+
+
+def _subtract_slip_memory(dF: np.ndarray, march, plan: _Plan,
+                          basis: FourierBasis) -> None:
+    """Subtract, in place, the Jenkins elements' dependence on the last slip.
+
+    A stuck sample ``n`` with a last slip ``l = last_slip[n] >= 0`` has
+    ``df_n = kf (du_n - du_l)``; the second part adds ``-kf P[:, n] E[l]`` to
+    ``dF``. All samples of one stick run share ``l``, so a run contributes the
+    rank-one ``-kf (sum_run P[:, n]) E[l]``, the sum a difference of cumulative
+    sums of ``P``: O(runs H^2) instead of the dense O(N H^2).
+
+    ``dF`` has shape (..., n_ax, m, m); ``march`` is of the friction axes
+    ``plan.friction`` with shape (..., N, C).
+    """
+    stuck = np.swapaxes(march.stuck, -1, -2)  # (..., C, N)
+    last = np.swapaxes(march.last_slip, -1, -2)
+    C, N = stuck.shape[-2:]
+    idx = np.flatnonzero(stuck & (last >= 0))  # flat (batch, C, N) order
+    if not idx.size:
+        return
+    lst = last.reshape(-1)[idx]
+    n = idx % N
+    new = np.empty(idx.size, dtype=bool)
+    new[0] = True
+    new[1:] = (idx[1:] != idx[:-1] + 1) | (lst[1:] != lst[:-1]) | (n[1:] == 0)
+    starts = np.flatnonzero(new)
+    ends = np.append(starts[1:], idx.size) - 1
+    cum = basis.cumulative_projection()  # (N + 1, m)
+    col = idx[starts] // N  # flat (batch, C) column of each run
+    p_sum = (cum[n[ends] + 1] - cum[n[starts]]) * plan.kf[col % C][:, None]
+    m = dF.shape[-1]
+    flat = dF.view()
+    flat.shape = (-1, m, m)  # a view (raises rather than copy)
+    target = (col // C) * dF.shape[-3] + plan.friction[col % C]
+    np.subtract.at(flat, target, p_sum[:, :, None] * basis.E[lst[starts]][:, None, :])
 
 
 def _has_slider_banks(ax: NonlinearAxes) -> bool:

@@ -203,17 +203,40 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
 
 def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False):
     """Distance of ``p`` to the polyline through ``pts`` (one point: to that point);
-    with ``with_segment`` also the length of the nearest segment."""
+    with ``with_segment`` also the length of the nearest segment (0 when the last
+    point is nearest). The first nearest segment wins.
+
+    All segments are measured at once; the few within round-off of the nearest are
+    measured again one by one (:func:`_segment_distance`), so that ties (a vertex
+    nearest, shared by two segments) are broken as a loop over the segments breaks
+    them, bit for bit.
+    """
     best = _norm(p - pts[-1])
     seg = 0.0
-    for a, b in zip(pts[:-1], pts[1:], strict=True):
-        d = b - a
-        dd = float(np.dot(d, d))
-        s = 0.0 if dd == 0.0 else min(1.0, max(0.0, float(np.dot(p - a, d)) / dd))
-        dist = _norm(p - a - s * d)
-        if dist < best:
-            best, seg = dist, math.sqrt(dd)
+    if len(pts) < 2:
+        return (best, seg) if with_segment else best
+    a = np.asarray(pts)
+    d = a[1:] - a[:-1]
+    pa = p - a[:-1]
+    dd = np.einsum("ij,ij->i", d, d)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(dd == 0.0, 0.0, np.clip(np.einsum("ij,ij->i", pa, d) / dd, 0, 1))
+    r = pa - s[:, None] * d
+    dist = np.einsum("ij,ij->i", r, r)
+    near = dist.min()
+    for i in np.flatnonzero(dist <= near * (1.0 + 1e-9)):
+        dist_i, dd_i = _segment_distance(p, pts[i], pts[i + 1])
+        if dist_i < best:
+            best, seg = dist_i, math.sqrt(dd_i)
     return (best, seg) if with_segment else best
+
+
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray):
+    """Distance of ``p`` to the segment from ``a`` to ``b``, and its squared length."""
+    d = b - a
+    dd = float(np.dot(d, d))
+    s = 0.0 if dd == 0.0 else min(1.0, max(0.0, float(np.dot(p - a, d)) / dd))
+    return _norm(p - a - s * d), dd
 
 
 def _corner_step(fun: Callable, y: np.ndarray, t: np.ndarray, ds: float,

@@ -198,11 +198,16 @@ def elastic_remainder(u: np.ndarray, ax: NonlinearAxes
     f, df_du : ndarray, shape (..., N, n_ax)
         Force in N and tangent in N/m.
     """
+    groups = [(law, mask) for law, mask in ax.groups
+              if law.remainder is not None and np.any(mask)]
+    if len(groups) == 1 and groups[0][1].all():  # one law on every axis
+        law, mask = groups[0]
+        f, kt = law.remainder(u, ax, mask)
+        return f, kt.astype(float, copy=False)
     f = np.zeros_like(u)
     kt = np.zeros_like(u)
-    for law, mask in ax.groups:
-        if law.remainder is not None and np.any(mask):
-            f[..., mask], kt[..., mask] = law.remainder(u[..., mask], ax, mask)
+    for law, mask in groups:
+        f[..., mask], kt[..., mask] = law.remainder(u[..., mask], ax, mask)
     return f, kt
 
 

@@ -77,9 +77,10 @@ class _Problem:
         X, w = self.x_of(y)
         R, J, Jw = self.hb.residual(X, w)
         Jy = np.empty((R.size, R.size + 1))
-        Jy[:, :-1] = J * self.xs
-        Jy[:, -1] = Jw * self.ws
-        return R / self.rs, Jy / self.rs
+        np.multiply(J, self.xs, out=Jy[:, :-1])
+        np.multiply(Jw, self.ws, out=Jy[:, -1])
+        Jy /= self.rs  # in place: the same numbers as Jy / rs, one copy fewer
+        return R / self.rs, Jy
 
     def linear_guess(self, freq_hz: float, stuck: bool) -> np.ndarray:
         Q = linear_frf(self.hb.system, [freq_hz], stuck=stuck)[0]
