@@ -88,9 +88,11 @@ _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",
                "w": "MD_LOCAL_W", "N": "MD_OUTPUT_N", "N2": "MD_OUTPUT_N2"}
-#: Inputs each output depends on (per axis; E_fr on those of every axis).
-_DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "n"), "kt": ("u", "n"),
-            "slip": ("u", "n"), "E_fr": ("u", "n"), "N": ("u", "n"), "N2": ("u", "n")}
+#: Inputs each output depends on (per axis; E_fr on those of every axis): a
+#: rate-dependent friction element (LuGre) reads v in Ffr, kt and E_fr.
+_DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),
+            "slip": ("u", "n"), "E_fr": ("u", "v", "n"), "N": ("u", "n"),
+            "N2": ("u", "n")}
 _LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError",
                    "logStatusFatal", "logAll")
 
