@@ -37,11 +37,12 @@ __all__ = ["AxisMap", "CrossCheck", "CROSSCHECK_RTOL", "mount_axes", "characteri
 #: Harmonic balance vs the time-domain check (FMU or law, 2048 steps per period, the
 #: last of 4 periods): both sample the same law, so they agree to the quadrature error
 #: of the slope jumps, measured <= 1e-7 (tests/test_characterise_cli.py). An element
-#: without a fast form (Dahl, LuGre, Berg) is marched by the maps until its state
+#: without a fast form (the smooth elements) is marched by the maps until its state
 #: repeats (up to MAX_PASSES periods) and settles slowly at small amplitudes, so its
-#: check runs MAX_PASSES periods (4 left LuGre on sdof_halved 3.6e-5 off at 0.1 mm,
-#: 30 Hz; 16 periods: 7e-15); a rate-dependent element's step depends on the sampling,
-#: so it is checked at the maps' own (DEFAULT_SAMPLES steps per period).
+#: check runs MAX_PASSES periods (4 left the rate-dependent element of
+#: docs/physics.md on sdof_halved 3.6e-5 off at 0.1 mm, 30 Hz; 16 periods: 7e-15);
+#: a rate-dependent element's step depends on the sampling, so it is checked at the
+#: maps' own (DEFAULT_SAMPLES steps per period).
 CROSSCHECK_RTOL = 1e-5
 DEFAULT_AMPLITUDES_MM = (0.1, 0.5, 1.0, 2.0)
 CHECK_STEPS = 2048

@@ -23,7 +23,7 @@ point-symmetric about its centre; a stuck element is started relaxed at ``U0``, 
 ``w = U0``: the slider settles while the preload creeps on), so the elastic law
 carries the preload. The law is rate independent apart from ``c``, so
 ``K* = K*_rate-independent(X, U0) + i omega c`` exactly; a rate-dependent friction
-element (LuGre) is evaluated at each frequency (its march gets the velocity samples
+element is evaluated at each frequency (its march gets the velocity samples
 and the step, :mod:`hbm.generic_march`), and its working point is the elastic law's
 (its mean force taken as zero, as the rate-independent elements' is).
 

@@ -8,8 +8,9 @@ periodic response (NLvib marches hysteretic elements two periods and keeps the l
 a pass more is run while the state at the period's end still changes, any of its
 floats by more than :data:`REPEAT_TOL` of its size or of the largest |u|, at most
 :data:`MAX_PASSES`: the whole state, since an element's position may repeat while its
-other floats still settle, as Berg's reference force does). A rate-dependent
-element gets the velocity samples ``v = omega dU/dtheta`` and the step ``dt = T / N``.
+other floats still settle, as a reference force kept from the last reversal does).
+A rate-dependent element gets the velocity samples ``v = omega dU/dtheta`` and the
+step ``dt = T / N``.
 
 The Jacobian ``dF/dU`` is by central differences of the marched force coefficients
 (step :data:`FD_STEP` times the largest |U|), 2 (2H+1) marches more: the contract
