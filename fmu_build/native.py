@@ -82,14 +82,17 @@ _FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
 #: every field of the registered friction elements (ml_axis_params).
 _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
            "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind", "theta_deg",
-           "k", "kf2", "mu1", "mu2", "preload")
+           "k", "kf2", "mu1", "mu2", "preload", "sigma1", "sigma2", "stribeck_ratio",
+           "v_stribeck")
 _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",
                "w": "MD_LOCAL_W", "N": "MD_OUTPUT_N", "N2": "MD_OUTPUT_N2"}
-#: Inputs each output depends on (per axis; E_fr on those of every axis).
-_DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "n"), "kt": ("u", "n"),
-            "slip": ("u", "n"), "E_fr": ("u", "n"), "N": ("u", "n"), "N2": ("u", "n")}
+#: Inputs each output depends on (per axis; E_fr on those of every axis): a
+#: rate-dependent friction element reads v in Ffr, kt and E_fr.
+_DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),
+            "slip": ("u", "n"), "E_fr": ("u", "v", "n"), "N": ("u", "n"),
+            "N2": ("u", "n")}
 _LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError",
                    "logStatusFatal", "logAll")
 

@@ -649,12 +649,14 @@ class FrictionMount(Fmi2Slave):
         initial = SubElement(structure, "InitialUnknowns")
         rows = []  # (index, dependencies) of every output, listed in index order
         for axis in AXES:
-            deps = {"F": ("u", "v", "n")}
+            # a rate-dependent friction element (LuGre) reads v in Ffr, kt and E_fr
+            deps = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),
+                    "E_fr": ("u", "v", "n")}
             for name in ("F", "Ffr", "kt", "slip", "E_fr", "N", "N2"):
                 rows.append((int(index[f"{name}_{axis}"]), " ".join(
                     index[f"{d}_{axis}"] for d in deps.get(name, ("u", "n")))))
         rows.append((int(index["E_fr"]), " ".join(
-            index[f"{d}_{axis}"] for axis in AXES for d in ("u", "n"))))
+            index[f"{d}_{axis}"] for axis in AXES for d in ("u", "v", "n"))))
         for i, refs in sorted(rows):
             SubElement(outputs, "Unknown", index=str(i), dependencies=refs)
         # Initial values of the outputs depend on inputs, parameters and the start

@@ -22,7 +22,10 @@ The friction element's mean force is zero under this motion (its periodic loop i
 point-symmetric about its centre; a stuck element is started relaxed at ``U0``, i.e.
 ``w = U0``: the slider settles while the preload creeps on), so the elastic law
 carries the preload. The law is rate independent apart from ``c``, so
-``K* = K*_rate-independent(X, U0) + i omega c`` exactly.
+``K* = K*_rate-independent(X, U0) + i omega c`` exactly; a rate-dependent friction
+element is evaluated at each frequency (its march gets the velocity samples
+and the step, :mod:`hbm.generic_march`), and its working point is the elastic law's
+(its mean force taken as zero, as the rate-independent elements' is).
 
 For a linear spring and damper ``K* = k1 + i omega c``; for the Jenkins element the
 closed forms of :mod:`hbm.closed_form` (tests). :func:`time_domain_stiffness` is the
@@ -36,7 +39,7 @@ dynamic stiffness of resilient elements.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import brentq
@@ -105,12 +108,14 @@ def axis_as_nonlinear(axis: AxisParameters, w_start: float = 0.0) -> NonlinearAx
         **friction_columns([axis]))
 
 
-def _coefficients(axis: AxisParameters, X: float, U0: float, basis: FourierBasis
-                  ) -> np.ndarray:
-    """Force coefficients ``[static, cos 1, sin 1]`` of the rate-independent part."""
+def _coefficients(axis: AxisParameters, X: float, U0: float, basis: FourierBasis,
+                  omega: float | None = None) -> np.ndarray:
+    """Force coefficients ``[static, cos 1, sin 1]`` of the law without ``c`` (at the
+    frequency ``omega``, rad/s, for a rate-dependent friction element)."""
     U = np.zeros((3, 1))
     U[0, 0], U[2, 0] = U0, X
-    F, _ = aft_forces(U, axis_as_nonlinear(axis, w_start=U0), basis, jacobian=False)
+    F, _ = aft_forces(U, axis_as_nonlinear(axis, w_start=U0), basis, jacobian=False,
+                      omega=omega)
     F = F[:, 0] + axis.k1 * U[:, 0]
     return F
 
@@ -120,6 +125,10 @@ def _check_amplitude(X: float) -> float:
     if not (math.isfinite(X) and X > 0):
         raise ValueError(f"`amplitude` must be finite and > 0 (m), got {X!r}")
     return X
+
+
+def _rate_dependent(axis: AxisParameters) -> bool:
+    return axis.friction and axis.element.rate_dependent
 
 
 def working_deflection(axis: AxisParameters, preload: float, X: float,
@@ -141,16 +150,20 @@ def working_deflection(axis: AxisParameters, preload: float, X: float,
         raise ValueError(f"a preload needs a stiff law: k1 and k2 must be > 0, got "
                          f"k1 = {axis.k1!r}, k2 = {axis.k2!r}")
     basis = FourierBasis(1, n_samples)
+    if _rate_dependent(axis):   # the elastic law carries the preload
+        axis = replace(axis, friction=False)
     mean = lambda u0: _coefficients(axis, X, u0, basis)[0] - P  # noqa: E731
     span = abs(P) / k_min + X
     return float(brentq(mean, -span, span, xtol=1e-15, rtol=1e-13))
 
 
 def rate_independent_stiffness(axis: AxisParameters, X: float, U0: float = 0.0,
-                               n_samples: int = DEFAULT_SAMPLES) -> complex:
-    """``(F_s + i F_c) / X`` of the law without its viscous term, N/m."""
+                               n_samples: int = DEFAULT_SAMPLES,
+                               omega: float | None = None) -> complex:
+    """``(F_s + i F_c) / X`` of the law without its viscous term, N/m (a
+    rate-dependent friction element needs the frequency ``omega``, rad/s)."""
     X = _check_amplitude(X)
-    F = _coefficients(axis, X, float(U0), FourierBasis(1, n_samples))
+    F = _coefficients(axis, X, float(U0), FourierBasis(1, n_samples), omega)
     return complex(F[2], F[1]) / X
 
 
@@ -177,7 +190,12 @@ def dynamic_stiffness(axis: AxisParameters, freqs_hz, amplitudes, preloads=(0.0,
     for i, P in enumerate(p):
         for j, X in enumerate(a):
             U0[i, j] = working_deflection(axis, P, X, n_samples)
-            k_ri = rate_independent_stiffness(axis, X, U0[i, j], n_samples)
+            if _rate_dependent(axis):   # its loop changes with the frequency
+                k_ri = np.array([rate_independent_stiffness(axis, X, U0[i, j],
+                                                            n_samples, float(w))
+                                 for w in omega])
+            else:
+                k_ri = rate_independent_stiffness(axis, X, U0[i, j], n_samples)
             K[i, j] = k_ri + 1j * omega * axis.c
             if progress is not None:
                 progress()

@@ -5,9 +5,12 @@ among :data:`HBM_FAST_FORMS`) is evaluated by marching the element's bound step
 (``fmu_src.friction.FrictionElement.bind``) over the N samples of one period,
 starting relaxed at ``w_start``: a first pass settles the state, the second is the
 periodic response (NLvib marches hysteretic elements two periods and keeps the last;
-a pass more is run while the state at the period's end still changes by more than
-:data:`REPEAT_TOL` of the largest |u|, at most :data:`MAX_PASSES`). A rate-dependent
-element gets the velocity samples ``v = omega dU/dtheta`` and the step ``dt = T / N``.
+a pass more is run while the state at the period's end still changes, any of its
+floats by more than :data:`REPEAT_TOL` of its size or of the largest |u|, at most
+:data:`MAX_PASSES`: the whole state, since an element's position may repeat while its
+other floats still settle, as a reference force kept from the last reversal does).
+A rate-dependent element gets the velocity samples ``v = omega dU/dtheta`` and the
+step ``dt = T / N``.
 
 The Jacobian ``dF/dU`` is by central differences of the marched force coefficients
 (step :data:`FD_STEP` times the largest |U|), 2 (2H+1) marches more: the contract
@@ -30,8 +33,8 @@ __all__ = ["HBM_FAST_FORMS", "generic_periodic", "generic_aft", "MAX_PASSES"]
 HBM_FAST_FORMS = ("symmetric_slider", "slider_bank", "inclined")
 #: passes over the period at most (two suffice for an element that settles at once)
 MAX_PASSES = 20
-#: the state at the period's end repeats when its position changes by less than this
-#: times the largest |u| of the period (m/m) over a pass
+#: the state at the period's end repeats when each of its floats changes by less than
+#: this times its size or the largest |u| of the period (m/m) over a pass
 REPEAT_TOL = 1e-13
 #: central-difference step of the Jacobian, relative to the largest |U| (m/m)
 FD_STEP = 1e-7
@@ -47,14 +50,20 @@ def generic_periodic(u, v, p, w_start: float, dt: float) -> np.ndarray:
     out = [0.0] * len(us)
     scale = REPEAT_TOL * (max(abs(x) for x in us) + 1e-12)
     for passes in range(1, MAX_PASSES + 1):
-        begin = el.position(state)
+        begin = _floats(state)
         for i, (ui, vi) in enumerate(zip(us, vs)):
             r = step(state, ui, vi, n, dt)
             state = r[1]
             out[i] = r[0]
-        if passes > 1 and abs(el.position(state) - begin) <= scale:
+        if passes > 1 and all(abs(a - b) <= max(REPEAT_TOL * max(abs(a), abs(b)),
+                                                scale)
+                              for a, b in zip(begin, _floats(state))):
             break
     return np.array(out)
+
+
+def _floats(state) -> tuple:
+    return (state,) if isinstance(state, float) else tuple(state)
 
 
 def generic_aft(U: np.ndarray, p, w_start: float, basis, omega, jacobian: bool):

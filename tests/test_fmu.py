@@ -181,7 +181,8 @@ def test_model_description_interface(fmu):
     by_name = {v.name: v for v in md.modelVariables}
     fields = ["law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
               "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind",
-              "theta_deg", "k", "kf2", "mu1", "mu2", "preload"]
+              "theta_deg", "k", "kf2", "mu1", "mu2", "preload", "sigma1", "sigma2",
+              "stribeck_ratio", "v_stribeck"]
     expected = {f"{a}_{f}": "parameter" for a in AXES for f in fields}
     for a in AXES:
         expected.update({f"u_{a}": "input", f"v_{a}": "input", f"n_{a}": "input",
@@ -216,8 +217,9 @@ def test_model_description_interface(fmu):
     # direct feedthrough, declared: F depends on u, v, n of its axis
     deps = {o.variable.name: sorted(d.name for d in o.dependencies) for o in md.outputs}
     assert deps["F_radial1"] == ["n_radial1", "u_radial1", "v_radial1"]
-    assert deps["Ffr_axial"] == ["n_axial", "u_axial"]
-    assert len(deps["E_fr"]) == 6
+    assert deps["Ffr_axial"] == ["n_axial", "u_axial", "v_axial"]   # LuGre reads v
+    assert deps["slip_axial"] == ["n_axial", "u_axial"]
+    assert len(deps["E_fr"]) == 9
     assert {u.variable.name for u in md.initialUnknowns} == set(deps)
 
 

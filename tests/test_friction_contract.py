@@ -24,6 +24,10 @@ AXES_BY_KIND = {
                                          spread=0.5, fs_ratio=0.8),
     "inclined": AxisParameters(friction=True, friction_kind="inclined"),
     "dahl": AxisParameters(friction=True, friction_kind="dahl", n0=20.0),
+    "lugre": AxisParameters(friction=True, friction_kind="lugre", n0=20.0,
+                            sigma1=300.0, sigma2=5.0, stribeck_ratio=1.5,
+                            v_stribeck=0.05),
+    "berg": AxisParameters(friction=True, friction_kind="berg", n0=20.0),
 }
 
 
@@ -63,7 +67,7 @@ def test_step_keeps_the_contract(kind):
         r = p.friction_step(state, x, 0.0, p.n0, 1e-3)
         assert isinstance(r, ElementStep) and r.dissipated >= 0.0
         assert math.isfinite(r.force) and math.isfinite(r.df_du)
-        ref = axis_force(x, 0.0, state, p)
+        ref = axis_force(x, 0.0, state, p, None, 1e-3)
         assert ref.friction_force == r.force and ref.dissipated == r.dissipated
         # dF/du by central differences where the step does not change regime
         h = 1e-9

@@ -45,7 +45,8 @@ class Params(ctypes.Structure):
                 ("sliders", ctypes.c_int), ("spread", ctypes.c_double),
                 ("fs_ratio", ctypes.c_double), ("friction_kind", ctypes.c_int)] + [
         (name, ctypes.c_double)
-        for name in ("theta_deg", "k", "kf2", "mu1", "mu2", "preload")]
+        for name in ("theta_deg", "k", "kf2", "mu1", "mu2", "preload", "sigma1",
+                     "sigma2", "stribeck_ratio", "v_stribeck")]
 
 
 @pytest.fixture(scope="module")

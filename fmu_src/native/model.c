@@ -13,7 +13,7 @@ static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '3'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '4'};
 
 /* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
  * (tests/test_native_fmu.py checks that the numbers agree): the largest
@@ -112,6 +112,10 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_MU1: p->mu1 = value; break;
     case MD_P_MU2: p->mu2 = value; break;
     case MD_P_PRELOAD: p->preload = value; break;
+    case MD_P_SIGMA1: p->sigma1 = value; break;
+    case MD_P_SIGMA2: p->sigma2 = value; break;
+    case MD_P_STRIBECK_RATIO: p->stribeck_ratio = value; break;
+    case MD_P_V_STRIBECK: p->v_stribeck = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -140,6 +144,10 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_MU1: return p->mu1;
     case MD_P_MU2: return p->mu2;
     case MD_P_PRELOAD: return p->preload;
+    case MD_P_SIGMA1: return p->sigma1;
+    case MD_P_SIGMA2: return p->sigma2;
+    case MD_P_STRIBECK_RATIO: return p->stribeck_ratio;
+    case MD_P_V_STRIBECK: return p->v_stribeck;
     case MD_P_NONE: break;
     }
     return 0.0;
@@ -359,8 +367,8 @@ static md_status evaluate(md_instance *m, const char *call, int j)
     m->res[j].w_new = m->d.w[j][0];
     memcpy(m->w_new[j], m->d.w[j], ml_state_size(&m->d.p[j]) * sizeof(double));
 #else
-    if (ml_axis_force_p(u, v, m->d.w[j], &m->d.p[j], n, m->w_new[j], &m->res[j],
-                        m->lost, sizeof m->lost)) {  /* inclined: ContactLost */
+    if (ml_axis_force_p(u, v, m->d.dt, m->d.w[j], &m->d.p[j], n, m->w_new[j],
+                        &m->res[j], m->lost, sizeof m->lost)) {  /* inclined: ContactLost */
         const char *a = AXIS_NAMES[j];
         ml_repr_double(u, su, sizeof su);
         md_log(m, MD_ERROR, "FrictionMount: axis %s at u_%s=%s: %s (in %s)", a, a, su,
@@ -496,6 +504,7 @@ md_status md_do_step(md_instance *m, const char *call, double t, double h)
         m->d.e[j] += m->res[j].dissipated;
     }
     m->d.time = t + h;
+    m->d.dt = h;
     m->d.started = 1;
     m->last_time_ok = m->d.time;
     invalidate(m);  /* outputs now follow the committed state */
@@ -748,7 +757,8 @@ static int axis_problem(const md_data *d, int j, char *why, size_t size)
     const char *a = AXIS_NAMES[j];
     static const md_field reals[] = {MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA,
         MD_P_DELTA_NEG, MD_P_C, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SPREAD, MD_P_FS_RATIO,
-        MD_P_THETA_DEG, MD_P_K, MD_P_KF2, MD_P_MU1, MD_P_MU2, MD_P_PRELOAD};
+        MD_P_THETA_DEG, MD_P_K, MD_P_KF2, MD_P_MU1, MD_P_MU2, MD_P_PRELOAD,
+        MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO, MD_P_V_STRIBECK};
     size_t i;
     int k;
     for (i = 0; i < sizeof reals / sizeof reals[0]; ++i) {
@@ -791,8 +801,9 @@ static int state_problem(const md_data *d, char *why, size_t size)
     char text[4096];
     int j;
     if ((unsigned)d->mode > MD_TERMINATED || !is_flag(d->started)
-            || !(isnan(d->time) || isfinite(d->time))) {
-        snprintf(why, size, "mode, time or start flag out of range");
+            || !(isnan(d->time) || isfinite(d->time))
+            || !(isfinite(d->dt) && d->dt >= 0.0)) {
+        snprintf(why, size, "mode, time, step size or start flag out of range");
         return 1;
     }
     for (j = 0; j < 3; ++j) {

@@ -41,7 +41,8 @@ typedef enum {
     MD_P_LAW = 0, MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA, MD_P_DELTA_NEG, MD_P_C,
     MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SLIDERS, MD_P_SPREAD,
     MD_P_FS_RATIO, MD_P_NONE, MD_P_FRICTION_KIND, MD_P_THETA_DEG, MD_P_K, MD_P_KF2,
-    MD_P_MU1, MD_P_MU2, MD_P_PRELOAD
+    MD_P_MU1, MD_P_MU2, MD_P_PRELOAD, MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO,
+    MD_P_V_STRIBECK
 } md_field;
 
 typedef struct {
@@ -72,6 +73,8 @@ typedef struct {
     int nw[3], wkind[3];
     double e[3];
     double time;      /* end of the last step (= start time before the first) */
+    double dt;        /* size of the last step (0 before the first): the increment
+                         rate-dependent elements integrate over */
     int started;      /* a step was done since initialization */
 } md_data;
 

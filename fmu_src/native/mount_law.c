@@ -37,6 +37,10 @@ ml_axis_params ml_default_params(void)
     p.mu1 = q.mu1;
     p.mu2 = q.mu2;
     p.preload = q.preload;
+    p.sigma1 = 0.0;  /* lugre.py's defaults */
+    p.sigma2 = 0.0;
+    p.stribeck_ratio = 1.0;
+    p.v_stribeck = 0.01;
     return p;
 }
 
@@ -126,6 +130,13 @@ int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p
                     double fs, double *w_new, ml_axis_result *r, char *msg,
                     size_t size)
 {
+    return ml_axis_force_dt(u, v, 0.0, w, p, fs, w_new, r, msg, size);
+}
+
+int ml_axis_force_dt(double u, double v, double dt, const double *w,
+                     const ml_axis_params *p, double fs, double *w_new,
+                     ml_axis_result *r, char *msg, size_t size)
+{
     ml_axis_result out;
     ml_friction_step st;
     double f_el, k_el;
@@ -142,7 +153,7 @@ int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p
         *r = out;
         return 0;
     }
-    if (el->step(u, v, w, p, fs, 0.0, w_new, &st, msg, size))
+    if (el->step(u, v, w, p, fs, dt, w_new, &st, msg, size))
         return 1;
     out.friction = st.force;
     out.w_new = el->named_state ? el->position(w_new, el->state_size(p)) : w_new[0];
@@ -182,11 +193,12 @@ double ml_slip_force(const ml_axis_params *p, double n)
     return n > 0.0 ? p->mu * n : 0.0;
 }
 
-int ml_axis_force_p(double u, double v, const double *w, const ml_axis_params *p,
-                    double n, double *w_new, ml_axis_result *r, char *msg,
-                    size_t size)
+int ml_axis_force_p(double u, double v, double dt, const double *w,
+                    const ml_axis_params *p, double n, double *w_new,
+                    ml_axis_result *r, char *msg, size_t size)
 {
-    return ml_axis_force_w(u, v, w, p, ml_slip_force(p, n), w_new, r, msg, size);
+    return ml_axis_force_dt(u, v, dt, w, p, ml_slip_force(p, n), w_new, r, msg,
+                            size);
 }
 
 static int finite_and(double value, int strict)

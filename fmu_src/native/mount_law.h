@@ -30,6 +30,8 @@ typedef struct {
     int friction_kind;        /* code of the element in fmu_src.friction's registry */
     /* the inclined element (its inclined surface's stiffness is kf) */
     double theta_deg, k, kf2, mu1, mu2, preload;
+    /* the LuGre element (its bristle stiffness sigma0 is kf) */
+    double sigma1, sigma2, stribeck_ratio, v_stribeck;
 } ml_axis_params;
 
 /* Result of mount_law.axis_force. */
@@ -142,6 +144,12 @@ int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p
                     double fs, double *w_new, ml_axis_result *r, char *msg,
                     size_t size);
 
+/* ml_axis_force_w over an increment of dt seconds (mount_law.axis_force's dt: read by
+ * rate-dependent elements only; ml_axis_force_w is dt = 0). */
+int ml_axis_force_dt(double u, double v, double dt, const double *w,
+                     const ml_axis_params *p, double fs, double *w_new,
+                     ml_axis_result *r, char *msg, size_t size);
+
 /* mount_law.axis_force of the symmetric macro-slip element (kf <= 0: no friction
  * element). */
 ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
@@ -151,10 +159,10 @@ ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
 /* Slip force from the normal-force input: mu * max(n, 0) with friction, else 0. */
 double ml_slip_force(const ml_axis_params *p, double n);
 
-/* ml_axis_force_w with the parameters of an axis and normal force n. */
-int ml_axis_force_p(double u, double v, const double *w, const ml_axis_params *p,
-                    double n, double *w_new, ml_axis_result *r, char *msg,
-                    size_t size);
+/* ml_axis_force_dt with the parameters of an axis and normal force n. */
+int ml_axis_force_p(double u, double v, double dt, const double *w,
+                    const ml_axis_params *p, double n, double *w_new,
+                    ml_axis_result *r, char *msg, size_t size);
 
 /* Append the problems of p (AxisParameters.problems(prefix), plus the law-code and
  * friction-kind-code checks of the FMU) to buf as "; "-separated text. Returns the number of problems found.
