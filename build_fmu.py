@@ -3,7 +3,8 @@
 Default: dist/FrictionMount.fmu (FMI 2.0, PythonFMU), a thin wrapper around
 :func:`fmu_build.build_fmu`. ``--native``: the C build,
 dist/FrictionMountNative.fmu (FMI 2.0) or with ``--fmi 3`` dist/FrictionMountNative3.fmu
-(:func:`fmu_build.native.build_native_fmu`). See docs/fmu.md, "Which FMU".
+(:func:`fmu_build.native.build_native_fmu`; it says on stderr which platforms it
+built and why any was skipped). See docs/fmu.md, "Which FMU".
 """
 
 import argparse
@@ -19,7 +20,9 @@ if __name__ == "__main__":
     if args.native:
         from drymount.fmu_build.native import build_native_fmu
 
-        print(build_native_fmu(args.dest, fmi=args.fmi or 2).path)
+        build = build_native_fmu(args.dest, fmi=args.fmi or 2)
+        print(build.summary(), file=sys.stderr)  # which platforms, why any skipped
+        print(build.path)
     elif args.fmi not in (None, 2):
         sys.exit("--fmi 3 needs --native: the PythonFMU build is FMI 2.0 only")
     else:

@@ -199,9 +199,7 @@ def cmd_build_fmu(args) -> int:
         from drymount.fmu_build.native import build_native_fmu
 
         build = build_native_fmu(args.out, fmi=args.fmi or 2)
-        _info(f"binaries: {', '.join(build.platforms)}; not compiled here: "
-              f"{', '.join(build.missing_platforms)} (sources and the compile command "
-              f"are in the FMU)")
+        _info(build.summary())
         print(shown_path(build.path))
         return EXIT_OK
     if args.fmi not in (None, 2):

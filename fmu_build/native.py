@@ -12,10 +12,15 @@ standard library and libm, and carry their sources so any importer can compile t
 * ``sources/``: the law, the instance (``model.c``), the glue of the FMI version and the
   generated ``model_variables.h`` (variable table and instantiation token); FMI 3.0 also
   ``sources/buildDescription.xml``;
-* ``binaries/``: linux64 / x86_64-linux compiled here with ``gcc`` (flags
-  :data:`CFLAGS`), win64 / x86_64-windows when ``x86_64-w64-mingw32-gcc`` is installed;
-  darwin: the one-line compile command in ``documentation/index.html``
-  (:data:`COMPILE`).
+* ``binaries/``: the five :data:`PLATFORMS` (linux64, aarch64-linux, win64, darwin64,
+  aarch64-darwin; FMI 3.0: x86_64-linux, aarch64-linux, x86_64-windows, x86_64-darwin,
+  aarch64-darwin), cross-compiled in parallel with ``zig cc`` (the ``ziglang``
+  package, extra ``native-cross``; flags :data:`CFLAGS`, linux against glibc
+  :data:`GLIBC_FLOOR`), win64 with ``x86_64-w64-mingw32-gcc`` where installed; without
+  zig linux64 with ``gcc`` and win64 with MinGW only, the others skipped
+  (:attr:`NativeBuild.skipped` says why; the one-line compile commands are in
+  ``documentation/index.html``, :data:`COMPILE`). Binaries are cached by the hash of
+  compiler, command and sources (:func:`cache_folder`).
 
 The archive is reproducible: fixed timestamps, sorted entries, and the GUID /
 instantiation token is a hash of everything else. ``null=True`` builds the benchmark's
@@ -24,13 +29,16 @@ null FMU (``NullMountNative[3].fmu``): the same interface and bookkeeping, no la
 
 from __future__ import annotations
 
+import functools
 import hashlib
+import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import uuid
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
@@ -50,31 +58,63 @@ GLUE = {2: ("fmi2_api.h", "fmi2_glue.c"), 3: ("fmi3_api.h", "fmi3_glue.c")}
 COMMON_SOURCES = tuple(sorted(
     p.name for p in SOURCE_DIR.iterdir() if p.suffix in (".c", ".h")
     and p.name not in {n for g in GLUE.values() for n in g}))
-#: Compiler flags of every binary (the issue's warning set; -fPIC only on ELF).
+#: Compiler flags of every binary (the issue's warning set; -fPIC only on ELF and
+#: Mach-O). -ffp-contract=off: no fused multiply-add (clang would fuse on aarch64), so
+#: every platform's binary rounds as the Python law does, operation by operation.
 CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", "-shared",
-          "-fvisibility=hidden")
-#: A PE header carries a link time unless told not to (reproducible DLLs).
-_PE_FLAGS = ("-Wl,--no-insert-timestamp",)
-#: Platform folder -> (compiler, extra flags, library suffix), per FMI version.
+          "-fvisibility=hidden", "-ffp-contract=off")
+#: A PE header carries a link time unless told not to (reproducible DLLs); -s: no
+#: debug info (the MinGW runtime's objects carry 244 KB of it).
+_PE_FLAGS = ("-Wl,--no-insert-timestamp", "-s")
+#: The oldest glibc the linux binaries need (zig cc links against this version's
+#: symbols; tests/test_native_platforms.py reads the versions from the binaries):
+#: 2.17 (CentOS/RHEL 7, 2012), below RHEL 8's 2.28.
+GLIBC_FLOOR = "2.17"
+#: The oldest macOS the darwin binaries load on (zig cc's -target version).
+MACOS_FLOOR = "11.0"
+
+
+@dataclass(frozen=True)
+class Platform:
+    """How one platform's binary is compiled: with ``zig cc -target <zig>`` (the
+    ``ziglang`` package, extra ``native-cross``), or without zig with the C compiler
+    ``fallback`` where one is installed (``prefer_fallback``: even with zig, when it
+    is installed; the MinGW DLL imports only msvcrt, zig's the UCRT)."""
+
+    zig: str
+    suffix: str
+    flags: tuple[str, ...] = ()
+    fallback: str | None = None
+    prefer_fallback: bool = False
+
+
+_LINUX64 = Platform(f"x86_64-linux-gnu.{GLIBC_FLOOR}", ".so", ("-fPIC",), "gcc")
+_LINUX_ARM = Platform(f"aarch64-linux-gnu.{GLIBC_FLOOR}", ".so", ("-fPIC",))
+_WIN64 = Platform("x86_64-windows-gnu", ".dll", _PE_FLAGS, "x86_64-w64-mingw32-gcc",
+                  prefer_fallback=True)
+_DARWIN64 = Platform(f"x86_64-macos.{MACOS_FLOOR}", ".dylib", ("-fPIC",))
+_DARWIN_ARM = Platform(f"aarch64-macos.{MACOS_FLOOR}", ".dylib", ("-fPIC",))
+#: Platform folder -> how its binary is built, per FMI version (FMI 2.0: its folder
+#: names, plus the aarch64 ones fmpy and the Reference-FMUs use; FMI 3.0: the
+#: standard's platform tuples).
 PLATFORMS = {
-    2: {"linux64": ("gcc", ("-fPIC",), ".so"),
-        "win64": ("x86_64-w64-mingw32-gcc", _PE_FLAGS, ".dll")},
-    3: {"x86_64-linux": ("gcc", ("-fPIC",), ".so"),
-        "x86_64-windows": ("x86_64-w64-mingw32-gcc", _PE_FLAGS, ".dll")},
+    2: {"linux64": _LINUX64, "aarch64-linux": _LINUX_ARM, "win64": _WIN64,
+        "darwin64": _DARWIN64, "aarch64-darwin": _DARWIN_ARM},
+    3: {"x86_64-linux": _LINUX64, "aarch64-linux": _LINUX_ARM,
+        "x86_64-windows": _WIN64, "x86_64-darwin": _DARWIN64,
+        "aarch64-darwin": _DARWIN_ARM},
 }
 #: One-line compile commands for platforms built elsewhere ({id}: model identifier),
 #: run in the unzipped FMU's folder.
 COMPILE = {
     "linux": "gcc -std=c99 -O2 -fPIC -shared -fvisibility=hidden -o {id}.so "
-             "sources/*.c -lm",
+             "sources/drymount_fmu.c -lm",
     "darwin": "clang -std=c99 -O2 -fPIC -dynamiclib -fvisibility=hidden "
-              "-o {id}.dylib sources/*.c -lm",
-    "windows (MSVC)": "cl /O2 /LD /Fe{id}.dll sources\\*.c",
+              "-o {id}.dylib sources/drymount_fmu.c -lm",
+    "windows (MSVC)": "cl /O2 /LD /Fe{id}.dll sources\\drymount_fmu.c",
     "windows (MinGW)": "x86_64-w64-mingw32-gcc -std=c99 -O2 -shared -o {id}.dll "
-                       "sources/*.c -lm",
+                       "sources/drymount_fmu.c -lm",
 }
-#: Where the darwin binary goes, per FMI version.
-DARWIN_FOLDER = {2: "darwin64", 3: "aarch64-darwin (or x86_64-darwin)"}
 
 _C_TYPE = {"Real": "MD_REAL", "Integer": "MD_INTEGER", "Boolean": "MD_BOOLEAN"}
 _FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
@@ -130,7 +170,15 @@ class NativeBuild:
     target: NativeTarget
     token: str
     platforms: tuple[str, ...]        # binaries compiled into the archive
-    missing_platforms: tuple[str, ...]  # cross compiler not installed
+    missing_platforms: tuple[str, ...]  # not compiled (no compiler for them)
+    skipped: dict[str, str] = field(default_factory=dict)  # platform -> why
+
+    def summary(self) -> str:
+        """Which platforms were built and why any was skipped (one line each)."""
+        lines = [f"binaries built: {', '.join(self.platforms)}"]
+        lines += [f"skipped {p}: {why} (the sources and compile commands are in the "
+                  f"FMU)" for p, why in self.skipped.items()]
+        return "\n".join(lines)
 
 
 def default_native_path(fmi: int = 2) -> Path:
@@ -192,9 +240,25 @@ def friction_table_header() -> str:
             "do not edit. */\n#ifndef DRYMOUNT_FRICTION_TABLE_H\n"
             "#define DRYMOUNT_FRICTION_TABLE_H\n\n#include \"mount_law.h\"\n\n"
             f"#define ML_N_FRICTION_KINDS {len(ports)}\n"
-            + "".join(f"extern const ml_element {c};\n" for c in ports)
+            + "".join(f"ML_ELEMENT_DECL const ml_element {c};\n" for c in ports)
             + "static const ml_element *const ML_ELEMENTS[ML_N_FRICTION_KINDS] = {"
             + ", ".join(f"&{c}" for c in ports) + "};\n\n#endif\n")
+
+
+#: The generated translation unit the binaries are compiled from (internal.h).
+UNITY = "drymount_fmu.c"
+
+
+def unity_source(target: NativeTarget) -> str:
+    """``drymount_fmu.c``: every .c file of the FMU #included into one translation
+    unit with DRYMOUNT_UNITY defined, so that every internal function is static and
+    only the fmi2* / fmi3* functions have external linkage."""
+    c_files = [n for n in (*COMMON_SOURCES, *GLUE[target.fmi]) if n.endswith(".c")]
+    return ("/* Generated by fmu_build/native.py: the whole FMU as one translation "
+            "unit (see internal.h).\n * Compile this file alone; define "
+            f"FMI{target.fmi}_FUNCTION_PREFIX to prefix the FMI functions. */\n"
+            "#define DRYMOUNT_UNITY 1\n"
+            + "".join(f'#include "{n}"\n' for n in c_files))
 
 
 def write_law_sources(folder) -> list[Path]:
@@ -312,10 +376,8 @@ def _cosimulation(root: Element, target: NativeTarget) -> None:
     cs = SubElement(root, "CoSimulation", modelIdentifier=target.model_identifier,
                     **caps)
     if target.fmi == 2:
-        files = SubElement(cs, "SourceFiles")
-        for name in _source_names(target):
-            if name.endswith(".c"):
-                SubElement(files, "File", name=name)
+        files = SubElement(cs, "SourceFiles")  # the rest is #included (internal.h)
+        SubElement(files, "File", name=UNITY)
 
 
 def _units(root: Element, target: NativeTarget) -> None:
@@ -400,9 +462,7 @@ def build_description(target: NativeTarget) -> bytes:
     conf = SubElement(root, "BuildConfiguration",
                       modelIdentifier=target.model_identifier)
     files = SubElement(conf, "SourceFileSet", language="C99")
-    for name in _source_names(target):
-        if name.endswith(".c"):
-            SubElement(files, "SourceFile", name=name)
+    SubElement(files, "SourceFile", name=UNITY)  # the rest is #included
     SubElement(conf, "Library", name="m", description="libm (C math library)")
     indent(root)
     return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
@@ -413,7 +473,7 @@ def build_description(target: NativeTarget) -> bytes:
 
 def _source_names(target: NativeTarget) -> list[str]:
     return sorted([*COMMON_SOURCES, *GLUE[target.fmi], "model_variables.h",
-                   "friction_table.h"])
+                   "friction_table.h", UNITY])
 
 
 def _sources(target: NativeTarget, token: str) -> dict[str, bytes]:
@@ -421,6 +481,7 @@ def _sources(target: NativeTarget, token: str) -> dict[str, bytes]:
            for name in (*COMMON_SOURCES, *GLUE[target.fmi])}
     out["model_variables.h"] = variables_header(target, token).encode()
     out["friction_table.h"] = friction_table_header().encode()
+    out[UNITY] = unity_source(target).encode()
     return out
 
 
@@ -434,32 +495,136 @@ def _token(target: NativeTarget) -> str:
     return "{" + str(uuid.UUID(bytes=h.digest()[:16])) + "}"
 
 
-def _compile(target: NativeTarget, folder: Path, platform: str) -> Path | None:
-    """Compile the binary of ``platform`` in ``folder``; None if no compiler."""
-    compiler, extra, suffix = PLATFORMS[target.fmi][platform]
-    if shutil.which(compiler) is None:
-        if compiler == "gcc":
-            raise NativeBuildError("gcc is required to build the native FMU "
-                                   "(apt-get install gcc)")
+@dataclass(frozen=True)
+class _Job:
+    """One platform's compile: the command, the library it writes, its cache key."""
+
+    platform: str
+    cmd: tuple[str, ...]
+    out: Path
+    key: str
+
+
+def _zig_command() -> tuple[str, ...] | None:
+    """``python -m ziglang`` if the ``ziglang`` package is installed, else None."""
+    import importlib.util
+
+    if importlib.util.find_spec("ziglang") is None:
         return None
-    out = folder / (target.model_identifier + suffix)
+    return (sys.executable, "-m", "ziglang")
+
+
+@functools.cache
+def _compiler_identity(cmd: tuple[str, ...]) -> str:
+    """The compiler's version text (part of the cache key)."""
+    probe = [*cmd[:3], "version"] if cmd[1:3] == ("-m", "ziglang") else [cmd[0],
+                                                                        "--version"]
+    proc = subprocess.run(probe, capture_output=True, text=True, check=False)
+    return proc.stdout.strip() + proc.stderr.strip()
+
+
+def _compiler(plat: Platform) -> tuple[tuple[str, ...] | None, str]:
+    """(compiler command, "") for ``plat``, or (None, why it cannot be built)."""
+    zig = _zig_command()
+    fallback = plat.fallback if plat.fallback and shutil.which(plat.fallback) else None
+    if fallback is not None and (plat.prefer_fallback or zig is None):
+        return (fallback,), ""
+    if zig is not None:
+        return (*zig, "cc", "-target", plat.zig), ""
+    needs = "zig cc (pip install 'drymount[native-cross]')"
+    return None, needs + (f" or {plat.fallback}" if plat.fallback else "")
+
+
+def cache_folder() -> Path | None:
+    """Where compiled binaries are kept by source hash: ``$DRYMOUNT_NATIVE_CACHE``
+    (empty: no cache), else ``~/.cache/drymount/native`` (``$XDG_CACHE_HOME``)."""
+    env = os.environ.get("DRYMOUNT_NATIVE_CACHE")
+    if env is not None:
+        return Path(env) if env else None
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "drymount" / "native"
+
+
+def _job(target: NativeTarget, folder: Path, platform: str,
+         sources: dict[str, bytes]) -> _Job | str:
+    """The compile of ``platform`` in ``folder``, or why it cannot be built."""
+    plat = PLATFORMS[target.fmi][platform]
+    compiler, why = _compiler(plat)
+    if compiler is None:
+        return why
+    out = folder / platform / (target.model_identifier + plat.suffix)
     # relative names in the build folder: no temporary path ends up in the binary
-    c_files = [n for n in _source_names(target) if n.endswith(".c")]
-    cmd = [compiler, *CFLAGS, *extra, "-o", out.name, *c_files, "-lm"]
-    proc = subprocess.run(cmd, capture_output=True, text=True, check=False,
-                          cwd=folder)
-    if proc.returncode != 0:
-        raise NativeBuildError(f"{' '.join(cmd)} failed:\n{proc.stderr}")
-    return out
+    c_files = [UNITY]
+    strip = () if "-s" in plat.flags else ("-s",)
+    cmd = (*compiler, *CFLAGS, *plat.flags, *strip, "-o",
+           f"{platform}/{out.name}", *c_files, "-lm")
+    h = hashlib.sha256(_compiler_identity(compiler).encode() + b"\0")
+    h.update("\0".join(cmd).encode())
+    for name, data in sorted(sources.items()):
+        h.update(name.encode() + b"\0" + data + b"\0")
+    return _Job(platform, cmd, out, h.hexdigest())
 
 
-def _documentation(target: NativeTarget, missing: list[str]) -> bytes:
+def _run_jobs(jobs: list[_Job], folder: Path) -> None:
+    """Run the compiles not in the cache in parallel; NativeBuildError on a failure."""
+    cache = cache_folder()
+    running = []
+    for job in jobs:
+        hit = cache / job.key if cache is not None else None
+        job.out.parent.mkdir(parents=True, exist_ok=True)
+        if hit is not None and hit.is_file():
+            shutil.copyfile(hit, job.out)
+            continue
+        proc = subprocess.Popen(job.cmd, cwd=folder, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        running.append((job, proc, hit))
+    failed = []
+    for job, proc, hit in running:
+        _, err = proc.communicate()
+        if proc.returncode != 0:
+            failed.append(f"{' '.join(job.cmd)} failed:\n{err}")
+        elif hit is not None:
+            hit.parent.mkdir(parents=True, exist_ok=True)
+            tmp = hit.with_name(f"{hit.name}.{os.getpid()}.partial")
+            shutil.copyfile(job.out, tmp)
+            tmp.replace(hit)
+    if failed:
+        raise NativeBuildError("\n".join(failed))
+
+
+def compile_binaries(target: NativeTarget, folder: Path,
+                     sources: dict[str, bytes]) -> tuple[dict[str, Path],
+                                                         dict[str, str]]:
+    """Compile every platform's binary of ``target`` from ``sources`` (written into
+    ``folder``) in parallel: ({platform: library}, {skipped platform: why})."""
+    for name, data in sources.items():
+        (folder / name).write_bytes(data)
+    jobs, skipped = [], {}
+    for platform in PLATFORMS[target.fmi]:
+        job = _job(target, folder, platform, sources)
+        if isinstance(job, str):
+            skipped[platform] = f"no compiler: needs {job}"
+        else:
+            jobs.append(job)
+    host = next(iter(PLATFORMS[target.fmi]))
+    if host in skipped:
+        raise NativeBuildError("gcc or zig cc is required to build the native FMU "
+                               "(apt-get install gcc, or pip install "
+                               "'drymount[native-cross]')")
+    _run_jobs(jobs, folder)
+    return {job.platform: job.out for job in jobs}, skipped
+
+
+def _documentation(target: NativeTarget, skipped: dict[str, str]) -> bytes:
     ident = target.model_identifier
     rows = "\n".join(f"<tr><td>{p}</td><td><code>{c.format(id=ident)}</code></td></tr>"
                      for p, c in COMPILE.items())
-    missing_text = (f"<p>Not compiled into this archive: {', '.join(missing)} (no "
+    built = [p for p in PLATFORMS[target.fmi] if p not in skipped]
+    floors = (f"<p>Binaries: {', '.join(built)}. The linux ones need glibc >= "
+              f"{GLIBC_FLOOR}, the darwin ones macOS >= {MACOS_FLOOR}.</p>")
+    missing_text = (f"<p>Not compiled into this archive: {', '.join(skipped)} (no "
                     f"cross compiler on the build machine); use the commands below."
-                    f"</p>" if missing else "")
+                    f"</p>" if skipped else "")
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{ident}</title></head><body>
 <h1>{ident}: friction-damped engine mount (FMI {target.fmi}.0 Co-Simulation, C)</h1>
@@ -471,12 +636,12 @@ _k2, _delta, _delta_neg, _c, _friction, _friction_kind and the fields of the fri
 elements (as in the PythonFMU build); inputs u_, v_, n_; outputs F_, Ffr_, kt_,
 slip_, E_fr_; the output E_fr and the locals w_ (slider positions, settable also
 between steps, as in the PythonFMU build).</p>
+{floors}
 {missing_text}
 <h2>Compiling the sources for another platform</h2>
 <p>Run in the folder of the unzipped FMU, then put the library into
-<code>binaries/&lt;platform&gt;/</code> (darwin:
-<code>binaries/{DARWIN_FOLDER[target.fmi]}/</code>)
-and zip the folder again.</p>
+<code>binaries/&lt;platform&gt;/</code> (one of
+{", ".join(PLATFORMS[target.fmi])}) and zip the folder again.</p>
 <table>{rows}</table>
 </body></html>
 """.encode()
@@ -510,18 +675,11 @@ def build_native_fmu(dest=None, *, fmi: int = 2, null: bool = False) -> NativeBu
     files.update({f"sources/{n}": data for n, data in sources.items()})
     if fmi == 3:
         files["sources/buildDescription.xml"] = build_description(target)
-    built, missing = [], []
     with tempfile.TemporaryDirectory(prefix="drymount-native-") as tmp:
-        for name, data in sources.items():
-            (Path(tmp) / name).write_bytes(data)
-        for platform in PLATFORMS[fmi]:
-            lib = _compile(target, Path(tmp), platform)
-            if lib is None:
-                missing.append(platform)
-                continue
+        libs, skipped = compile_binaries(target, Path(tmp), sources)
+        for platform, lib in libs.items():
             files[f"binaries/{platform}/{lib.name}"] = lib.read_bytes()
-            built.append(platform)
-    missing.append("darwin")
-    files["documentation/index.html"] = _documentation(target, missing)
+    files["documentation/index.html"] = _documentation(target, skipped)
     write_zip(path, files)
-    return NativeBuild(path, target, token, tuple(built), tuple(missing))
+    return NativeBuild(path, target, token, tuple(libs), tuple(skipped),
+                       skipped)

@@ -189,3 +189,29 @@ def build(folder: Path, fmi: int, null: bool = False) -> Path:
 def run(cmd, **kw) -> subprocess.CompletedProcess:
     return subprocess.run([str(c) for c in cmd], capture_output=True, text=True,
                           check=False, **kw)
+
+
+def host_config(folder, md, instances, h: float) -> str:
+    """The config of tests/c_host/native_host.c for ``instances`` ((axes,
+    trajectory) pairs, trajectories written into ``folder``) at step ``h``: inputs
+    u, v, n; outputs F, Ffr, kt, E_fr per axis, E_fr, then slip per axis."""
+    steps = instances[0][1].u.shape[0]
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    types = {v.name: v.type for v in md.modelVariables}
+    ins = [vr[f"{q}_{a}"] for a in AXES for q in ("u", "v", "n")]
+    outs = [vr[f"{q}_{a}"] for q in ("F", "Ffr", "kt", "E_fr") for a in AXES]
+    outs.append(vr["E_fr"])
+    lines = [f"steps {steps} h {h!r}",
+             f"inputs {len(ins)} " + " ".join(map(str, ins)),
+             f"outputs {len(outs)} " + " ".join(map(str, outs)),
+             "booleans 3 " + " ".join(str(vr[f"slip_{a}"]) for a in AXES)]
+    for i, (axes, traj) in enumerate(instances):
+        x = np.stack([traj.u, traj.v, traj.n], axis=2).reshape(steps, 9)
+        x.astype("<f8").tofile(folder / f"in{i}.bin")
+        src, dst = folder / f"in{i}.bin", folder / f"out{i}.bin"
+        lines.append(f"instance mount{i} {src} {dst}")
+        for name, value in parameter_values(axes).items():
+            kind = {"Real": "real", "Integer": "integer", "Boolean": "boolean"}[
+                types[name]]
+            lines.append(f"{kind} {vr[name]} {float(value)!r}")
+    return "\n".join(lines) + "\n"

@@ -31,6 +31,7 @@ from native_helpers import (
     ROOT,
     Outputs,
     build,
+    host_config,
     parameter_values,
     random_general_instance,
     random_instance,
@@ -223,29 +224,6 @@ def c_host(tmp_path_factory):
     return exe
 
 
-def _host_config(folder, md, instances) -> str:
-    steps = instances[0][1].u.shape[0]
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    types = {v.name: v.type for v in md.modelVariables}
-    ins = [vr[f"{q}_{a}"] for a in AXES for q in ("u", "v", "n")]
-    outs = [vr[f"{q}_{a}"] for q in ("F", "Ffr", "kt", "E_fr") for a in AXES]
-    outs.append(vr["E_fr"])
-    lines = [f"steps {steps} h {H!r}",
-             f"inputs {len(ins)} " + " ".join(map(str, ins)),
-             f"outputs {len(outs)} " + " ".join(map(str, outs)),
-             "booleans 3 " + " ".join(str(vr[f"slip_{a}"]) for a in AXES)]
-    for i, (axes, traj) in enumerate(instances):
-        x = np.stack([traj.u, traj.v, traj.n], axis=2).reshape(steps, 9)
-        x.astype("<f8").tofile(folder / f"in{i}.bin")
-        src, dst = folder / f"in{i}.bin", folder / f"out{i}.bin"
-        lines.append(f"instance mount{i} {src} {dst}")
-        for name, value in parameter_values(axes).items():
-            kind = {"Real": "real", "Integer": "integer", "Boolean": "boolean"}[
-                types[name]]
-            lines.append(f"{kind} {vr[name]} {float(value)!r}")
-    return "\n".join(lines) + "\n"
-
-
 @pytest.mark.parametrize("pair", [(0, 1), (2, 3)], ids=["layouts01", "layouts23"])
 def test_c_host_empty_environment_two_instances(native2, c_host, tmp_path, pair):
     """1e5 steps per instance and law (every law with and without friction over the
@@ -280,7 +258,7 @@ def _run_host(native2, c_host, tmp_path, instances) -> None:
     unzip = extract(str(native2), str(tmp_path / "fmu"))
     steps = instances[0][1].u.shape[0]
     cfg = tmp_path / "host.cfg"
-    cfg.write_text(_host_config(tmp_path, md, instances))
+    cfg.write_text(host_config(tmp_path, md, instances, H))
     lib = f"{unzip}/binaries/linux64/{md.coSimulation.modelIdentifier}.so"
     proc = run(["env", "-i", c_host, lib, md.guid, cfg])
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -997,7 +975,7 @@ def test_same_interface_as_the_pythonfmu_build(native, python_fmu):
 
 def test_fmi3_build_description_is_schema_valid(tmp_path):
     """sources/buildDescription.xml against the FMI 3.0 schema fmpy ships; it lists
-    exactly the C files of sources/."""
+    the one translation unit, which #includes every other C file of sources/."""
     import os
 
     from lxml import etree
@@ -1012,7 +990,10 @@ def test_fmi3_build_description_is_schema_valid(tmp_path):
     listed = {e.get("name") for e in doc.iter("SourceFile")}
     present = {n.removeprefix("sources/") for n in zf.namelist()
                if n.startswith("sources/") and n.endswith(".c")}
-    assert listed == present
+    assert listed == {"drymount_fmu.c"}
+    unity = zf.read("sources/drymount_fmu.c").decode()
+    included = set(re.findall(r'#include "(\w+\.c)"', unity))
+    assert included == present - listed
 
 
 def test_windows_dll_needs_only_the_c_runtime(native, tmp_path):

@@ -82,6 +82,6 @@ static double berg_position(const double *state, int n)
     return state[1];
 }
 
-const ml_element ml_berg = {
+ML_ELEMENT_DEF const ml_element ml_berg = {
     "berg", 1, berg_state_size, berg_start, berg_position, berg_step,
     ml_contact_normal_forces, NULL};

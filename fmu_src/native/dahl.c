@@ -59,6 +59,6 @@ static double dahl_position(const double *state, int n)
     return state[1];
 }
 
-const ml_element ml_dahl = {
+ML_ELEMENT_DEF const ml_element ml_dahl = {
     "dahl", 1, dahl_state_size, dahl_start, dahl_position, dahl_step,
     ml_contact_normal_forces, NULL};

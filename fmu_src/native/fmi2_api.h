@@ -48,6 +48,53 @@ typedef struct {
     const fmi2ComponentEnvironment componentEnvironment;
 } fmi2CallbackFunctions;
 
+/* Source-code FMU: an importer that defines FMI2_FUNCTION_PREFIX gets
+ * every function prefixed (FMI2_FUNCTION_PREFIX=mount_: mount_fmi2DoStep, ...); the
+ * binaries are built without it, with the standard names. */
+#ifdef FMI2_FUNCTION_PREFIX
+#define fmi2Paste(a, b) a##b
+#define fmi2PasteB(a, b) fmi2Paste(a, b)
+#define fmi2FullName(name) fmi2PasteB(FMI2_FUNCTION_PREFIX, name)
+#define fmi2CancelStep fmi2FullName(fmi2CancelStep)
+#define fmi2DeSerializeFMUstate fmi2FullName(fmi2DeSerializeFMUstate)
+#define fmi2DoStep fmi2FullName(fmi2DoStep)
+#define fmi2EnterInitializationMode fmi2FullName(fmi2EnterInitializationMode)
+#define fmi2ExitInitializationMode fmi2FullName(fmi2ExitInitializationMode)
+#define fmi2FreeFMUstate fmi2FullName(fmi2FreeFMUstate)
+#define fmi2FreeInstance fmi2FullName(fmi2FreeInstance)
+#define fmi2GetBoolean fmi2FullName(fmi2GetBoolean)
+#define fmi2GetBooleanStatus fmi2FullName(fmi2GetBooleanStatus)
+#define fmi2GetDirectionalDerivative fmi2FullName(fmi2GetDirectionalDerivative)
+#define fmi2GetFMUstate fmi2FullName(fmi2GetFMUstate)
+#define fmi2GetInteger fmi2FullName(fmi2GetInteger)
+#define fmi2GetIntegerStatus fmi2FullName(fmi2GetIntegerStatus)
+#define fmi2GetReal fmi2FullName(fmi2GetReal)
+#define fmi2GetRealOutputDerivatives fmi2FullName(fmi2GetRealOutputDerivatives)
+#define fmi2GetRealStatus fmi2FullName(fmi2GetRealStatus)
+#define fmi2GetStatus fmi2FullName(fmi2GetStatus)
+#define fmi2GetString fmi2FullName(fmi2GetString)
+#define fmi2GetStringStatus fmi2FullName(fmi2GetStringStatus)
+#define fmi2GetTypesPlatform fmi2FullName(fmi2GetTypesPlatform)
+#define fmi2GetVersion fmi2FullName(fmi2GetVersion)
+#define fmi2Instantiate fmi2FullName(fmi2Instantiate)
+#define fmi2Reset fmi2FullName(fmi2Reset)
+#define fmi2SerializeFMUstate fmi2FullName(fmi2SerializeFMUstate)
+#define fmi2SerializedFMUstateSize fmi2FullName(fmi2SerializedFMUstateSize)
+#define fmi2SetBoolean fmi2FullName(fmi2SetBoolean)
+#define fmi2SetDebugLogging fmi2FullName(fmi2SetDebugLogging)
+#define fmi2SetFMUstate fmi2FullName(fmi2SetFMUstate)
+#define fmi2SetInteger fmi2FullName(fmi2SetInteger)
+#define fmi2SetReal fmi2FullName(fmi2SetReal)
+#define fmi2SetRealInputDerivatives fmi2FullName(fmi2SetRealInputDerivatives)
+#define fmi2SetString fmi2FullName(fmi2SetString)
+#define fmi2SetupExperiment fmi2FullName(fmi2SetupExperiment)
+#define fmi2Terminate fmi2FullName(fmi2Terminate)
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define FMI2_API FMI2_EXPORT
 FMI2_API const char *fmi2GetTypesPlatform(void);
 FMI2_API const char *fmi2GetVersion(void);
@@ -107,5 +154,9 @@ FMI2_API fmi2Status fmi2GetBooleanStatus(fmi2Component, const fmi2StatusKind,
                                          fmi2Boolean *);
 FMI2_API fmi2Status fmi2GetStringStatus(fmi2Component, const fmi2StatusKind,
                                         fmi2String *);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -8,6 +8,98 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Source-code FMU: an importer that defines FMI3_FUNCTION_PREFIX gets
+ * every function prefixed (FMI3_FUNCTION_PREFIX=mount_: mount_fmi3DoStep, ...); the
+ * binaries are built without it, with the standard names. */
+#ifdef FMI3_FUNCTION_PREFIX
+#define fmi3Paste(a, b) a##b
+#define fmi3PasteB(a, b) fmi3Paste(a, b)
+#define fmi3FullName(name) fmi3PasteB(FMI3_FUNCTION_PREFIX, name)
+#define fmi3ActivateModelPartition fmi3FullName(fmi3ActivateModelPartition)
+#define fmi3CompletedIntegratorStep fmi3FullName(fmi3CompletedIntegratorStep)
+#define fmi3DeserializeFMUState fmi3FullName(fmi3DeserializeFMUState)
+#define fmi3DoStep fmi3FullName(fmi3DoStep)
+#define fmi3EnterConfigurationMode fmi3FullName(fmi3EnterConfigurationMode)
+#define fmi3EnterContinuousTimeMode fmi3FullName(fmi3EnterContinuousTimeMode)
+#define fmi3EnterEventMode fmi3FullName(fmi3EnterEventMode)
+#define fmi3EnterInitializationMode fmi3FullName(fmi3EnterInitializationMode)
+#define fmi3EnterStepMode fmi3FullName(fmi3EnterStepMode)
+#define fmi3EvaluateDiscreteStates fmi3FullName(fmi3EvaluateDiscreteStates)
+#define fmi3ExitConfigurationMode fmi3FullName(fmi3ExitConfigurationMode)
+#define fmi3ExitInitializationMode fmi3FullName(fmi3ExitInitializationMode)
+#define fmi3FreeFMUState fmi3FullName(fmi3FreeFMUState)
+#define fmi3FreeInstance fmi3FullName(fmi3FreeInstance)
+#define fmi3GetAdjointDerivative fmi3FullName(fmi3GetAdjointDerivative)
+#define fmi3GetBinary fmi3FullName(fmi3GetBinary)
+#define fmi3GetBoolean fmi3FullName(fmi3GetBoolean)
+#define fmi3GetClock fmi3FullName(fmi3GetClock)
+#define fmi3GetContinuousStateDerivatives \
+    fmi3FullName(fmi3GetContinuousStateDerivatives)
+#define fmi3GetContinuousStates fmi3FullName(fmi3GetContinuousStates)
+#define fmi3GetDirectionalDerivative fmi3FullName(fmi3GetDirectionalDerivative)
+#define fmi3GetEventIndicators fmi3FullName(fmi3GetEventIndicators)
+#define fmi3GetFMUState fmi3FullName(fmi3GetFMUState)
+#define fmi3GetFloat32 fmi3FullName(fmi3GetFloat32)
+#define fmi3GetFloat64 fmi3FullName(fmi3GetFloat64)
+#define fmi3GetInt16 fmi3FullName(fmi3GetInt16)
+#define fmi3GetInt32 fmi3FullName(fmi3GetInt32)
+#define fmi3GetInt64 fmi3FullName(fmi3GetInt64)
+#define fmi3GetInt8 fmi3FullName(fmi3GetInt8)
+#define fmi3GetIntervalDecimal fmi3FullName(fmi3GetIntervalDecimal)
+#define fmi3GetIntervalFraction fmi3FullName(fmi3GetIntervalFraction)
+#define fmi3GetNominalsOfContinuousStates \
+    fmi3FullName(fmi3GetNominalsOfContinuousStates)
+#define fmi3GetNumberOfContinuousStates fmi3FullName(fmi3GetNumberOfContinuousStates)
+#define fmi3GetNumberOfEventIndicators fmi3FullName(fmi3GetNumberOfEventIndicators)
+#define fmi3GetNumberOfVariableDependencies \
+    fmi3FullName(fmi3GetNumberOfVariableDependencies)
+#define fmi3GetOutputDerivatives fmi3FullName(fmi3GetOutputDerivatives)
+#define fmi3GetShiftDecimal fmi3FullName(fmi3GetShiftDecimal)
+#define fmi3GetShiftFraction fmi3FullName(fmi3GetShiftFraction)
+#define fmi3GetString fmi3FullName(fmi3GetString)
+#define fmi3GetUInt16 fmi3FullName(fmi3GetUInt16)
+#define fmi3GetUInt32 fmi3FullName(fmi3GetUInt32)
+#define fmi3GetUInt64 fmi3FullName(fmi3GetUInt64)
+#define fmi3GetUInt8 fmi3FullName(fmi3GetUInt8)
+#define fmi3GetVariableDependencies fmi3FullName(fmi3GetVariableDependencies)
+#define fmi3GetVersion fmi3FullName(fmi3GetVersion)
+#define fmi3InstantiateCoSimulation fmi3FullName(fmi3InstantiateCoSimulation)
+#define fmi3InstantiateModelExchange fmi3FullName(fmi3InstantiateModelExchange)
+#define fmi3InstantiateScheduledExecution \
+    fmi3FullName(fmi3InstantiateScheduledExecution)
+#define fmi3Reset fmi3FullName(fmi3Reset)
+#define fmi3SerializeFMUState fmi3FullName(fmi3SerializeFMUState)
+#define fmi3SerializedFMUStateSize fmi3FullName(fmi3SerializedFMUStateSize)
+#define fmi3SetBinary fmi3FullName(fmi3SetBinary)
+#define fmi3SetBoolean fmi3FullName(fmi3SetBoolean)
+#define fmi3SetClock fmi3FullName(fmi3SetClock)
+#define fmi3SetContinuousStates fmi3FullName(fmi3SetContinuousStates)
+#define fmi3SetDebugLogging fmi3FullName(fmi3SetDebugLogging)
+#define fmi3SetFMUState fmi3FullName(fmi3SetFMUState)
+#define fmi3SetFloat32 fmi3FullName(fmi3SetFloat32)
+#define fmi3SetFloat64 fmi3FullName(fmi3SetFloat64)
+#define fmi3SetInt16 fmi3FullName(fmi3SetInt16)
+#define fmi3SetInt32 fmi3FullName(fmi3SetInt32)
+#define fmi3SetInt64 fmi3FullName(fmi3SetInt64)
+#define fmi3SetInt8 fmi3FullName(fmi3SetInt8)
+#define fmi3SetIntervalDecimal fmi3FullName(fmi3SetIntervalDecimal)
+#define fmi3SetIntervalFraction fmi3FullName(fmi3SetIntervalFraction)
+#define fmi3SetShiftDecimal fmi3FullName(fmi3SetShiftDecimal)
+#define fmi3SetShiftFraction fmi3FullName(fmi3SetShiftFraction)
+#define fmi3SetString fmi3FullName(fmi3SetString)
+#define fmi3SetTime fmi3FullName(fmi3SetTime)
+#define fmi3SetUInt16 fmi3FullName(fmi3SetUInt16)
+#define fmi3SetUInt32 fmi3FullName(fmi3SetUInt32)
+#define fmi3SetUInt64 fmi3FullName(fmi3SetUInt64)
+#define fmi3SetUInt8 fmi3FullName(fmi3SetUInt8)
+#define fmi3Terminate fmi3FullName(fmi3Terminate)
+#define fmi3UpdateDiscreteStates fmi3FullName(fmi3UpdateDiscreteStates)
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #if defined(_WIN32)
 #define FMI3_API __declspec(dllexport)
 #elif defined(__GNUC__)
@@ -163,5 +255,9 @@ FMI3_API fmi3Status fmi3DoStep(fmi3Instance, fmi3Float64, fmi3Float64, fmi3Boole
                                fmi3Float64 *);
 FMI3_API fmi3Status fmi3ActivateModelPartition(fmi3Instance, fmi3ValueReference,
                                                fmi3Float64);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

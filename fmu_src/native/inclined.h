@@ -10,6 +10,12 @@
 #ifndef DRYMOUNT_INCLINED_H
 #define DRYMOUNT_INCLINED_H
 
+#include "internal.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #include <stddef.h>
 
 /* inclined.InclinedParameters (SI units, theta_deg in degrees; mu = inf: bonded). */
@@ -32,20 +38,21 @@ typedef struct {
 typedef enum { IN_OK = 0, IN_CONTACT_LOST = 1 } in_status;
 
 /* The thesis's example values (inclined.InclinedParameters()). */
-in_params in_default_params(void);
+ML_DECL in_params in_default_params(void);
 
 /* InclinedParameters.sc: sin and cos of theta (exactly 1, 0 at 90 degrees). */
-void in_sc(const in_params *p, double *s, double *c);
+ML_DECL void in_sc(const in_params *p, double *s, double *c);
 
 /* InclinedParameters.self_locking_margin. */
-double in_self_locking_margin(const in_params *p);
+ML_DECL double in_self_locking_margin(const in_params *p);
 
 /* InclinedParameters.problems(prefix) as "; "-separated text in buf (always
  * NUL-terminated); returns the number of problems. */
-int in_problems(const in_params *p, const char *prefix, char *buf, size_t size);
+ML_DECL int in_problems(const in_params *p, const char *prefix, char *buf, size_t size);
 
 /* inclined.inclined_forces: (f1, f2, N, N2) at x in regime (sig1, sig2), each -1, 0
  * (stuck) or +1, into out[4]. */
+ML_DECL
 void in_forces(double x, double w1, double w2, const in_params *p, int sig1, int sig2,
                double out[4]);
 
@@ -53,7 +60,12 @@ void in_forces(double x, double w1, double w2, const in_params *p, int sig1, int
  * with the committed sliders w1, w2. IN_OK: *out is the step. IN_CONTACT_LOST: the
  * motion needs a negative normal force on a surface that can slip (or more than 64
  * stick/slip events); msg receives ContactLost's message, *out is untouched. */
+ML_DECL
 in_status in_update(double x, double x_old, double w1, double w2, const in_params *p,
                     in_step *out, char *msg, size_t size);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -99,6 +99,6 @@ static int inclined_problems(const ml_axis_params *p, const char *prefix, char *
     return added;
 }
 
-const ml_element ml_inclined = {
+ML_ELEMENT_DEF const ml_element ml_inclined = {
     "inclined", 1, inclined_state_size, ml_relaxed_state, inclined_position,
     inclined_step, inclined_normal_forces, inclined_problems};

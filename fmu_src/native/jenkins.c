@@ -190,6 +190,6 @@ void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double f
     *n2 = 0.0;
 }
 
-const ml_element ml_jenkins = {
+ML_ELEMENT_DEF const ml_element ml_jenkins = {
     "jenkins", 0, jenkins_state_size, jenkins_start, ml_mean_slider, jenkins_step,
     ml_contact_normal_forces, NULL};

@@ -121,6 +121,6 @@ static int lugre_problems(const ml_axis_params *p, const char *prefix, char *buf
     return n - count;
 }
 
-const ml_element ml_lugre = {
+ML_ELEMENT_DEF const ml_element ml_lugre = {
     "lugre", 1, lugre_state_size, lugre_start, lugre_position, lugre_step,
     ml_contact_normal_forces, lugre_problems};

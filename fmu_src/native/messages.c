@@ -55,7 +55,8 @@ void ml_repr_double(double x, char *buf, size_t size)
         return;
     }
     {
-        char intpart[24], frac[24];
+        char intpart[24], frac[24], text[64];
+        size_t len;
         for (i = 0; i <= exp10; ++i)
             intpart[i] = i < nd ? digits[i] : '0';
         intpart[exp10 + 1] = '\0';
@@ -63,7 +64,15 @@ void ml_repr_double(double x, char *buf, size_t size)
             snprintf(frac, sizeof frac, "%s", digits + exp10 + 1);
         else
             snprintf(frac, sizeof frac, "0");
-        snprintf(out, room, "%s.%s", intpart, frac);
+        /* composed here, then cut to room (snprintf straight into out draws a
+         * -Wformat-truncation warning once inlined into the one translation unit) */
+        snprintf(text, sizeof text, "%s.%s", intpart, frac);
+        len = strlen(text);
+        if (room == 0)
+            return;
+        len = len < room ? len : room - 1;
+        memcpy(out, text, len);
+        out[len] = '\0';
     }
 }
 

@@ -16,6 +16,12 @@
 #ifndef DRYMOUNT_MODEL_H
 #define DRYMOUNT_MODEL_H
 
+#include "internal.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #include <stddef.h>
 
 #include "mount_law.h"
@@ -99,17 +105,17 @@ typedef struct {
 
 /* Number of variables, the variable table and the instantiation token (GUID), all
  * generated from fmu_src/interface.py into model_variables.h. */
-size_t md_n_variables(void);
-const char *md_instantiation_token(void);
-const md_variable *md_variable_at(size_t vr);
+ML_DECL size_t md_n_variables(void);
+ML_DECL const char *md_instantiation_token(void);
+ML_DECL const md_variable *md_variable_at(size_t vr);
 
-md_instance *md_new(const char *name, const char *api, md_log_fn log, void *env,
+ML_DECL md_instance *md_new(const char *name, const char *api, md_log_fn log, void *env,
                     md_alloc_fn alloc, md_free_fn free_fn, int logging_on);
-void md_delete(md_instance *m);
-const char *md_mode_name(md_mode mode);
+ML_DECL void md_delete(md_instance *m);
+ML_DECL const char *md_mode_name(md_mode mode);
 
 /* Log (always for status >= Warning, for OK only with logging on). */
-void md_log(md_instance *m, md_status status, const char *fmt, ...)
+ML_DECL void md_log(md_instance *m, md_status status, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
@@ -117,36 +123,43 @@ void md_log(md_instance *m, md_status status, const char *fmt, ...)
 
 /* MD_OK if `call` is allowed in the current mode (bitmask of 1 << md_mode), else logs
  * "<call> is not allowed in state <mode> (allowed: ...)" and returns MD_ERROR. */
-md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
+ML_DECL md_status md_check_mode(md_instance *m, const char *call, unsigned allowed);
 #define MD_IN(mode) (1u << (mode))
 
-void md_reset(md_instance *m);
+ML_DECL void md_reset(md_instance *m);
 /* start_defined 0: FMI 2.0 without fmi2SetupExperiment, the first step starts anywhere
  * (md_data.time is NAN until the first step) */
+ML_DECL
 md_status md_enter_initialization(md_instance *m, const char *call, double start,
                                   int start_defined);
-md_status md_exit_initialization(md_instance *m, const char *call);
-md_status md_terminate(md_instance *m, const char *call);
-md_status md_do_step(md_instance *m, const char *call, double t, double h);
+ML_DECL md_status md_exit_initialization(md_instance *m, const char *call);
+ML_DECL md_status md_terminate(md_instance *m, const char *call);
+ML_DECL md_status md_do_step(md_instance *m, const char *call, double t, double h);
 
 /* Values, one value reference at a time; `call` names the FMI function. */
-md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
+ML_DECL md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
                  double *value);
-md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
+ML_DECL md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
                  double value);
 /* MD_OK if md_set would accept the value (nothing changed; refusals are logged): the
  * glue checks every value of a call before setting any (docs/fmu.md 4a). */
+ML_DECL
 md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
                        double value);
 
 /* FMU state: a heap copy of md_data, serialized as magic + size + bytes. */
-md_status md_get_state(md_instance *m, const char *call, void **state);
-md_status md_set_state(md_instance *m, const char *call, const void *state);
-void md_free_state(md_instance *m, void *state);
-size_t md_serialized_size(void);
-md_status md_serialize(md_instance *m, const char *call, const void *state,
+ML_DECL md_status md_get_state(md_instance *m, const char *call, void **state);
+ML_DECL md_status md_set_state(md_instance *m, const char *call, const void *state);
+ML_DECL void md_free_state(md_instance *m, void *state);
+ML_DECL size_t md_serialized_size(void);
+ML_DECL md_status md_serialize(md_instance *m, const char *call, const void *state,
                        unsigned char *bytes, size_t size);
+ML_DECL
 md_status md_deserialize(md_instance *m, const char *call, const unsigned char *bytes,
                          size_t size, void **state);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

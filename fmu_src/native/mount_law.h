@@ -8,6 +8,12 @@
 #ifndef DRYMOUNT_MOUNT_LAW_H
 #define DRYMOUNT_MOUNT_LAW_H
 
+#include "internal.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #include <stddef.h>
 
 #include "inclined.h"
@@ -76,90 +82,98 @@ typedef struct {
 } ml_element;
 
 /* The thesis's defaults (mount_law.AxisParameters()). */
-ml_axis_params ml_default_params(void);
+ML_DECL ml_axis_params ml_default_params(void);
 
 /* mount_law.elastic_force: force into *f, tangent into *k. */
-void ml_elastic_force(double u, int law, double k1, double kc, double k2,
+ML_DECL void ml_elastic_force(double u, int law, double k1, double kc, double k2,
                       double delta, double delta_neg, double *f, double *k);
 
 /* mount_law.jenkins_update; returns the friction force. */
+ML_DECL
 double ml_jenkins_update(double u, double w, double kf, double fs, double *w_new,
                          double *tangent, int *slipping);
 
 /* mount_law.slider_update (non-symmetric slip forces fs_pos, fs_neg); returns the
  * friction force. */
+ML_DECL
 double ml_slider_update(double u, double w, double kf, double fs_pos, double fs_neg,
                         double *w_new, double *tangent, int *slipping);
 
 /* mount_law.iwan_update with the bank mount_law.slider_bank(p, fs): the micro-slip
  * element of axis p alone (force = friction). w holds the p->sliders committed
  * positions, w_new receives them after the increment. */
+ML_DECL
 ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p,
                               double fs, double *w_new);
 
 /* Number of doubles in the friction state of axis p (its element's state_size; 1
  * without friction). */
-int ml_state_size(const ml_axis_params *p);
+ML_DECL int ml_state_size(const ml_axis_params *p);
 
 /* mount_law.initial_sliders: the state of axis p relaxed at w, into state. */
-void ml_state_start(const ml_axis_params *p, double w, double *state);
+ML_DECL void ml_state_start(const ml_axis_params *p, double w, double *state);
 
 /* The tag of a state of axis p's element: its kind + 1 for an element with a named
  * state (mount_law.conform_state keeps only a state of its own kind), else 0. */
-int ml_state_tag(const ml_axis_params *p);
+ML_DECL int ml_state_tag(const ml_axis_params *p);
 /* The number of friction elements of the table (the largest state tag). */
-int ml_friction_kinds(void);
+ML_DECL int ml_friction_kinds(void);
 
 /* mount_law.slider_position / mean_slider of the n doubles of a state with tag. */
-double ml_state_position(const double *state, int n, int tag);
+ML_DECL double ml_state_position(const double *state, int n, int tag);
 
 /* The inclined element's parameters of axis p (kf: the axis's). */
-in_params ml_inclined_params(const ml_axis_params *p);
+ML_DECL in_params ml_inclined_params(const ml_axis_params *p);
 
 /* inclined.relaxed_state: the inclined element of axis p relaxed at deflection u, as
  * the state (w1, w2, uc) in w[0..2]. */
-void ml_relaxed_state(const ml_axis_params *p, double u, double *w);
+ML_DECL void ml_relaxed_state(const ml_axis_params *p, double u, double *w);
 
 /* mount_law.normal_forces (N, N2) of axis p's friction element in state w (after an
  * increment) with slip force fs (its element's normal_forces; (0, 0) without
  * friction). */
+ML_DECL
 void ml_normal_forces(const ml_axis_params *p, const double *w, double fs, double *n1,
                       double *n2);
 
 /* jenkins.contact_normal_forces: the contact's normal force Fs / mu (n0 if mu = 0)
  * and 0 (w unused). */
+ML_DECL
 void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double fs,
                               double *n1, double *n2);
 
 /* mount_law.mean_slider of the n positions w: the common position when all are
  * equal, else their exactly rounded sum (math.fsum) / n. */
-double ml_mean_slider(const double *w, int n);
+ML_DECL double ml_mean_slider(const double *w, int n);
 
 /* mount_law.axis_force for every friction element of p (macro-slip, non-symmetric,
  * micro-slip, inclined) with slip force fs: w holds the ml_state_size(p) doubles of
  * the committed state, w_new receives them after the increment. Returns 0 with the
  * result in *r, or 1 when the inclined element loses contact (inclined.ContactLost:
  * its message in msg, nothing else written). */
+ML_DECL
 int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p,
                     double fs, double *w_new, ml_axis_result *r, char *msg,
                     size_t size);
 
 /* ml_axis_force_w over an increment of dt seconds (mount_law.axis_force's dt: read by
  * rate-dependent elements only; ml_axis_force_w is dt = 0). */
+ML_DECL
 int ml_axis_force_dt(double u, double v, double dt, const double *w,
                      const ml_axis_params *p, double fs, double *w_new,
                      ml_axis_result *r, char *msg, size_t size);
 
 /* mount_law.axis_force of the symmetric macro-slip element (kf <= 0: no friction
  * element). */
-ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
+ML_DECL ml_axis_result ml_axis_force(double u, double v, double w, int law, double k1,
                              double kc, double k2, double delta, double delta_neg,
                              double c, double kf, double fs);
 
 /* Slip force from the normal-force input: mu * max(n, 0) with friction, else 0. */
-double ml_slip_force(const ml_axis_params *p, double n);
+ML_DECL double ml_slip_force(const ml_axis_params *p, double n);
 
 /* ml_axis_force_dt with the parameters of an axis and normal force n. */
+ML_DECL
 int ml_axis_force_p(double u, double v, double dt, const double *w,
                     const ml_axis_params *p, double n, double *w_new,
                     ml_axis_result *r, char *msg, size_t size);
@@ -167,8 +181,12 @@ int ml_axis_force_p(double u, double v, double dt, const double *w,
 /* Append the problems of p (AxisParameters.problems(prefix), plus the law-code and
  * friction-kind-code checks of the FMU) to buf as "; "-separated text. Returns the number of problems found.
  * buf is always NUL-terminated (truncated if too small). */
-int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
+ML_DECL int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
                      size_t size);
 
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

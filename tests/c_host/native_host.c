@@ -16,9 +16,19 @@
  * TRAJECTORY: N*K doubles (native byte order); OUTPUT: N*(L+B) doubles are written.
  * Protocol per step k and instance: fmi2SetReal(inputs at t_k), fmi2GetReal(outputs),
  * fmi2GetBoolean(booleans), fmi2DoStep(t_k, H) with t_k = k H.
+ * Builds for POSIX (dlopen) and Windows (LoadLibraryA; MinGW, run under wine).
  * Exit code: 0 ok, 2 usage / load error, 3 an FMI call failed (printed to stderr).
  */
+#if defined(_WIN32)
+/* the win64 DLL under wine (tests/test_native_platforms.py): LoadLibrary instead */
+#include <windows.h>
+#define dlopen(path, flags) ((void *)LoadLibraryA(path))
+#define dlsym(lib, name) ((void *)GetProcAddress((HMODULE)(lib), name))
+#define dlclose(lib) FreeLibrary((HMODULE)(lib))
+#define dlerror() "LoadLibraryA failed"
+#else
 #include <dlfcn.h>
+#endif
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
