@@ -6,8 +6,9 @@ The archive holds
   configuration, all pointing to the one mount FMU under ``resources/`` (the PythonFMU
   build, or with ``native=True`` the FMI 2.0 native build); per component the connectors
   the host drives and reads (inputs ``u_/v_/n_<axis>``, outputs ``F_/Ffr_<axis>`` and
-  ``E_fr``, with units) and a parameter binding; the units (``ssd:Units``); a default
-  experiment (the FMU's);
+  ``E_fr``, with units) and a parameter binding; OMSimulator's system annotation
+  (``org.openmodelica``: a fixed-step master at the FMU's step size, without which it
+  refuses the archive); the units (``ssd:Units``); a default experiment (the FMU's);
 * ``resources/<mount>.ssv``: the mount's parameters (``<axis>_<field>``, the FMU's
   variables) with the configuration's values and units. Every set carries the same name
   (the configuration's), so an importer applies all of them as one parameter set
@@ -38,14 +39,17 @@ from drymount.fmu_src import interface
 from drymount.fmu_src.mount_law import AXES, friction_kind_code, law_code
 
 __all__ = ["SspExport", "SspError", "check_mount_fmu", "export_ssp", "parameter_set",
-           "system_structure", "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OSP"]
+           "system_structure", "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OMS", "OSP"]
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 #: Open Simulation Platform's annotations (libcosim reads its algorithm from them).
 OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
-for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("osp", OSP)):
+#: OMSimulator's annotations (the namespace it writes; it matches the ``oms:`` prefix).
+OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
+for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("osp", OSP),
+                      ("oms", OMS)):
     register_namespace(_prefix, _uri)
 
 #: Connectors of each mount component (FMU variable prefixes, per axis).
@@ -139,10 +143,26 @@ def system_structure(cfg, fmu_name: str, set_name: str) -> bytes:
         bindings = SubElement(comp, _q(SSD, "ParameterBindings"))
         SubElement(bindings, _q(SSD, "ParameterBinding"),
                    source=f"resources/{el.name}.ssv")
+    _openmodelica_annotation(system)
     _units(root, SSD)
     _default_experiment(root)
     indent(root)
     return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+
+
+def _openmodelica_annotation(system: Element) -> None:
+    """OMSimulator's simulation information on the system: its fixed-step master
+    (``oms-ma``) at the FMU's step size. OMSimulator imports an SSP 1.0 system only
+    with it (without: "[NewSystem] internal error", its command-line tool aborts);
+    other importers ignore it (``ssc:Annotation`` takes any content)."""
+    exp = interface.DEFAULT_EXPERIMENT
+    ann = SubElement(SubElement(system, _q(SSD, "Annotations")), _q(SSC, "Annotation"),
+                     type="org.openmodelica")
+    info = SubElement(SubElement(ann, _q(OMS, "Annotations")),
+                      _q(OMS, "SimulationInformation"))
+    SubElement(info, _q(OMS, "FixedStepMaster"), description="oms-ma",
+               stepSize=repr(exp["stepSize"]),
+               relativeTolerance=repr(exp["tolerance"]))
 
 
 def _default_experiment(root: Element) -> None:
