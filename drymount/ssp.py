@@ -38,7 +38,8 @@ from drymount.fmu_build.native import write_zip
 from drymount.fmu_src import interface
 from drymount.fmu_src.mount_law import AXES, friction_kind_code, law_code
 
-__all__ = ["SspExport", "SspError", "check_mount_fmu", "export_ssp", "parameter_set",
+__all__ = ["SspExport", "SspError", "check_mount_fmu", "export_ssp",
+           "fmu_model_description", "parameter_set",
            "system_structure", "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OMS", "OSP"]
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
@@ -209,24 +210,29 @@ class SspError(ValueError):
     """An FMU that an SSP 1.0 archive of the mounts cannot carry."""
 
 
+def fmu_model_description(path, where: str, error: type[Exception]):
+    """The parsed ``modelDescription.xml`` (an ElementTree root) of the FMU file
+    ``path``; ``error`` naming ``where`` if it is not a zip holding one or not XML."""
+    import zipfile
+    from xml.etree.ElementTree import ParseError, fromstring
+
+    try:
+        with zipfile.ZipFile(path) as z:
+            return fromstring(z.read("modelDescription.xml"))
+    except (OSError, zipfile.BadZipFile, KeyError) as exc:
+        raise error(f"{where} is not an FMU (a zip with modelDescription.xml): "
+                    f"{exc}") from None
+    except ParseError as exc:
+        raise error(f"{where}: its modelDescription.xml is not XML ({exc})") from None
+
+
 def check_mount_fmu(path) -> None:
     """:class:`SspError` unless ``path`` is an FMI 2.0 FrictionMount FMU: a zip whose
     ``modelDescription.xml`` parses, says ``fmiVersion="2.0"`` (SSP 1.0 predates
     FMI 3.0) and declares every variable the archive's parameter sets and connectors
     name."""
-    import zipfile
-    from xml.etree.ElementTree import ParseError, fromstring
-
     where = f"--fmu: {str(path)!r}"
-    try:
-        with zipfile.ZipFile(path) as z:
-            root = fromstring(z.read("modelDescription.xml"))
-    except (OSError, zipfile.BadZipFile, KeyError) as exc:
-        raise SspError(f"{where} is not an FMU (a zip with modelDescription.xml): "
-                       f"{exc}") from None
-    except ParseError as exc:
-        raise SspError(f"{where}: its modelDescription.xml is not XML "
-                       f"({exc})") from None
+    root = fmu_model_description(path, where, SspError)
     version = root.get("fmiVersion")
     if version != "2.0":
         raise SspError(f"{where} is an FMI {version} FMU; an SSP 1.0 archive carries "

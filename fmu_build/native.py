@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
+from drymount.fmu_build.extras import fmu_extras
 from drymount.fmu_src import interface
 from drymount.fmu_src.friction import FRICTION_ELEMENTS
 from drymount.fmu_src.mount_law import AXES, LAWS
@@ -520,5 +521,6 @@ def build_native_fmu(dest=None, *, fmi: int = 2, null: bool = False) -> NativeBu
             built.append(platform)
     missing.append("darwin")
     files["documentation/index.html"] = _documentation(target, missing)
+    files.update(fmu_extras())  # licence, FMI-LS-REF reference experiment
     write_zip(path, files)
     return NativeBuild(path, target, token, tuple(built), tuple(missing))
