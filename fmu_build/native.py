@@ -262,19 +262,10 @@ def variables_header(target: NativeTarget, token: str) -> str:
 
 
 def _bounds(var: interface.Variable) -> dict[str, str]:
-    """Declared ranges, as the PythonFMU build: Real parameters >= 0 (theta_deg also
-    <= 90), law and friction_kind codes."""
+    """Declared ranges of a parameter, as every build (interface.declared_bounds)."""
     if var.causality != "parameter":
         return {}
-    if var.name.endswith("_theta_deg"):
-        return {"min": "0", "max": "90"}
-    if var.type == "Real":
-        return {"min": "0"}
-    if var.name.endswith("_law"):
-        return {"min": "0", "max": str(len(LAWS) - 1)}
-    if var.name.endswith("_friction_kind"):
-        return {"min": "0", "max": str(len(_friction_kinds()) - 1)}
-    return {}
+    return interface.declared_bounds(var.name.partition("_")[2], var.type)
 
 
 def _start_text(var: interface.Variable) -> str | None:
