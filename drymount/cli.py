@@ -5,6 +5,7 @@ Commands (``drymount COMMAND --help`` shows each one's options and an example)::
     presets   list | show NAME | export NAME PATH
     build-fmu build the FrictionMount FMU
     export-ssp SSP 1.0 archive of a configuration's mount FMU instances
+    export-xc  FMI cross-check folder of a mount FMU
     hbm       harmonic-balance frequency response of a configuration
     cosim     time history co-simulated through the mount FMU (or in-process)
     sweep     stepped-sine sweep of co-simulated steady states
@@ -229,6 +230,18 @@ def cmd_export_ssp(args) -> int:
     _info(f"wrote {exp.path}: {len(exp.mounts)} mount components "
           f"({', '.join(exp.mounts)}) of {exp.fmu}, "
           f"parameter set {exp.parameter_set!r}")
+    return EXIT_OK
+
+
+def cmd_export_xc(args) -> int:
+    from drymount.crosscheck import XcError, export_xc
+
+    try:
+        exp = export_xc(args.fmu, args.out)
+    except XcError as exc:
+        raise UsageError(str(exc)) from None
+    _info(f"wrote {exp.folder}: {exp.model}.fmu, {exp.model}_in.csv, "
+          f"{exp.model}_ref.csv ({exp.rows} rows), {exp.model}_ref.opt")
     return EXIT_OK
 
 
@@ -665,6 +678,7 @@ COMMANDS = {
     "presets": cmd_presets,
     "build-fmu": cmd_build_fmu,
     "export-ssp": cmd_export_ssp,
+    "export-xc": cmd_export_xc,
     "hbm": cmd_hbm,
     "cosim": cmd_cosim,
     "sweep": cmd_sweep,

@@ -235,6 +235,22 @@ def _cmd_build_fmu(sub) -> None:
                         "build is FMI 2.0 only)")
 
 
+def _cmd_export_xc(sub) -> None:
+    """``drymount export-xc``."""
+    p = _add(sub, "export-xc", "FMI cross-check folder of a mount FMU",
+             """\
+             Write the FMI cross-check folder of a FrictionMount FMU:
+             DIR/<fmiVersion>/cs/<platform>/drymount/<version>/<Model>/ with the FMU,
+             <Model>_in.csv (sine deflections of two axes), <Model>_ref.csv (the forces
+             by the mount law, outputs read after doStep), <Model>_ref.opt and
+             ReadMe.txt (docs/fmu.md, 'Cross-check').""",
+             ["drymount export-xc dist/FrictionMountNative.fmu --out xc"])
+    p.add_argument("fmu", type=_path, metavar="FMU",
+                   help="a FrictionMount co-simulation FMU (FMI 2.0 or 3.0)")
+    p.add_argument("--out", type=_path, required=True,
+                   help="folder under which the cross-check tree is written")
+
+
 def _cmd_export_ssp(sub) -> None:
     """``drymount export-ssp``."""
     p = _add(sub, "export-ssp", "SSP 1.0 archive of a configuration's mount FMUs",
@@ -556,9 +572,9 @@ def _cmd_demo(sub) -> None:
 
 #: The subcommands in the order of ``drymount --help`` (explore and optimize follow,
 #: from drymount.design.commands).
-_COMMANDS = (_cmd_presets, _cmd_build_fmu, _cmd_export_ssp, _cmd_hbm, _cmd_cosim,
-             _cmd_sweep, _cmd_validate, _cmd_study, _cmd_fit, _cmd_characterise,
-             _cmd_static, _cmd_demo)
+_COMMANDS = (_cmd_presets, _cmd_build_fmu, _cmd_export_ssp, _cmd_export_xc, _cmd_hbm,
+             _cmd_cosim, _cmd_sweep, _cmd_validate, _cmd_study, _cmd_fit,
+             _cmd_characterise, _cmd_static, _cmd_demo)
 
 
 def build_parser() -> argparse.ArgumentParser:

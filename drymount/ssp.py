@@ -6,8 +6,9 @@ The archive holds
   configuration, all pointing to the one mount FMU under ``resources/`` (the PythonFMU
   build, or with ``native=True`` the FMI 2.0 native build); per component the connectors
   the host drives and reads (inputs ``u_/v_/n_<axis>``, outputs ``F_/Ffr_<axis>`` and
-  ``E_fr``, with units) and a parameter binding; the units (``ssd:Units``); a default
-  experiment (the FMU's);
+  ``E_fr``, with units) and a parameter binding; OMSimulator's system annotation
+  (``org.openmodelica``: a fixed-step master at the FMU's step size, without which it
+  refuses the archive); the units (``ssd:Units``); a default experiment (the FMU's);
 * ``resources/<mount>.ssv``: the mount's parameters (``<axis>_<field>``, the FMU's
   variables) with the configuration's values and units. Every set carries the same name
   (the configuration's), so an importer applies all of them as one parameter set
@@ -37,15 +38,19 @@ from drymount.fmu_build.native import write_zip
 from drymount.fmu_src import interface
 from drymount.fmu_src.mount_law import AXES, friction_kind_code, law_code
 
-__all__ = ["SspExport", "SspError", "check_mount_fmu", "export_ssp", "parameter_set",
-           "system_structure", "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OSP"]
+__all__ = ["SspExport", "SspError", "check_mount_fmu", "export_ssp",
+           "fmu_model_description", "parameter_set",
+           "system_structure", "CONNECTOR_INPUTS", "CONNECTOR_OUTPUTS", "OMS", "OSP"]
 
 SSD = "http://ssp-standard.org/SSP1/SystemStructureDescription"
 SSC = "http://ssp-standard.org/SSP1/SystemStructureCommon"
 SSV = "http://ssp-standard.org/SSP1/SystemStructureParameterValues"
 #: Open Simulation Platform's annotations (libcosim reads its algorithm from them).
 OSP = "http://opensimulationplatform.com/SSP/OSPAnnotations"
-for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("osp", OSP)):
+#: OMSimulator's annotations (the namespace it writes; it matches the ``oms:`` prefix).
+OMS = "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"
+for _prefix, _uri in (("ssd", SSD), ("ssc", SSC), ("ssv", SSV), ("osp", OSP),
+                      ("oms", OMS)):
     register_namespace(_prefix, _uri)
 
 #: Connectors of each mount component (FMU variable prefixes, per axis).
@@ -139,10 +144,26 @@ def system_structure(cfg, fmu_name: str, set_name: str) -> bytes:
         bindings = SubElement(comp, _q(SSD, "ParameterBindings"))
         SubElement(bindings, _q(SSD, "ParameterBinding"),
                    source=f"resources/{el.name}.ssv")
+    _openmodelica_annotation(system)
     _units(root, SSD)
     _default_experiment(root)
     indent(root)
     return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+
+
+def _openmodelica_annotation(system: Element) -> None:
+    """OMSimulator's simulation information on the system: its fixed-step master
+    (``oms-ma``) at the FMU's step size. OMSimulator imports an SSP 1.0 system only
+    with it (without: "[NewSystem] internal error", its command-line tool aborts);
+    other importers ignore it (``ssc:Annotation`` takes any content)."""
+    exp = interface.DEFAULT_EXPERIMENT
+    ann = SubElement(SubElement(system, _q(SSD, "Annotations")), _q(SSC, "Annotation"),
+                     type="org.openmodelica")
+    info = SubElement(SubElement(ann, _q(OMS, "Annotations")),
+                      _q(OMS, "SimulationInformation"))
+    SubElement(info, _q(OMS, "FixedStepMaster"), description="oms-ma",
+               stepSize=repr(exp["stepSize"]),
+               relativeTolerance=repr(exp["tolerance"]))
 
 
 def _default_experiment(root: Element) -> None:
@@ -189,24 +210,29 @@ class SspError(ValueError):
     """An FMU that an SSP 1.0 archive of the mounts cannot carry."""
 
 
+def fmu_model_description(path, where: str, error: type[Exception]):
+    """The parsed ``modelDescription.xml`` (an ElementTree root) of the FMU file
+    ``path``; ``error`` naming ``where`` if it is not a zip holding one or not XML."""
+    import zipfile
+    from xml.etree.ElementTree import ParseError, fromstring
+
+    try:
+        with zipfile.ZipFile(path) as z:
+            return fromstring(z.read("modelDescription.xml"))
+    except (OSError, zipfile.BadZipFile, KeyError) as exc:
+        raise error(f"{where} is not an FMU (a zip with modelDescription.xml): "
+                    f"{exc}") from None
+    except ParseError as exc:
+        raise error(f"{where}: its modelDescription.xml is not XML ({exc})") from None
+
+
 def check_mount_fmu(path) -> None:
     """:class:`SspError` unless ``path`` is an FMI 2.0 FrictionMount FMU: a zip whose
     ``modelDescription.xml`` parses, says ``fmiVersion="2.0"`` (SSP 1.0 predates
     FMI 3.0) and declares every variable the archive's parameter sets and connectors
     name."""
-    import zipfile
-    from xml.etree.ElementTree import ParseError, fromstring
-
     where = f"--fmu: {str(path)!r}"
-    try:
-        with zipfile.ZipFile(path) as z:
-            root = fromstring(z.read("modelDescription.xml"))
-    except (OSError, zipfile.BadZipFile, KeyError) as exc:
-        raise SspError(f"{where} is not an FMU (a zip with modelDescription.xml): "
-                       f"{exc}") from None
-    except ParseError as exc:
-        raise SspError(f"{where}: its modelDescription.xml is not XML "
-                       f"({exc})") from None
+    root = fmu_model_description(path, where, SspError)
     version = root.get("fmiVersion")
     if version != "2.0":
         raise SspError(f"{where} is an FMI {version} FMU; an SSP 1.0 archive carries "

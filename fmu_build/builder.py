@@ -187,11 +187,11 @@ def compile_loader(dest: Path, guid: str = "") -> str:
 
     The loader lets importers that are not Python programs run the FMU without
     ``LD_PRELOAD``: at the first ``fmi2Instantiate`` it loads this interpreter's
-    libpython (unless the process already has Python), sets ``PYTHONHOME`` if unset,
-    and forwards every FMI call to pythonfmu's binary. It refuses an instantiation
-    with another GUID than ``guid`` (none checked when empty) and decodes the
-    resource URI before pythonfmu sees it (see ``pythonfmu_location`` in the C
-    source). Returns ``""`` on success,
+    libpython (unless the process already has Python; ``$DRYMOUNT_LIBPYTHON`` picks
+    another), starts it and forwards every FMI call to pythonfmu's binary. It
+    refuses an instantiation with another GUID than ``guid`` (none checked when
+    empty) and decodes the resource URI before pythonfmu sees it (see
+    ``pythonfmu_location`` in the C source). Returns ``""`` on success,
     else why it was not built (no C compiler, not linux x86_64, static Python, a
     compiler error); the FMU then ships pythonfmu's binary alone and a C/C++
     importer must ``LD_PRELOAD`` libpython as documented.
@@ -214,9 +214,16 @@ def compile_loader(dest: Path, guid: str = "") -> str:
            f"-DDRYMOUNT_LIBPYTHON_SONAME={_c_string(soname)}",
            f"-DDRYMOUNT_PYTHONHOME={_c_string(home)}",
            *([f"-DDRYMOUNT_GUID={_c_string(guid)}"] if guid else []),
-           "-o", str(dest), str(source_dir() / LOADER_SOURCE), "-ldl", "-lpthread"]
+           "-o", str(dest), str(source_dir() / LOADER_SOURCE)]
     try:
-        out = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+        # glibc < 2.34 keeps dlopen & co. in libdl.so.2 / libpthread.so.0 (see the C
+        # source); a C library without those files links its own way
+        for libs in (["-Wl,--no-as-needed", "-l:libdl.so.2", "-l:libpthread.so.0"],
+                     ["-ldl", "-lpthread"]):
+            out = subprocess.run(cmd + libs, capture_output=True, text=True,
+                                 timeout=120)
+            if out.returncode == 0:
+                break
     except (OSError, subprocess.TimeoutExpired) as exc:
         return f"not built: {cc} failed to run ({exc})"
     if out.returncode != 0:
@@ -357,7 +364,8 @@ def _build_notes(version: str, package: str, entry: str, why_not: str,
         loader_note = (f"linux64 loader: binaries/linux64/{MODEL_NAME}.so loads "
                        f"{lib[0]} (or $DRYMOUNT_LIBPYTHON, or {lib[1]} on the "
                        f"library path) when the importer has no Python, sets "
-                       f"PYTHONHOME={lib[2]} if unset, and forwards to "
+                       f"PYTHONHOME ($DRYMOUNT_PYTHONHOME, else $PYTHONHOME, else "
+                       f"{lib[2]}), starts Python and forwards to "
                        f"binaries/linux64/{REAL_BINARY} (pythonfmu).")
     return (f"drymount version: {version}\n"
             f"Python package inside resources/: {package}\n"

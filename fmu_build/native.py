@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
+from drymount.fmu_build.extras import fmu_extras
 from drymount.fmu_src import interface
 from drymount.fmu_src.friction import FRICTION_ELEMENTS
 from drymount.fmu_src.mount_law import AXES, LAWS
@@ -328,19 +329,10 @@ def variables_header(target: NativeTarget, token: str) -> str:
 
 
 def _bounds(var: interface.Variable) -> dict[str, str]:
-    """Declared ranges, as the PythonFMU build: Real parameters >= 0 (theta_deg also
-    <= 90), law and friction_kind codes."""
+    """Declared ranges of a parameter, as every build (interface.declared_bounds)."""
     if var.causality != "parameter":
         return {}
-    if var.name.endswith("_theta_deg"):
-        return {"min": "0", "max": "90"}
-    if var.type == "Real":
-        return {"min": "0"}
-    if var.name.endswith("_law"):
-        return {"min": "0", "max": str(len(LAWS) - 1)}
-    if var.name.endswith("_friction_kind"):
-        return {"min": "0", "max": str(len(_friction_kinds()) - 1)}
-    return {}
+    return interface.declared_bounds(var.name.partition("_")[2], var.type)
 
 
 def _start_text(var: interface.Variable) -> str | None:
@@ -680,6 +672,7 @@ def build_native_fmu(dest=None, *, fmi: int = 2, null: bool = False) -> NativeBu
         for platform, lib in libs.items():
             files[f"binaries/{platform}/{lib.name}"] = lib.read_bytes()
     files["documentation/index.html"] = _documentation(target, skipped)
+    files.update(fmu_extras())  # licence, FMI-LS-REF reference experiment
     write_zip(path, files)
     return NativeBuild(path, target, token, tuple(libs), tuple(skipped),
                        skipped)

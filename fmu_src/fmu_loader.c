@@ -10,18 +10,24 @@
  * loading it fails with an undefined symbol. At the first fmi2Instantiate this loader
  *
  *   1. checks whether the process already has Python (Py_IsInitialized visible);
- *   2. if not, picks a libpython of the version the FMU was built with, trying in
- *      order $DRYMOUNT_LIBPYTHON, the path of the Python that built the FMU
- *      (DRYMOUNT_LIBPYTHON_PATH below), the Python found on the host (python3.X on
- *      $PATH, its prefix's lib/) and the soname on the loader's search path. A
- *      candidate is used only if its prefix holds the standard library
- *      (<prefix>/lib/python3.X/os.py and encodings/): the prefix is $PYTHONHOME if
- *      set, else $DRYMOUNT_PYTHONHOME, else the recorded prefix (for the recorded
- *      library), else found above the library file. Starting an interpreter without
- *      its standard library kills the importer ("Fatal Python error:
- *      init_fs_encoding"), so this is checked before anything is started. The chosen
- *      library is loaded with RTLD_GLOBAL and PYTHONHOME set to its prefix unless
- *      PYTHONHOME is set;
+ *   2. if not, picks a libpython: $DRYMOUNT_LIBPYTHON if set (and nothing else),
+ *      else the first that works of the path of the Python that built the FMU
+ *      (DRYMOUNT_LIBPYTHON_PATH below), the Python found on the host (python3.X on $PATH, its prefix's lib/) and the soname on
+ *      the loader's search path. The Python version is the one of the library
+ *      actually loaded (Py_GetVersion), not the one the FMU was built with. A
+ *      candidate is used only if its prefix holds the standard library of that
+ *      version (<prefix>/lib/python3.X/os.py and encodings/): the prefix is
+ *      $DRYMOUNT_PYTHONHOME if set (used as given, never searched further), else
+ *      $PYTHONHOME if set, else the recorded prefix (for the recorded library),
+ *      else the nearest folder above the library file that holds lib/python3.X.
+ *      Starting an interpreter without its standard library kills the importer
+ *      ("Fatal Python error: init_fs_encoding"), so this is checked before anything
+ *      is started. The chosen library is loaded with RTLD_GLOBAL, PYTHONHOME is set
+ *      to its prefix, and the interpreter is started here (Py_InitializeEx(0): no
+ *      signal handlers) and never finalised. pythonfmu then finds Python running and
+ *      leaves it alone; it would otherwise finalise it in a static destructor at
+ *      exit, before an importer (OMSimulator) frees its instances in its own exit
+ *      handlers, and that late fmi2FreeInstance crashed the host (exit 139);
  *   3. loads FrictionMount.pythonfmu.so from its own directory and forwards every
  *      FMI call to it.
  *
@@ -35,10 +41,17 @@
  * reason and calls drymount_reject_call() below, and the forwarder returns
  * fmi2Error for that call; the instance stays usable.
  *
+ * glibc floor: the library asks for no symbol version above GLIBC_2.14 (the dl*
+ * and pthread_key/once functions are bound to their GLIBC_2.2.5 versions below, and
+ * libdl.so.2 / libpthread.so.0 are linked explicitly, where glibc < 2.34 keeps
+ * them), so it loads wherever pythonfmu's own binary does (GLIBC_2.32): RHEL 8,
+ * Debian 11, Ubuntu 20.04. tests/test_fmu_loader.py reads the versions.
+ *
  * The build (fmu_build/builder.py) compiles this
  * file with the paths of the building Python:
  *   cc -shared -fPIC -O2 -fvisibility=hidden -DDRYMOUNT_LIBPYTHON_PATH=... \
- *      -DDRYMOUNT_LIBPYTHON_SONAME=... -DDRYMOUNT_PYTHONHOME=... -ldl -lpthread
+ *      -DDRYMOUNT_LIBPYTHON_SONAME=... -DDRYMOUNT_PYTHONHOME=... \
+ *      -Wl,--no-as-needed -l:libdl.so.2 -l:libpthread.so.0
  * Self-contained: the FMI 2.0 types are declared as in fmi2TypesPlatform.h and
  * fmi2FunctionTypes.h.
  */
@@ -49,8 +62,25 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
+#include <errno.h>
 #include <unistd.h>
+
+/* The oldest versions of the functions glibc 2.34 moved from libdl and libpthread
+ * into libc (x86_64: GLIBC_2.2.5); an older glibc resolves them in libdl.so.2 and
+ * libpthread.so.0, which the build links. */
+#if defined(__x86_64__) && defined(__GLIBC__)
+#define OLD_SYMBOL(name) __asm__(".symver " #name "," #name "@GLIBC_2.2.5");
+OLD_SYMBOL(dlopen)
+OLD_SYMBOL(dlsym)
+OLD_SYMBOL(dladdr)
+OLD_SYMBOL(dlerror)
+OLD_SYMBOL(dlclose)
+OLD_SYMBOL(pthread_key_create)
+OLD_SYMBOL(pthread_key_delete)
+OLD_SYMBOL(pthread_getspecific)
+OLD_SYMBOL(pthread_setspecific)
+OLD_SYMBOL(pthread_once)
+#endif
 
 #ifndef DRYMOUNT_LIBPYTHON_PATH
 #define DRYMOUNT_LIBPYTHON_PATH ""
@@ -175,9 +205,36 @@ static void python_version(char *out, size_t size) {
     snprintf(out, size, "%.*s", (int)n, p ? p : "");
 }
 
+/* 1 if path opens and is not a folder (open only: stat is stat@GLIBC_2.33). */
+/* "3.12" from the library h: Py_GetVersion() ("3.12.1 (main, ...)"), callable before
+ * the interpreter starts; 0 on success. */
+static int loaded_version(void *h, char *out, size_t size) {
+    const char *(*get_version)(void);
+    *(void **)(&get_version) = dlsym(h, "Py_GetVersion");
+    const char *v = get_version ? get_version() : NULL;
+    size_t n = 0;
+    int dots = 0;
+    if (v == NULL)
+        return -1;
+    for (; (v[n] >= '0' && v[n] <= '9') || (v[n] == '.' && dots == 0); ++n)
+        dots += v[n] == '.';
+    if (dots != 1 || n < 3 || v[n - 1] == '.')
+        return -1;
+    snprintf(out, size, "%.*s", (int)n, v);
+    return 0;
+}
+
 static int is_file(const char *path) {
-    struct stat st;
-    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return 0;
+    close(fd);
+    fd = open(path, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd >= 0) {
+        close(fd);
+        return 0;
+    }
+    return errno == ENOTDIR;
 }
 
 /* 1 if <home>/lib/python<ver> holds the standard library's os.py and encodings. */
@@ -241,10 +298,40 @@ static void note(char *tried, size_t size, const char *lib, const char *why) {
     snprintf(tried + used, size - used, "%s%s (%s)", used ? "; " : "", lib, why);
 }
 
-/* Try one candidate library with the prefix hint ``home``; 0 when loaded. */
-static int try_libpython(const char *lib, const char *home, const char *ver,
+/* ``home`` if it is the prefix of Python ``ver``, else NULL with the reason (naming
+ * the variable ``var`` that gave it) in why. */
+static const char *as_given(const char *var, const char *home, const char *ver,
+                            char *why, size_t size) {
+    if (has_stdlib(home, ver))
+        return home;
+    snprintf(why, size, "%s=%s holds no lib/python%s/os.py and encodings/ (the library "
+             "is Python %s)", var, home, ver, ver);
+    return NULL;
+}
+
+/* Start the interpreter of the library just loaded and release its lock: pythonfmu
+ * then finds Python running and never finalises it (see the top of this file). */
+static int start_python(void *h) {
+    void (*init)(int);
+    void *(*save_thread)(void);
+    int (*is_initialized)(void);
+    *(void **)(&init) = dlsym(h, "Py_InitializeEx");
+    *(void **)(&save_thread) = dlsym(h, "PyEval_SaveThread");
+    *(void **)(&is_initialized) = dlsym(h, "Py_IsInitialized");
+    if (init == NULL || save_thread == NULL || is_initialized == NULL)
+        return -1;
+    init(0);
+    if (!is_initialized())
+        return -1;
+    save_thread();
+    return 0;
+}
+
+/* Try one candidate library with the prefix hint ``home`` (``home_var`` names where
+ * the hint came from; the hint of a variable is used as given); 0 when loaded. */
+static int try_libpython(const char *lib, const char *home, const char *home_var,
                          char *tried, size_t size) {
-    char found[4096] = "", why[4400];
+    char found[4096] = "", why[4400] = "", ver[32];
     const char *user_home = getenv("PYTHONHOME");
     int by_path = strchr(lib, '/') != NULL;
     if (by_path && !is_file(lib)) {
@@ -259,54 +346,76 @@ static int try_libpython(const char *lib, const char *home, const char *ver,
     Dl_info info;
     void *sym = dlsym(h, "Py_IsInitialized");
     const char *file = (sym && dladdr(sym, &info) && info.dli_fname) ? info.dli_fname : lib;
-    if (user_home != NULL && user_home[0] != '\0') {
-        if (has_stdlib(user_home, ver))
-            return 0; /* the user's PYTHONHOME is used as it is */
-        snprintf(why, sizeof why, "PYTHONHOME=%s holds no lib/python%s/os.py", user_home, ver);
-    } else if (has_stdlib(home, ver) || prefix_above(file, ver, found, sizeof found)) {
-        setenv("PYTHONHOME", has_stdlib(home, ver) ? home : found, 1);
-        return 0;
-    } else {
+    const char *use = NULL;
+    if (loaded_version(h, ver, sizeof ver) != 0)
+        snprintf(why, sizeof why, "not a CPython library: no Py_GetVersion");
+    else if (home_var != NULL && home[0] != '\0')
+        use = as_given(home_var, home, ver, why, sizeof why);
+    else if (user_home != NULL && user_home[0] != '\0')
+        use = as_given("PYTHONHOME", user_home, ver, why, sizeof why);
+    else if (has_stdlib(home, ver))
+        use = home;
+    else if (prefix_above(file, ver, found, sizeof found))
+        use = found;
+    else
         snprintf(why, sizeof why, "no standard library lib/python%s/os.py under %s%s%s",
                  ver, home && home[0] ? home : "", home && home[0] ? " nor above " : "",
                  file);
+    if (use != NULL) {
+        setenv("PYTHONHOME", use, 1);
+        if (start_python(h) == 0)
+            return 0;
+        snprintf(why, sizeof why, "Python %s with PYTHONHOME=%s did not start", ver, use);
     }
-    dlclose(h); /* nothing was started: Python initialises at the first instance */
+    dlclose(h); /* nothing was started */
     note(tried, size, lib, why);
+    return -1;
+}
+
+/* The candidates when DRYMOUNT_LIBPYTHON is not set; 0 when one is loaded. */
+static int try_defaults(const char *ver, const char *env_home, char *tried,
+                        size_t size) {
+    char host_lib[4400], host_home[4096];
+    const char *var = env_home ? "DRYMOUNT_PYTHONHOME" : NULL;
+    if (DRYMOUNT_LIBPYTHON_PATH[0] != '\0' &&
+        try_libpython(DRYMOUNT_LIBPYTHON_PATH, env_home ? env_home : DRYMOUNT_PYTHONHOME,
+                      var, tried, size) == 0)
+        return 0;
+    if (host_python(ver, host_lib, sizeof host_lib, host_home, sizeof host_home) &&
+        strcmp(host_lib, DRYMOUNT_LIBPYTHON_PATH) != 0 &&
+        try_libpython(host_lib, env_home ? env_home : host_home, var, tried, size) == 0)
+        return 0;
+    if (DRYMOUNT_LIBPYTHON_SONAME[0] != '\0' &&
+        try_libpython(DRYMOUNT_LIBPYTHON_SONAME, env_home ? env_home : "", var, tried,
+                      size) == 0)
+        return 0;
     return -1;
 }
 
 static int load_libpython(void) {
     if (dlsym(RTLD_DEFAULT, "Py_IsInitialized") != NULL)
         return 0; /* a Python process (or LD_PRELOAD): nothing to do */
-    char ver[32], tried[6000] = "", host_lib[4400], host_home[4096];
+    char ver[32], tried[6000] = "";
     python_version(ver, sizeof ver);
     const char *env_lib = getenv("DRYMOUNT_LIBPYTHON");
     const char *env_home = getenv("DRYMOUNT_PYTHONHOME");
-    int have_env_home = env_home != NULL && env_home[0] != '\0';
-    if (env_lib != NULL && env_lib[0] != '\0' &&
-        try_libpython(env_lib, have_env_home ? env_home : "", ver, tried, sizeof tried) == 0)
+    if (env_home != NULL && env_home[0] == '\0')
+        env_home = NULL;
+    if (env_lib != NULL && env_lib[0] != '\0') { /* the user's choice, and no other */
+        if (try_libpython(env_lib, env_home ? env_home : "",
+                          env_home ? "DRYMOUNT_PYTHONHOME" : NULL, tried,
+                          sizeof tried) == 0)
+            return 0;
+    } else if (try_defaults(ver, env_home, tried, sizeof tried) == 0) {
         return 0;
-    if (DRYMOUNT_LIBPYTHON_PATH[0] != '\0' &&
-        try_libpython(DRYMOUNT_LIBPYTHON_PATH, have_env_home ? env_home : DRYMOUNT_PYTHONHOME,
-                      ver, tried, sizeof tried) == 0)
-        return 0;
-    if (host_python(ver, host_lib, sizeof host_lib, host_home, sizeof host_home) &&
-        strcmp(host_lib, DRYMOUNT_LIBPYTHON_PATH) != 0 &&
-        try_libpython(host_lib, have_env_home ? env_home : host_home, ver, tried,
-                      sizeof tried) == 0)
-        return 0;
-    if (DRYMOUNT_LIBPYTHON_SONAME[0] != '\0' &&
-        try_libpython(DRYMOUNT_LIBPYTHON_SONAME, have_env_home ? env_home : "", ver, tried,
-                      sizeof tried) == 0)
-        return 0;
+    }
     snprintf(load_error, sizeof load_error,
              "cannot start Python %s for the FMU (tried: %s). Set DRYMOUNT_LIBPYTHON to "
-             "the libpython%s.so of a CPython %s built with --enable-shared and "
-             "DRYMOUNT_PYTHONHOME to its prefix (the folder holding lib/python%s/os.py), "
-             "or LD_PRELOAD that library with PYTHONHOME set "
+             "the libpython3.X.so of a CPython 3 built with --enable-shared (the FMU was "
+             "built with %s) and DRYMOUNT_PYTHONHOME to its prefix (the folder holding "
+             "lib/python3.X/os.py), or LD_PRELOAD that library with PYTHONHOME set "
              "(documentation/externalDependencies.txt)",
-             ver, tried[0] ? tried : "nothing", ver, ver, ver);
+             ver, tried[0] ? tried : "nothing", ver);
     return -1;
 }
 

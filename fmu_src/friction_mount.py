@@ -58,6 +58,7 @@ from .interface import (
     DEFAULT_EXPERIMENT,
     MODEL_NAME,
     VARIABLES,
+    declared_bounds,
 )
 from .mount_law import (AXES, FRICTION_KINDS, LAWS, AxisParameters, axis_force,
                         conform_state, friction_kind_code, friction_kind_name,
@@ -79,11 +80,7 @@ _PARAMETER_NAMES = tuple(name for name, *_ in ALL_PARAMETER_FIELDS)
 
 # Declared ranges of the parameters (strict bounds such as delta > 0 and the rule for
 # kf are in the descriptions and checked at initialization).
-_BOUNDS = {"law": {"min": "0", "max": str(len(LAWS) - 1)},
-           "friction_kind": {"min": "0", "max": str(len(FRICTION_KINDS) - 1)}}
-_BOUNDS.update({name: {"min": "0"} for name, typ, *_ in ALL_PARAMETER_FIELDS
-                if typ == "Real"})
-_BOUNDS["theta_deg"] = {"min": "0", "max": "90"}
+_BOUNDS = {name: declared_bounds(name, typ) for name, typ, *_ in ALL_PARAMETER_FIELDS}
 
 # Indices into the AxisForce result (mount_law.axis_force).
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
@@ -215,7 +212,8 @@ class FrictionMount(Fmi2Slave):
         self.default_experiment = DefaultExperiment(
             start_time=DEFAULT_EXPERIMENT["startTime"],
             stop_time=DEFAULT_EXPERIMENT["stopTime"],
-            step_size=DEFAULT_EXPERIMENT["stepSize"])
+            step_size=DEFAULT_EXPERIMENT["stepSize"],
+            tolerance=DEFAULT_EXPERIMENT["tolerance"])
         # Parameters as plain attributes named like the FMU variables.
         for var in VARIABLES:
             if var.causality == "parameter":

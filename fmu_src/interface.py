@@ -21,16 +21,18 @@ fields' rows are generated from the element declarations
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from .friction import FRICTION_ELEMENTS
+from .jenkins import MAX_SLIDERS
 from .mount_law import (AXES, LAWS, AxisParameters,
                         friction_kind_code, law_code)
 
 __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
-           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS"]
+           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -209,6 +211,25 @@ def _variables() -> tuple[Variable, ...]:
 #: Every per-axis parameter field: (field, FMI type, unit, description).
 ALL_PARAMETER_FIELDS = (PARAMETER_FIELDS + INCLINED_PARAMETER_FIELDS
                         + LATER_PARAMETER_FIELDS)
+
+
+def declared_bounds(field: str, typ: str) -> dict[str, str]:
+    """The ``min``/``max`` attributes every build declares for the parameter
+    ``<axis>_<field>`` of FMI type ``typ`` (strict bounds such as delta > 0 are in
+    the descriptions and checked at initialization): law and friction-kind codes,
+    sliders 1..MAX_SLIDERS, spread in [0, 1) (max: the largest double below 1),
+    theta_deg in [0, 90], every other Real >= 0."""
+    if field == "law":
+        return {"min": "0", "max": str(len(LAWS) - 1)}
+    if field == "friction_kind":
+        return {"min": "0", "max": str(len(FRICTION_ELEMENTS) - 1)}
+    if field == "sliders":
+        return {"min": "1", "max": str(MAX_SLIDERS)}
+    if field == "spread":
+        return {"min": "0", "max": repr(math.nextafter(1.0, 0.0))}
+    if field == "theta_deg":
+        return {"min": "0", "max": "90"}
+    return {"min": "0"} if typ == "Real" else {}
 
 #: Every variable of the FMU, in value-reference order.
 VARIABLES: tuple[Variable, ...] = _variables()

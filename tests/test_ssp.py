@@ -2,9 +2,11 @@
 and the archive run in an independent SSP importer (Ecos, ``pip install ecospy``; needs
 the Debian package libtbb12) against the mount law with the configuration's parameters.
 
-No SSP XML schema ships with the registries' packages here, so the structure test checks
-what the SSP 1.0 schema requires of these elements (namespaces, version, element order,
-required attributes) and their consistency with the FMU. Runtime about 10 s.
+Every exported archive is validated against the SSP 1.0 XML schemas fmpy ships
+(``fmpy/ssp/schema``: ``read_ssd(..., validate=True)`` for the SSD, ``validate_tree``
+with SystemStructureParameterValues.xsd for each ``.ssv``); the structure test checks
+the archive's consistency with the FMU, and OMSimulator's system annotation (it
+refuses an SSP without it). Runtime about 10 s.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import pytest
 from native_helpers import build, random_trajectory
 
 from drymount.config import load_preset
-from drymount.ssp import OSP, SSC, SSD, SSV, export_ssp
+from drymount.ssp import OMS, OSP, SSC, SSD, SSV, export_ssp
 from drymount.fmu_src import interface
 from drymount.fmu_src.mount_law import AXES, axis_force, law_code
 
@@ -45,6 +47,46 @@ def ssp(request, cfg, tmp_path_factory):
 
         fmu = build_fmu(folder / "FrictionMount.fmu")
     return export_ssp(cfg, folder / "six_dof.ssp", fmu_path=fmu)
+
+
+def validate_archive(path) -> int:
+    """Validate an SSP archive against fmpy's SSP 1.0 schemas: the SSD through
+    ``fmpy.ssp.ssd.read_ssd(validate=True)``, every ``.ssv`` with
+    SystemStructureParameterValues.xsd. Raises on the first invalid file; returns
+    the number of files validated."""
+    ssd = pytest.importorskip("fmpy.ssp.ssd", reason="fmpy ships the SSP schemas")
+    etree = pytest.importorskip("lxml.etree", reason="fmpy's SSP validation uses lxml")
+    ssd.read_ssd(str(path), validate=True)
+    z = zipfile.ZipFile(path)
+    ssvs = [n for n in z.namelist() if n.endswith(".ssv")]
+    for name in ssvs:
+        ssd.validate_tree(etree.fromstring(z.read(name)),
+                          "SystemStructureParameterValues.xsd")
+    return 1 + len(ssvs)
+
+
+def test_every_archive_is_valid_against_the_ssp_schemas(cfg, ssp):
+    assert validate_archive(ssp.path) == 1 + len(cfg.system.elements)
+
+
+def test_schema_validation_rejects_an_invalid_archive(ssp, tmp_path):
+    """The validator is not a no-op: the same SSD with its Elements before the
+    Connectors of a component (the schema's order broken) is refused."""
+    z = zipfile.ZipFile(ssp.path)
+    text = z.read("SystemStructure.ssd").decode()
+    head, rest = text.split("<ssd:Connectors>", 1)
+    connectors, tail = rest.split("</ssd:Connectors>", 1)
+    bindings_start = tail.index("<ssd:ParameterBindings>")
+    end_tag = "</ssd:ParameterBindings>"
+    bindings_end = tail.index(end_tag) + len(end_tag)
+    bad = (head + tail[bindings_start:bindings_end] + "<ssd:Connectors>" + connectors
+           + "</ssd:Connectors>" + tail[:bindings_start] + tail[bindings_end:])
+    path = tmp_path / "bad.ssp"
+    with zipfile.ZipFile(path, "w") as out:
+        for name in z.namelist():
+            out.writestr(name, bad if name == "SystemStructure.ssd" else z.read(name))
+    with pytest.raises(Exception, match="Failed to validate SystemStructure.ssd"):
+        validate_archive(path)
 
 
 def _xml(ssp, name):
@@ -82,6 +124,17 @@ def test_structure_matches_the_fmu_interface(cfg, ssp):
     algo = ann.find(f"{{{OSP}}}Algorithm/{{{OSP}}}FixedStepAlgorithm")
     assert algo.get("numWorkerThreads") == "0"
     assert float(algo.get("baseStepSize")) == interface.DEFAULT_EXPERIMENT["stepSize"]
+    # OMSimulator's system annotation: read by element name with the oms: prefix
+    system = root.find(f"{{{SSD}}}System")
+    assert [c.tag.split("}")[1] for c in system] == ["Elements", "Annotations"]
+    ann = system.find(f"{{{SSD}}}Annotations/{{{SSC}}}Annotation")
+    assert ann.get("type") == "org.openmodelica"
+    master = ann.find(f"{{{OMS}}}Annotations/{{{OMS}}}SimulationInformation/"
+                      f"{{{OMS}}}FixedStepMaster")
+    assert master.get("description") == "oms-ma"
+    assert float(master.get("stepSize")) == interface.DEFAULT_EXPERIMENT["stepSize"]
+    text = zipfile.ZipFile(ssp.path).read("SystemStructure.ssd").decode()
+    assert f'xmlns:oms="{OMS}"' in text and "<oms:FixedStepMaster " in text
 
 
 def test_parameter_sets_hold_the_configuration(cfg, ssp):
@@ -176,6 +229,7 @@ def test_cli_export_ssp(tmp_path):
     assert "1 mount components" in proc.stderr
     names = zipfile.ZipFile(out).namelist()
     assert f"resources/{fmu.name}" in names and "SystemStructure.ssd" in names
+    assert validate_archive(out) == 2
 
 
 def _zip(path, files: dict):
