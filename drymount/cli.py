@@ -143,14 +143,13 @@ def _band(args, cfg) -> tuple[float, float]:
 
 
 def cmd_presets(args) -> int:
-    from drymount.config import list_presets, load_preset, preset_text
-    from drymount.io import atomic_write_text
+    from drymount.config import list_presets, preset_text
 
     if args.action == "list":
         names = list_presets()
         width = max(len(n) for n in names)
         for n in names:
-            print(f"{n:<{width}}  {load_preset(n).description}")
+            print(f"{n:<{width}}  {_description(n)}")
         return EXIT_OK
     text = preset_text(args.name)
     if args.action == "show":
@@ -165,10 +164,25 @@ def cmd_presets(args) -> int:
         from drymount.config.splice import with_mount
 
         text = with_mount(text, args.mount)
+    from drymount.io import atomic_write_text
+
     atomic_write_text(args.path, text)
     mount = f", [mount] from {args.mount}" if args.mount is not None else ""
     _info(f"wrote {args.path} (preset {args.name}, named {name!r}{mount})")
     return EXIT_OK
+
+
+def _description(name: str) -> str:
+    """A preset's description as its file states it (read without building the
+    model), else the one its loaded system gives."""
+    from drymount.config import preset_description
+
+    text = preset_description(name)
+    if text:
+        return text
+    from drymount.config import load_preset
+
+    return load_preset(name).description
 
 
 def _with_name(text: str, name: str) -> str:
@@ -455,11 +469,11 @@ def _located_peak(path: Path):
 
 
 def cmd_sweep(args) -> int:
-    import numpy as np
-
     from drymount.config import SweepSettings
 
     cfg = _load(args.config, args.overrides)
+    import numpy as np
+
     fmin, fmax = _band(args, cfg)
     s = SweepSettings(fmin, fmax, args.points or cfg.sweep.points,
                       args.direction or cfg.sweep.direction,
@@ -665,6 +679,10 @@ def _run(argv) -> int:
     except SystemExit as exc:  # --help (0) or a usage error (2)
         return int(exc.code or 0)
     try:
+        if isinstance(getattr(args, "config", None), str):
+            from drymount.config.catalog import check_spec
+
+            check_spec(args.config)  # a typo in CONFIG is told before NumPy loads
         code = COMMANDS[args.command](args)
         return EXIT_OK if code is None else int(code)
     except ConfigError as exc:

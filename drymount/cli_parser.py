@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import textwrap
 from pathlib import Path
 
@@ -163,6 +164,21 @@ def _config_arg(p):
                    help="override a field of CONFIG, checked like the file; "
                         "repeatable, e.g. --set mount.friction.n0=12 --set "
                         "'mounts[*].axial.c=200'")
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, looked up only when asked
+    (``importlib.metadata`` costs 0.1 s of every start-up, issue 27)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS,
+                 default=argparse.SUPPRESS,
+                 help="show program's version number and exit"):
+        super().__init__(option_strings=option_strings, dest=dest,
+                         default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser._print_message(f"drymount {_version()}\n", sys.stdout)
+        parser.exit()
 
 
 def _version() -> str:
@@ -578,8 +594,7 @@ def build_parser() -> argparse.ArgumentParser:
             "or 143 what was computed is written, first line '# partial: <reason>' "
             "(docs/cli.md)",
         formatter_class=_Formatter)
-    parser.add_argument("--version", action="version",
-                        version=f"drymount {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     parser.add_argument("--traceback", action="store_true",
                         help="show the Python traceback of an unexpected error")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
