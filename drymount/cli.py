@@ -40,6 +40,7 @@ import importlib
 import os
 import signal
 import sys
+import warnings
 from pathlib import Path
 
 from drymount.cli_guard import (
@@ -479,7 +480,7 @@ def cmd_sweep(args) -> int:
                       args.direction or cfg.sweep.direction,
                       args.spacing or cfg.sweep.spacing)
     freqs = s.freqs_hz()
-    backend = args.backend or ("native" if args.batch else cfg.cosim.backend)
+    backend = args.backend or ("inproc" if args.batch else cfg.cosim.backend)
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
     if overlay is not None and overlay.system_name not in ("", cfg.system.name):
         raise UsageError(f"--hbm: {args.hbm} is a curve of {overlay.system_name!r} "
@@ -663,6 +664,30 @@ def _release_process_resources(timeout: float = 2.0) -> None:
     t.join(timeout)
 
 
+def _renamed_backend(args) -> None:
+    """``--backend native`` (the in-process law's old name): one line on stderr, and
+    the backend's name now."""
+    name = getattr(args, "backend", None)
+    if name == "native":
+        from drymount.vehicle.backends import RENAMED_BACKENDS, renamed_backend_message
+
+        print(f"drymount: warning: --backend {renamed_backend_message(name)}",
+              file=sys.stderr)
+        args.backend = RENAMED_BACKENDS[name]
+
+
+_showwarning = warnings.showwarning
+
+
+def _show_future_warning(message, category, filename, lineno, file=None, line=None):
+    """A FutureWarning (a deprecated name the user passed) as one line on stderr;
+    other warnings as Python shows them."""
+    if issubclass(category, FutureWarning):
+        print(f"drymount: warning: {message}", file=sys.stderr)
+        return
+    _showwarning(message, category, filename, lineno, file, line)
+
+
 def _run(argv) -> int:
     from drymount.threads import limit_threads
 
@@ -683,7 +708,12 @@ def _run(argv) -> int:
             from drymount.config.catalog import check_spec
 
             check_spec(args.config)  # a typo in CONFIG is told before NumPy loads
-        code = COMMANDS[args.command](args)
+        _renamed_backend(args)
+        with warnings.catch_warnings():
+            # a deprecated name the user passed: told in one line, not an error
+            warnings.simplefilter("default", FutureWarning)
+            warnings.showwarning = _show_future_warning
+            code = COMMANDS[args.command](args)
         return EXIT_OK if code is None else int(code)
     except ConfigError as exc:
         print(f"drymount: {exc}", file=sys.stderr)

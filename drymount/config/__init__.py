@@ -43,6 +43,8 @@ checker), ``mounts`` (mount tables -> mount parameters), ``systems`` (model tabl
 excitation, settings, building the System), ``loading`` (dict, file, text, presets).
 """
 
+from drymount.hbm.lazy import lazy_face
+
 # The names are imported on first use (PEP 562): the command line catches
 # ConfigError and states the bounds in its --help without loading NumPy or the
 # model builders (issue 27).
@@ -95,13 +97,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name):
-    if name in _WHERE:
-        import importlib
-
-        return getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_face(__name__, _WHERE, __all__)

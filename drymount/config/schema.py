@@ -27,7 +27,9 @@ EXCITATION_KINDS = {
     "quarter_car": ("base",),
     "rigid_engine": ("base", "unbalance", "force"),
 }
-BACKENDS = ("fmu", "native")
+BACKENDS = ("fmu", "inproc")
+#: Old backend names, accepted with a FutureWarning: "native" now means only the C FMU.
+RENAMED_BACKENDS = {"native": "inproc"}
 DIRECTIONS = ("up", "down")
 SPACINGS = ("linear", "log")
 #: Relative size below which the smallest eigenvalue of the linearised (stuck)
@@ -156,8 +158,9 @@ class CosimSettings:
     Attributes
     ----------
     backend : str
-        ``"fmu"`` (one FMU instance per mount through fmpy) or ``"native"`` (the same
-        mount law called in-process, for long sweeps).
+        ``"fmu"`` (one FMU instance per mount through fmpy) or ``"inproc"`` (the same
+        mount law called in-process, for long sweeps; ``"native"``, its old name, is
+        accepted with a FutureWarning).
     freq_hz : float or None
         Default excitation frequency of ``drymount cosim``, Hz.
     duration : float or None
