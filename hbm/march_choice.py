@@ -45,11 +45,12 @@ _MODULE = "drymount.hbm.friction_march_numba"
 
 
 def _cache_dirs() -> list[Path]:
-    dirs = [_SOURCE.parent / "__pycache__"]
-    extra = os.environ.get("NUMBA_CACHE_DIR")
-    if extra:
-        dirs += [p.parent for p in Path(extra).rglob(f"{_SOURCE.stem}.*.nbi")]
-    return dirs
+    """Where numba keeps the kernels: under ``$NUMBA_CACHE_DIR`` when it is set
+    (numba then looks nowhere else), else beside the source."""
+    root = os.environ.get("NUMBA_CACHE_DIR")
+    if root:
+        return sorted({p.parent for p in Path(root).rglob(f"{_SOURCE.stem}.*.nbi")})
+    return [_SOURCE.parent / "__pycache__"]
 
 
 def cache_is_warm() -> bool:

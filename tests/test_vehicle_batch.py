@@ -129,12 +129,12 @@ def test_batched_sweep_matches_serial_sweep_outside_bistable_bands():
     np.testing.assert_allclose(batch.amplitude, serial.amplitude, rtol=1e-4)
 
 
-def test_batched_sweep_needs_the_native_backend_in_one_process():
+def test_batched_sweep_needs_the_inproc_backend_in_one_process():
     s = api.load("quarter_car_halved").system
-    with pytest.raises(ValueError, match="backend 'native' and workers 1"):
+    with pytest.raises(ValueError, match="backend 'inproc' and workers 1"):
         vehicle.sweep(s, [3.0, 4.0], backend="inproc", workers=2, batch=True,
                       progress=False)
-    with pytest.raises(ValueError, match="backend 'native' and workers 1"):
+    with pytest.raises(ValueError, match="backend 'inproc' and workers 1"):
         vehicle.sweep(s, [3.0, 4.0], backend="fmu", batch=True, progress=False)
 
 
