@@ -68,6 +68,8 @@ def run_once(argv, march: str, cwd: str, cache: str | None) -> tuple[float, floa
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--only", nargs="*", default=None,
+                    help="labels (substrings) of the cases to run")
     ap.add_argument("--cold", action="store_true",
                     help="an empty numba cache for every auto/numba run")
     args = ap.parse_args()
@@ -77,7 +79,9 @@ def main() -> None:
     print(f"{'case':32s}" + "".join(f"{m:>22s}" for m in MARCHES)
           + f"{'auto/numpy':>12s}{'auto/ys':>9s}")
     with tempfile.TemporaryDirectory() as cwd:
-        for label, argv in CASES:
+        todo = [c for c in CASES
+                if not args.only or any(o in c[0] for o in args.only)]
+        for label, argv in todo:
             med = {}
             for march in MARCHES:
                 runs = []

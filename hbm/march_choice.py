@@ -8,11 +8,13 @@ with numba at N = 64). The choice is therefore made by the work done, as in the
 ski-rental problem:
 
 - every call runs the NumPy march and adds its CPU time to :attr:`AutoMarch.spent_s`;
-- once ``spent_s`` reaches :data:`WARM_START_S` (what numba's start costs with a warm
-  cache) and the cache is warm, numba is imported and every later call is compiled; a
-  process whose marches cost less never imports numba, so the ``fast`` extra never
-  makes it slower (``bench/bench_numba_start.py``), and a long one pays at most about
-  twice the best choice;
+- once ``spent_s`` reaches what numba's start costs with a warm cache (the larger of
+  :data:`WARM_START_S` and :data:`START_RATIO` times the process's start-up CPU time,
+  which a loaded machine inflates alike) and the cache is warm, numba is imported and
+  every later call is compiled; a process whose marches cost less never imports
+  numba, so the ``fast`` extra never makes it slower
+  (``bench/bench_numba_start.py``), and a long one pays at most about twice the best
+  choice;
 - a cold cache (no compiled kernels beside :mod:`hbm.friction_march_numba`, or under
   ``$NUMBA_CACHE_DIR``) is warmed in the background: once ``spent_s`` reaches
   :data:`WARMUP_AFTER_S`, one detached low-priority process compiles the kernels into
@@ -34,8 +36,15 @@ from pathlib import Path
 __all__ = ["AutoMarch", "WARM_START_S", "WARMUP_AFTER_S", "cache_is_warm",
            "start_warmup"]
 
-#: NumPy march time (s) after which numba's start (warm cache) has paid for itself.
+#: NumPy march time (s) after which numba's start (warm cache) has paid for itself,
+#: on an idle machine (0.7-1.0 s measured, issue 27) ...
 WARM_START_S = 1.0
+#: ... and as a multiple of the process's own CPU time before its first march (its
+#: imports of NumPy, SciPy and drymount, about 0.6 s idle): numba's start is imports
+#: too, and a busy machine slows both alike. The larger of the two counts, at most
+#: MAX_START_S (a long-lived process, a notebook, has spent much more before).
+START_RATIO = 1.5
+MAX_START_S = 5.0
 #: NumPy march time (s) after which a cold cache is compiled in the background.
 WARMUP_AFTER_S = 0.25
 #: The compiled entry points whose cache indices make a warm cache.
@@ -81,8 +90,10 @@ class AutoMarch:
     :meth:`spent` after a NumPy one."""
 
     def __init__(self, have_numba: bool, warm_start_s: float = WARM_START_S,
-                 warmup_after_s: float = WARMUP_AFTER_S, warmup: bool = True):
+                 warmup_after_s: float = WARMUP_AFTER_S, warmup: bool = True,
+                 scale_by_start: bool = True):
         self.have_numba = have_numba
+        self.scaled = None if scale_by_start else False
         self.warm_start_s = warm_start_s
         self.warmup_after_s = warmup_after_s
         self.warmup = warmup
@@ -97,6 +108,11 @@ class AutoMarch:
             return "numba"
         if not self.have_numba:
             return "numpy"
+        if self.scaled is None:  # the first march: scale by the start-up's cost
+            self.scaled = True
+            start = min(START_RATIO * self.clock(), MAX_START_S)
+            self.warm_start_s = max(self.warm_start_s, start)
+            self._next_check = self.warm_start_s
         if _MODULE in sys.modules:  # its start is paid
             self.compiled = True
             return "numba"

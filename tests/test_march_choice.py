@@ -30,7 +30,8 @@ def test_without_numba_always_numpy():
 def test_switches_once_the_numpy_marches_cost_the_start(monkeypatch):
     monkeypatch.setattr(march_choice, "cache_is_warm", lambda: True)
     monkeypatch.delitem(sys.modules, march_choice._MODULE, raising=False)
-    a = AutoMarch(have_numba=True, warm_start_s=1.0, warmup_after_s=0.25)
+    a = AutoMarch(have_numba=True, warm_start_s=1.0, warmup_after_s=0.25,
+                  scale_by_start=False)
     for _ in range(7):  # 0.125 s each: exact sums
         a.spent(0.125)
         assert a.choose() == "numpy"
@@ -53,7 +54,8 @@ def test_cold_cache_is_warmed_in_the_background_and_waited_for(monkeypatch):
     monkeypatch.setattr(march_choice, "start_warmup",
                         lambda: started.append(1) or proc)
     monkeypatch.delitem(sys.modules, march_choice._MODULE, raising=False)
-    a = AutoMarch(have_numba=True, warm_start_s=1.0, warmup_after_s=0.25)
+    a = AutoMarch(have_numba=True, warm_start_s=1.0, warmup_after_s=0.25,
+                  scale_by_start=False)
     a.spent(0.2)
     assert started == []
     a.spent(0.1)
@@ -65,6 +67,19 @@ def test_cold_cache_is_warmed_in_the_background_and_waited_for(monkeypatch):
     proc.done = True
     a.spent(1.0)
     assert a.choose() == "numba"
+
+
+@needs_numba
+def test_the_threshold_scales_with_the_start_up(monkeypatch):
+    monkeypatch.delitem(sys.modules, march_choice._MODULE, raising=False)
+    monkeypatch.setattr(AutoMarch, "clock", staticmethod(lambda: 2.0))
+    a = AutoMarch(have_numba=True, warm_start_s=1.0)
+    assert a.choose() == "numpy"
+    assert a.warm_start_s == pytest.approx(march_choice.START_RATIO * 2.0)
+    monkeypatch.setattr(AutoMarch, "clock", staticmethod(lambda: 100.0))
+    b = AutoMarch(have_numba=True, warm_start_s=1.0)
+    b.choose()
+    assert b.warm_start_s == march_choice.MAX_START_S
 
 
 @needs_numba
@@ -93,6 +108,7 @@ curve = drymount.hbm(drymount.load("sdof_halved"), 4.0, 12.0, harmonics=3,
                      n_samples=64, progress=False)
 import drymount.hbm.friction_march as fm
 print(json.dumps({"numba": "numba" in sys.modules, "spent": fm.AUTO.spent_s,
+                  "limit": fm.AUTO.warm_start_s,
                   "peak": float(max(curve.transmissibility))}))
 """
 
@@ -105,5 +121,5 @@ def test_a_small_curve_does_not_load_numba():
                        capture_output=True, text=True, timeout=600, cwd=ROOT)
     assert p.returncode == 0, p.stderr
     r = json.loads(p.stdout.splitlines()[-1])
-    assert r["spent"] < march_choice.WARM_START_S
+    assert r["spent"] < r["limit"]
     assert not r["numba"]

@@ -103,7 +103,7 @@ def _settings(ck: _Checker, data: dict):
                                             maximum=MAX_HARMONICS)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
-    if cs.get("backend") in RENAMED_BACKENDS:  # the old name, still accepted
+    if isinstance(cs.get("backend"), str) and cs["backend"] in RENAMED_BACKENDS:
         old = cs["backend"]
         cs = {**cs, "backend": RENAMED_BACKENDS[old]}
         warnings.warn(f"`cosim.backend` = {old!r} is deprecated: use "
