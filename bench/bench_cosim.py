@@ -17,7 +17,7 @@ steps), for a single-DOF system (1 mount, 1 active axis) and the 6-DOF engine
   Python work, the mount law);
 - ``harness null`` / ``harness fmu``: the harness (``vehicle.Master`` with the
   ``fmu`` backend, steady-state loop) driving NullMount / FrictionMount;
-- ``native``: the harness with the in-process law (no FMI).
+- ``inproc``: the harness with the in-process law (no FMI).
 
 The native (C) FMUs (``fmu_build/native.py``, FMI 2.0), measured in the same run:
 
@@ -37,7 +37,7 @@ Ratios: ``harness null / raw null`` is the harness's own cost over the bare FMI 
 model; ``harness fmu / raw null`` the total over the floor.
 
 Part 2, seconds per steady-state frequency of every preset (``drymount.config``):
-a stepped sweep over 3 frequencies of the preset's band, native and FMU backends.
+a stepped sweep over 3 frequencies of the preset's band, inproc and FMU backends.
 """
 
 from __future__ import annotations
@@ -126,7 +126,7 @@ def part1(real_fmu: Path, null_fmu: Path, periods: int, repeat: int,
     steps = periods * 256
     for label, system in systems():
         res = {k: [] for k in ("raw null", "raw fmu", "harness null", "harness fmu",
-                               "native", "raw native", "raw null native",
+                               "inproc", "raw native", "raw null native",
                                "harness native", "raw native3")}
         for _ in range(repeat):
             res["raw null"].append(raw_loop(system, null_fmu, steps))
@@ -138,17 +138,17 @@ def part1(real_fmu: Path, null_fmu: Path, periods: int, repeat: int,
             res["harness fmu"].append(harness_loop(system, "fmu", real_fmu, periods))
             res["harness native"].append(harness_loop(system, "fmu",
                                                       native_fmus["native"], periods))
-            res["native"].append(harness_loop(system, "native", None, periods))
+            res["inproc"].append(harness_loop(system, "inproc", None, periods))
         med = {k: statistics.median(v) for k, v in res.items()}
         med["label"] = label
         rows.append(med)
     print(f"\nus per mount-step (median of {repeat} x {steps} steps)")
-    head = ("system", "raw null", "raw fmu", "harness null", "harness fmu", "native",
+    head = ("system", "raw null", "raw fmu", "harness null", "harness fmu", "inproc",
             "h.null/raw null", "h.fmu/raw fmu", "h.fmu/raw null")
     print("  ".join(f"{h:>15}" if i else f"{h:<26}" for i, h in enumerate(head)))
     for r in rows:
         vals = [r["raw null"], r["raw fmu"], r["harness null"], r["harness fmu"],
-                r["native"], r["harness null"] / r["raw null"],
+                r["inproc"], r["harness null"] / r["raw null"],
                 r["harness fmu"] / r["raw fmu"], r["harness fmu"] / r["raw null"]]
         print(f"{r['label']:<26}  " + "  ".join(f"{v:15.2f}" for v in vals))
     print_native(rows)
@@ -182,18 +182,18 @@ def part2(real_fmu: Path, quick: bool) -> None:
         names = names[:3]
     print("\nseconds per steady-state frequency (stepped sweep of 3 frequencies in the "
           "preset's band, from the linear start, default rtol)")
-    print(f"{'preset':<24}{'band Hz':>14}{'native s':>12}{'fmu s':>12}"
+    print(f"{'preset':<24}{'band Hz':>14}{'inproc s':>12}{'fmu s':>12}"
           f"{'periods':>10}{'converged':>11}")
     for name in names:
         cfg = load_preset(name)
         f = np.linspace(cfg.sweep.fmin_hz, cfg.sweep.fmax_hz, 5)[1:4]
         out = {}
-        for backend in ("native", "fmu"):
+        for backend in ("inproc", "fmu"):
             sw = sweep(cfg.system, f, backend=backend, fmu_path=real_fmu,
                        progress=False)
             out[backend] = sw
         band = f"{cfg.sweep.fmin_hz:g}-{cfg.sweep.fmax_hz:g}"
-        print(f"{name:<24}{band:>14}{out['native'].elapsed / f.size:12.3f}"
+        print(f"{name:<24}{band:>14}{out['inproc'].elapsed / f.size:12.3f}"
               f"{out['fmu'].elapsed / f.size:12.3f}"
               f"{np.mean(out['fmu'].n_periods):10.0f}"
               f"{str(bool(out['fmu'].success)):>11}")

@@ -1,5 +1,5 @@
-"""Benchmark of stepped sweeps (issue 15, items 4 and 5): batched native stepping and
-sweeps that find the peak.
+"""Benchmark of stepped sweeps (issue 15, items 4 and 5): batched in-process stepping
+and sweeps that find the peak.
 
 Run: ``python bench/bench_sweep.py [--repeat R] [--points P]``
 
@@ -9,7 +9,7 @@ Run: ``python bench/bench_sweep.py [--repeat R] [--points P]``
    quarter_car_halved (1 mount, 1 active axis) and six_dof_halved (3 mounts, 9 axes).
    Target: under 1 us per mount-step and frequency in a 30-point batch.
 2. A P-point sweep of quarter_car_halved over its band (CPU s, in-process, after the
-   imports): serial native, batched native, each against the HBM curve of the band
+   imports): serial inproc, batched inproc, each against the HBM curve of the band
    (``api.hbm``, H = 7) measured in the same run.
 3. The peak that a P-point sweep reads against HBM's (the reference): the grid, with
    ``refine=8``, with ``refine=4`` guided by the HBM curve. Target: within 1 %.
@@ -40,7 +40,7 @@ from drymount.vehicle.batch import _Batch, _masters  # noqa: E402
 from drymount.vehicle.master import Master  # noqa: E402
 from drymount.vehicle.steady import _begin  # noqa: E402
 
-#: Target of item 4: native us per mount-step and frequency in a 30-point batch.
+#: Target of item 4: in-process us per mount-step and frequency in a 30-point batch.
 TARGET_STEP_US = 1.0
 #: Target of item 5: relative error of the swept peak against HBM's.
 TARGET_PEAK = 0.01
@@ -65,7 +65,7 @@ def step_costs(name, points, repeat):
     """(scalar us per mount-step, batched us per mount-step and frequency)."""
     s = api.load(name).system
     f = np.linspace(2.0, 12.0, points)
-    scalar = Master(s, "native")
+    scalar = Master(s, "inproc")
     _begin(scalar, 5.0, None, "linear")
     N = scalar._periodic[1]
     t_scalar = _best(lambda: [scalar.run_period() for _ in range(PERIODS)], repeat)
@@ -94,7 +94,7 @@ def main():
     ap.add_argument("--points", type=int, default=30)
     a = ap.parse_args()
     P = a.points
-    print(f"1. native cost per mount-step and frequency, {P}-point batch "
+    print(f"1. in-process cost per mount-step and frequency, {P}-point batch "
           f"(CPU, best of {a.repeat}); {_load()}")
     print(f"   {'model':<20} {'mounts':>6} {'scalar us':>10} {'batched us':>11} "
           f"{'speed-up':>9} {'target us':>10} {'ratio':>6}")
@@ -111,18 +111,18 @@ def main():
     curve = api.hbm(m, progress=False)
     t_hbm = _best(lambda: api.hbm(m, progress=False), a.repeat)
     runs = {}
-    for label, kw in (("serial native", {}), ("batched native", {"batch": True})):
+    for label, kw in (("serial inproc", {}), ("batched inproc", {"batch": True})):
         res = {}
 
         def go(kw=kw, res=res):
-            res["r"] = vehicle.sweep(m.system, f, backend="native", progress=False,
+            res["r"] = vehicle.sweep(m.system, f, backend="inproc", progress=False,
                                      **kw)
         runs[label] = (_best(go, a.repeat), res["r"])
     print(f"   HBM curve (H = {curve.result.harmonics}, {len(curve.freq_hz)} points): "
           f"{t_hbm:.3f} s")
     for label, (t, _r) in runs.items():
         print(f"   {label:<15} {t:7.3f} s   sweep / HBM {t / t_hbm:6.1f}x")
-    t_s, t_b = runs["serial native"][0], runs["batched native"][0]
+    t_s, t_b = runs["serial inproc"][0], runs["batched inproc"][0]
     print(f"   batched / serial: {t_b / t_s:.2f}")
 
     print(f"\n3. peak of a {P}-point sweep of quarter_car_halved against HBM's; "
@@ -136,7 +136,7 @@ def main():
              ("refine=4 --hbm (batched)", {"refine": 4, "hbm": curve, "batch": True}))
     for label, kw in cases:
         t0 = time.process_time()
-        r = vehicle.sweep(m.system, f, backend="native", progress=False, **kw)
+        r = vehicle.sweep(m.system, f, backend="inproc", progress=False, **kw)
         t = time.process_time() - t0
         i = int(np.argmax(r.transmissibility))
         err = r.transmissibility[i] / ref - 1

@@ -377,7 +377,7 @@ def sweep(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
     points, direction, spacing : optional
         Number of frequencies, ``"up"``/``"down"``, ``"linear"``/``"log"``
         (default: ``[sweep]``).
-    backend : {"fmu", "native"}, optional
+    backend : {"fmu", "inproc"}, optional
         Default ``[cosim] backend`` (``"fmu"`` unless the file says otherwise).
     workers : int
         Processes.
@@ -455,7 +455,7 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
     duration : float, optional
         Simulated time, s (default: with a measured input, the record's span (the
         shortest one); else ``[cosim] duration``, else 1 s).
-    backend : {"fmu", "native"}, optional
+    backend : {"fmu", "inproc"}, optional
         Default ``[cosim] backend``.
     steps_per_period : int, optional
         dt = 1 / (freq_hz steps_per_period) (default ``[cosim]``).

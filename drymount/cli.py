@@ -41,6 +41,7 @@ import importlib
 import os
 import signal
 import sys
+import warnings
 from pathlib import Path
 
 from drymount.cli_guard import (
@@ -145,14 +146,13 @@ def _band(args, cfg) -> tuple[float, float]:
 
 
 def cmd_presets(args) -> int:
-    from drymount.config import list_presets, load_preset, preset_text
-    from drymount.io import atomic_write_text
+    from drymount.config import list_presets, preset_text
 
     if args.action == "list":
         names = list_presets()
         width = max(len(n) for n in names)
         for n in names:
-            print(f"{n:<{width}}  {load_preset(n).description}")
+            print(f"{n:<{width}}  {_description(n)}")
         return EXIT_OK
     text = preset_text(args.name)
     if args.action == "show":
@@ -167,10 +167,25 @@ def cmd_presets(args) -> int:
         from drymount.config.splice import with_mount
 
         text = with_mount(text, args.mount)
+    from drymount.io import atomic_write_text
+
     atomic_write_text(args.path, text)
     mount = f", [mount] from {args.mount}" if args.mount is not None else ""
     _info(f"wrote {args.path} (preset {args.name}, named {name!r}{mount})")
     return EXIT_OK
+
+
+def _description(name: str) -> str:
+    """A preset's description as its file states it (read without building the
+    model), else the one its loaded system gives."""
+    from drymount.config import preset_description
+
+    text = preset_description(name)
+    if text:
+        return text
+    from drymount.config import load_preset
+
+    return load_preset(name).description
 
 
 def _with_name(text: str, name: str) -> str:
@@ -538,17 +553,17 @@ def _located_peak(path: Path):
 
 
 def cmd_sweep(args) -> int:
-    import numpy as np
-
     from drymount.config import SweepSettings
 
     cfg = _load(args.config, args.overrides)
+    import numpy as np
+
     fmin, fmax = _band(args, cfg)
     s = SweepSettings(fmin, fmax, args.points or cfg.sweep.points,
                       args.direction or cfg.sweep.direction,
                       args.spacing or cfg.sweep.spacing)
     freqs = s.freqs_hz()
-    backend = args.backend or ("native" if args.batch else cfg.cosim.backend)
+    backend = args.backend or ("inproc" if args.batch else cfg.cosim.backend)
     overlay = _CurveCSV(args.hbm) if args.hbm is not None else None
     if overlay is not None and overlay.system_name not in ("", cfg.system.name):
         raise UsageError(f"--hbm: {args.hbm} is a curve of {overlay.system_name!r} "
@@ -733,6 +748,30 @@ def _release_process_resources(timeout: float = 2.0) -> None:
     t.join(timeout)
 
 
+def _renamed_backend(args) -> None:
+    """``--backend native`` (the in-process law's old name): one line on stderr, and
+    the backend's name now."""
+    name = getattr(args, "backend", None)
+    if name == "native":
+        from drymount.vehicle.backends import RENAMED_BACKENDS, renamed_backend_message
+
+        print(f"drymount: warning: --backend {renamed_backend_message(name)}",
+              file=sys.stderr)
+        args.backend = RENAMED_BACKENDS[name]
+
+
+_showwarning = warnings.showwarning
+
+
+def _show_future_warning(message, category, filename, lineno, file=None, line=None):
+    """A FutureWarning (a deprecated name the user passed) as one line on stderr;
+    other warnings as Python shows them."""
+    if issubclass(category, FutureWarning):
+        print(f"drymount: warning: {message}", file=sys.stderr)
+        return
+    _showwarning(message, category, filename, lineno, file, line)
+
+
 def _run(argv) -> int:
     from drymount.threads import limit_threads
 
@@ -749,7 +788,16 @@ def _run(argv) -> int:
     except SystemExit as exc:  # --help (0) or a usage error (2)
         return int(exc.code or 0)
     try:
-        code = COMMANDS[args.command](args)
+        if isinstance(getattr(args, "config", None), str):
+            from drymount.config.catalog import check_spec
+
+            check_spec(args.config)  # a typo in CONFIG is told before NumPy loads
+        _renamed_backend(args)
+        with warnings.catch_warnings():
+            # a deprecated name the user passed: told in one line, not an error
+            warnings.simplefilter("default", FutureWarning)
+            warnings.showwarning = _show_future_warning
+            code = COMMANDS[args.command](args)
         return EXIT_OK if code is None else int(code)
     except ConfigError as exc:
         print(f"drymount: {exc}", file=sys.stderr)

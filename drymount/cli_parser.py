@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import textwrap
 from pathlib import Path
 
@@ -154,6 +155,11 @@ def _hbm_accuracy_args(p) -> None:
                    help="log frequency axis in --plot")
 
 
+#: --backend: the in-process law and the FMU; "native" is the in-process law's old
+#: name (deprecated: the word means only the C FMU now), told by drymount.cli.
+_BACKENDS = ("fmu", "inproc", "native")
+
+
 def _config_arg(p):
     p.add_argument("config", metavar="CONFIG",
                    help="TOML configuration file (docs/config.md) or preset name "
@@ -163,6 +169,21 @@ def _config_arg(p):
                    help="override a field of CONFIG, checked like the file; "
                         "repeatable, e.g. --set mount.friction.n0=12 --set "
                         "'mounts[*].axial.c=200'")
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, looked up only when asked
+    (``importlib.metadata`` costs 0.1 s of every start-up, issue 27)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS,
+                 default=argparse.SUPPRESS,
+                 help="show program's version number and exit"):
+        super().__init__(option_strings=option_strings, dest=dest,
+                         default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser._print_message(f"drymount {_version()}\n", sys.stdout)
+        parser.exit()
 
 
 def _version() -> str:
@@ -318,10 +339,10 @@ def _cmd_cosim(sub) -> None:
              (backend native). Writes the time histories: time, every DOF and every
              mount force.""",
              ["drymount cosim sdof_halved --freq 5 --duration 4 --out run.csv",
-              "drymount cosim six_dof_halved --freq 7 --duration 3 --backend native "
+              "drymount cosim six_dof_halved --freq 7 --duration 3 --backend inproc "
               "--out run.csv --plot run.png",
               "drymount cosim six_dof_halved --road examples/data/road_profile.csv "
-              "--speed 20 --backend native --spectra psd.csv --spectra-plot psd.png "
+              "--speed 20 --backend inproc --spectra psd.csv --spectra-plot psd.png "
               "--skip 0.5"])
     _config_arg(p)
     p.add_argument("--freq", type=_positive_float, default=None,
@@ -330,9 +351,10 @@ def _cmd_cosim(sub) -> None:
                    default=None,
                    help=f"simulated time in s, at most {MAX_DURATION_S:g} (default: "
                         f"[cosim] duration, else the harness default)")
-    p.add_argument("--backend", choices=("fmu", "native"), default=None,
-                   help="fmu: FMU instances through fmpy; native: in-process law "
-                        "(default: [cosim] backend)")
+    p.add_argument("--backend", choices=_BACKENDS, default=None, metavar="{fmu,inproc}",
+                   help="fmu: FMU instances through fmpy; inproc: in-process law "
+                        "(`native`, its old name, still works; default: [cosim] "
+                        "backend)")
     p.add_argument("--road", type=_path, default=None, metavar="CSV",
                    help="measured road profile or base displacement: distance [m] or "
                         "time [s], elevation [mm|m] (default: [cosim.input] road)")
@@ -379,12 +401,14 @@ def _cmd_sweep(sub) -> None:
                    help="frequency spacing (default: [sweep] spacing)")
     p.add_argument("--direction", choices=("up", "down"), default=None,
                    help="sweep order (default: [sweep] direction)")
-    p.add_argument("--backend", choices=("fmu", "native"), default=None,
-                   help="default: [cosim] backend")
+    p.add_argument("--backend", choices=_BACKENDS, default=None, metavar="{fmu,inproc}",
+                   help="fmu: FMU instances through fmpy; inproc: in-process law "
+                        "(`native`, its old name, still works; default: [cosim] "
+                        "backend)")
     p.add_argument("--workers", type=_int_at_least(1), default=1,
                    help="parallel processes")
     p.add_argument("--batch", action="store_true",
-                   help="native backend: step all frequencies at once as one array "
+                   help="inproc backend: step all frequencies at once as one array "
                         "computation (each from the linearised response, not from "
                         "the previous frequency; docs/performance.md)")
     p.add_argument("--refine", type=_int_at_least(0, MAX_POINTS), default=0,
@@ -591,7 +615,7 @@ def build_parser() -> argparse.ArgumentParser:
             "drymount demo --out demo                # first look: report in demo/",
             "drymount presets list",
             "drymount hbm sdof_halved --out curve.csv --plot curve.png",
-            "drymount sweep sdof_halved --points 20 --backend native --hbm curve.csv "
+            "drymount sweep sdof_halved --points 20 --backend inproc --hbm curve.csv "
             "--plot sweep.png",
             "drymount build-fmu --out FrictionMount.fmu",
         ) + "\n\nexit status: 0 success, 1 numerical failure, 2 bad usage or "
@@ -599,8 +623,7 @@ def build_parser() -> argparse.ArgumentParser:
             "or 143 what was computed is written, first line '# partial: <reason>' "
             "(docs/cli.md)",
         formatter_class=_Formatter)
-    parser.add_argument("--version", action="version",
-                        version=f"drymount {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     parser.add_argument("--traceback", action="store_true",
                         help="show the Python traceback of an unexpected error")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)

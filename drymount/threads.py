@@ -19,6 +19,7 @@ are already loaded in this process.
 from __future__ import annotations
 
 import os
+import sys
 
 __all__ = ["ENV", "LIBRARY_VARIABLES", "thread_limit", "limit_threads"]
 
@@ -28,6 +29,10 @@ ENV = "DRYMOUNT_THREADS"
 LIBRARY_VARIABLES = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
                      "BLIS_NUM_THREADS", "VECLIB_MAXIMUM_THREADS")
 DEFAULT_THREADS = 1
+#: Modules whose loading starts a BLAS/OpenMP library: once one is loaded, the
+#: environment comes too late and threadpoolctl sets the limit (a start-up without
+#: them skips threadpoolctl's 0.1 s import, issue 27).
+_LOADED = frozenset(("numpy", "scipy", "numba", "sklearn", "torch"))
 
 
 def thread_limit(environ=None) -> int | None:
@@ -64,6 +69,8 @@ def limit_threads(environ=None) -> int | None:
         return None
     for var in LIBRARY_VARIABLES:
         env[var] = str(n)
+    if environ is None and not _LOADED.intersection(sys.modules):
+        return n  # nothing loaded yet: the libraries will read the environment
     try:
         from threadpoolctl import threadpool_limits
     except ImportError:  # the environment still covers libraries not loaded yet

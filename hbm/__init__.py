@@ -13,6 +13,8 @@ Public API (thesis Chapter 3):
   with event-exact stick-slip, for validation.
 """
 
+from drymount.hbm.lazy import lazy_face
+
 # The names are imported on first use (PEP 562): ``drymount`` binds this package on
 # import (``drymount.hbm`` is also the API function), so its face must stay light.
 _WHERE = {
@@ -44,13 +46,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name):
-    if name in _WHERE:
-        import importlib
-
-        return getattr(importlib.import_module(f"{__name__}.{_WHERE[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_face(__name__, _WHERE, __all__)

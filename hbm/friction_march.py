@@ -38,10 +38,13 @@ Backends, all equal to the scalar march bit for bit:
   ``"scan"`` (measured crossover ~170-190 on the 2-core development machine,
   ``bench/bench_aft.py``);
 - ``"numba"``: the scalar algorithm compiled (:mod:`hbm.friction_march_numba`; the
-  optional ``fast`` extra), the fastest at every size.
+  optional ``fast`` extra), the fastest per call once loaded.
 
-The default ``"auto"`` is ``"numba"`` when numba is installed, else ``"numpy"``; the
-environment variable ``DRYMOUNT_MARCH`` overrides it (read at import).
+The default ``"auto"`` is ``"numpy"`` without numba; with numba it starts with
+``"numpy"`` and switches to ``"numba"`` once the NumPy marches of the process have cost
+what numba's start does (:mod:`hbm.march_choice`: a small curve never loads numba; a
+cold cache is compiled in the background). The environment variable
+``DRYMOUNT_MARCH`` overrides it (read at import).
 """
 
 from __future__ import annotations
@@ -53,6 +56,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drymount.hbm.elements import jenkins_periodic
+from drymount.hbm.march_choice import AutoMarch
 
 __all__ = ["BACKENDS", "JenkinsMarch", "jenkins_march", "jenkins_jacobian",
            "jenkins_aft", "resolve_backend"]
@@ -67,11 +71,12 @@ _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
 def resolve_backend(backend: str | None = None) -> str:
     """The backend to use: ``backend`` if given, else ``$DRYMOUNT_MARCH``, else auto.
 
-    ``"auto"`` is ``"numba"`` when numba is installed, else ``"numpy"``.
+    ``"auto"`` is ``"numpy"`` without numba; with numba it stays ``"auto"``, chosen per
+    call by :data:`AUTO` (``"numpy"`` until ``"numba"`` pays).
     """
     name = backend if backend is not None else os.environ.get("DRYMOUNT_MARCH", "auto")
     if name == "auto":
-        return "numba" if _HAVE_NUMBA else "numpy"
+        return "auto" if _HAVE_NUMBA else "numpy"
     if name not in BACKENDS:
         raise ValueError(f"march `backend` (or $DRYMOUNT_MARCH) must be one of "
                          f"auto, {', '.join(BACKENDS)}, got {name!r}")
@@ -82,6 +87,13 @@ def resolve_backend(backend: str | None = None) -> str:
 
 
 _DEFAULT = resolve_backend()
+#: The process's choice between the NumPy and the compiled march under "auto".
+AUTO = AutoMarch(_HAVE_NUMBA)
+
+
+def _chosen(backend: str | None) -> str:
+    backend = _DEFAULT if backend is None else resolve_backend(backend)
+    return AUTO.choose() if backend == "auto" else backend
 
 
 @dataclass(frozen=True)
@@ -261,7 +273,7 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
     -------
     JenkinsMarch
     """
-    backend = _DEFAULT if backend is None else resolve_backend(backend)
+    backend = _chosen(backend)
     u = np.asarray(u, dtype=float)
     if u.ndim < 2:
         raise ValueError(f"`u` must have shape (..., N, C), got {u.shape}")
@@ -283,7 +295,9 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
         force, stuck, last = friction_march_numba.march(u3, kf, fs, w_start)
         n_bad = 0
     else:
+        t0 = AUTO.clock()
         force, stuck, last, n_bad = _march_numpy(u3, kf, fs, w_start, backend)
+        AUTO.spent(AUTO.clock() - t0)
     return JenkinsMarch(force.reshape(shape), stuck.reshape(shape),
                         last.reshape(shape), n_bad, backend)
 
@@ -317,11 +331,13 @@ def jenkins_jacobian(march: JenkinsMarch, kf, E: np.ndarray, P: np.ndarray
         Z = friction_march_numba.jacobian_samples(
             E, kf, s3, march.last_slip.reshape(s3.shape))
         return (P @ Z).reshape(*shape[:-2], shape[-1], *P.shape[:1], E.shape[1])
+    t0 = AUTO.clock()
     stuck = np.swapaxes(march.stuck, -1, -2)  # (..., C, N)
     last = np.swapaxes(march.last_slip, -1, -2)
     kt = stuck * kf[:, None]
     back = kt * (last >= 0)  # weight of the last slip sample's motion
     Z = kt[..., None] * E - back[..., None] * E[np.maximum(last, 0)]
+    AUTO.spent(AUTO.clock() - t0)  # what the compiled samples would save
     return P @ Z
 
 
@@ -349,7 +365,7 @@ def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarr
     dF : ndarray, shape (..., C, m, m) or None
         As :func:`jenkins_jacobian`.
     """
-    backend = _DEFAULT if backend is None else resolve_backend(backend)
+    backend = _chosen(backend)
     shape = u.shape
     u3 = u.reshape(-1, *shape[-2:])
     if backend == "numba":
@@ -360,7 +376,9 @@ def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarr
         force, Z = friction_march_numba.march_and_samples(u3, kf, fs, w_start, E)
         dF = P @ Z
         return force.reshape(shape), dF.reshape(*shape[:-2], *dF.shape[-3:])
+    t0 = AUTO.clock()
     force, stuck, last, n_bad = _march_numpy(u3, kf, fs, w_start, backend)
+    AUTO.spent(AUTO.clock() - t0)
     march = JenkinsMarch(force.reshape(shape), stuck.reshape(shape),
                          last.reshape(shape), n_bad, backend)
     return march.force, (jenkins_jacobian(march, kf, E, P) if jacobian else None)

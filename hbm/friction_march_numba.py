@@ -1,11 +1,14 @@
 """Compiled (numba) kernels of the Jenkins march and its AFT Jacobian (optional).
 
 Imported by :mod:`hbm.friction_march` only when numba is installed (the ``fast`` extra:
-``pip install drymount[fast]``). The march is the algorithm of
+``pip install drymount[fast]``) and the compiled march pays (:mod:`hbm.march_choice`).
+The march is the algorithm of
 :func:`hbm.elements.jenkins_periodic` (the scalar return map of
 :func:`fmu_src.mount_law.jenkins_update`) with the same floating-point operations in the
 same order, compiled, so it gives the same numbers bit for bit
-(``tests/test_hbm_friction_march.py``). Compiled once per machine (``cache=True``).
+(``tests/test_hbm_friction_march.py``). Compiled once per machine (``cache=True``):
+:func:`warm` compiles every kernel for the arrays the AFT passes, which
+:mod:`hbm.march_choice` runs in a background process where the cache is cold.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march", "jacobian_samples", "march_and_samples"]
+__all__ = ["march", "jacobian_samples", "march_and_samples", "warm"]
 
 
 @njit(cache=True)
@@ -130,3 +133,14 @@ def march_and_samples(u: np.ndarray, kf: np.ndarray, fs: np.ndarray,
     Z = np.empty((nb, C, N, E.shape[1]))
     _march_samples(u, kf, fs, w_start, E, force, stuck, last, Z)
     return force, Z
+
+
+def warm() -> None:
+    """Compile (or load from the cache) every kernel for the AFT's argument types:
+    float64 C-ordered motions (nb, N, C) and bases (N, m)."""
+    u = np.linspace(-1e-3, 1e-3, 2 * 8 * 2).reshape(2, 8, 2)
+    kf, fs, w0 = np.full(2, 6e4), np.full(2, 20.0), np.zeros(2)
+    E = np.ones((8, 3))
+    _, stuck, last = march(u, kf, fs, w0)
+    jacobian_samples(E, kf, stuck, last)
+    march_and_samples(u, kf, fs, w0, E)

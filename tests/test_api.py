@@ -114,15 +114,15 @@ def test_sweep_and_cosim_default_to_the_configured_backend(monkeypatch):
         sweep("sdof_halved", points=3, progress=False)
     assert seen["backend"] == "fmu"
     with pytest.raises(RuntimeError, match="stop"):
-        sweep(load("sdof_halved", "cosim.backend=native"), points=3, progress=False)
-    assert seen["backend"] == "native"
+        sweep(load("sdof_halved", "cosim.backend=inproc"), points=3, progress=False)
+    assert seen["backend"] == "inproc"
 
 
-def test_sweep_native_runs_and_gives_a_curve():
-    m = load("sdof_halved").replace("cosim.backend", "native")
+def test_sweep_inproc_runs_and_gives_a_curve():
+    m = load("sdof_halved").replace("cosim.backend", "inproc")
     curve = sweep(m, 3.0, 6.0, points=3, progress=False)
     assert curve.kind == "sweep" and curve.success
-    assert curve.result.backend == "native"
+    assert curve.result.backend == "inproc"
     assert curve.freq_hz.tolist() == [3.0, 4.5, 6.0]
     assert curve.peak().value == np.max(curve.transmissibility)
 
@@ -131,8 +131,8 @@ def test_cosim_matches_the_harness_and_the_cli_step():
     import drymount.vehicle as vehicle
 
     m = load("sdof_halved")
-    run = cosim(m, 5.0, duration=0.5, backend="native", steps_per_period=200)
-    ref = vehicle.simulate(m.system, 5.0, 0.5, backend="native", dt=1.0 / 1000.0)
+    run = cosim(m, 5.0, duration=0.5, backend="inproc", steps_per_period=200)
+    ref = vehicle.simulate(m.system, 5.0, 0.5, backend="inproc", dt=1.0 / 1000.0)
     assert isinstance(run, CosimResult)
     assert np.array_equal(run.q, ref.q)
     assert run.peak("x").value == np.max(np.abs(ref.q[:, 0]))

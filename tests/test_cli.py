@@ -297,7 +297,7 @@ def _exact_force_transmissibility(system, freqs_hz):
 def test_sweep_native_linear_matches_exact(tmp_path, capsys):
     out, plot = tmp_path / "sweep.csv", tmp_path / "sweep.png"
     code, stdout, _ = run(["sweep", "sdof_linear", "--fmin", "3", "--fmax", "9",
-                           "--points", "4", "--backend", "native", "--out", str(out),
+                           "--points", "4", "--backend", "inproc", "--out", str(out),
                            "--plot", str(plot), "-q"], capsys)
     assert code == 0 and "4/4 frequencies converged" in stdout
     header, data = _read_csv(out)
@@ -343,7 +343,7 @@ def test_sweep_without_steady_state_exit_1_keeps_the_rows(tmp_path, capsys,
     monkeypatch.setattr(vehicle, "sweep", unconverged)
     out = tmp_path / "s.csv"
     code, _, err = run(["sweep", "sdof_linear", "--fmin", "4", "--fmax", "6",
-                        "--points", "2", "--backend", "native", "--out", str(out),
+                        "--points", "2", "--backend", "inproc", "--out", str(out),
                         "-q"], capsys)
     assert code == 1 and "no steady state reached at 6 Hz" in err
     _, data = _read_csv(out)
@@ -355,7 +355,7 @@ def test_cosim_native_and_fmu_time_histories(tmp_path, capsys):
 
     build_fmu(tmp_path / "FrictionMount.fmu")  # --fmu is never built (issue 11)
     runs = {}
-    for backend in ("native", "fmu"):
+    for backend in ("inproc", "fmu"):
         out = tmp_path / f"{backend}.csv"
         code, _, err = run(["cosim", "sdof_halved", "--freq", "5", "--duration", "0.4",
                             "--steps-per-period", "64", "--backend", backend,
@@ -371,7 +371,7 @@ def test_cosim_native_and_fmu_time_histories(tmp_path, capsys):
         assert data[-1, 0] == pytest.approx(0.4, abs=1 / 320)
         runs[backend] = data
     # the FMU and the in-process law are the same law and the same master
-    np.testing.assert_allclose(runs["fmu"], runs["native"], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(runs["fmu"], runs["inproc"], rtol=1e-9, atol=1e-12)
 
 
 def test_cosim_needs_a_frequency(tmp_path, capsys):
@@ -387,7 +387,7 @@ def test_cosim_needs_a_frequency(tmp_path, capsys):
      "line 4: not UTF-8 text (byte 0xff)"),
     (["fit", "elastic", "{f}"], b"deflection [mm],force [N]\n0,0\n1,2,7\n2,4\n",
      "line 3: 3 cells, the header has 2"),
-    (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
+    (["cosim", "sdof_halved", "--backend", "inproc", "--engine", "{f}"],
      b"time [s],z [mm]\n0,0\n1,\xff\n", "not UTF-8 text (byte 0xff)"),
     # fit on data no law resolves: was "Initial guess is outside of provided
     # bounds" (exit 1), R^2 = nan with a denormal knee, or overflow
@@ -398,7 +398,7 @@ def test_cosim_needs_a_frequency(tmp_path, capsys):
      "the deflections span 2e-320 m; at least 1e-06 m"),
     (["fit", "elastic", "{f}"], b"deflection [m],force [N]\n0,0\n1e-3,1e300\n2e-3,4\n",
      "a force of 1e+300 N; at most 1e+06 N"),
-    (["cosim", "sdof_halved", "--backend", "native", "--engine", "{f}"],
+    (["cosim", "sdof_halved", "--backend", "inproc", "--engine", "{f}"],
      b"time [s],z [mm]\n0,0\n1,2,3\n", "row 3 (the header is row 1;"),
 ])
 def test_data_file_errors_exit_2_naming_file_and_line(tmp_path, capsys, argv, body,

@@ -134,7 +134,7 @@ def _controller(name, system):
 @pytest.mark.parametrize("law", sorted(LAWS))
 def test_switching_law_equals_the_event_exact_reference(law):
     system = _system()
-    with Master(system, "native", control={("mount", "axial"): _controller(
+    with Master(system, "inproc", control={("mount", "axial"): _controller(
             law, system)}) as m:
         th = m.simulate(PERIODS / FREQ, freq_hz=FREQ)
     n = m.steps_per_period(FREQ)

@@ -26,7 +26,7 @@ def _curve_csv(path: Path, system: str) -> Path:
 
 def test_sweep_refuses_a_curve_of_another_system(tmp_path, capsys):
     curve = _curve_csv(tmp_path / "other.csv", "quarter_car_halved")
-    code = cli.main(["sweep", "sdof_halved", "--points", "3", "--backend", "native",
+    code = cli.main(["sweep", "sdof_halved", "--points", "3", "--backend", "inproc",
                      "-q", "--hbm", str(curve), "--out", str(tmp_path / "s.csv")])
     err = capsys.readouterr().err
     assert code == 2, err
@@ -70,7 +70,7 @@ def test_curve_plot_returns_a_figure(kind, tmp_path):
     if kind == "hbm":
         curve = drymount.hbm(model, 2.0, 15.0, harmonics=1, progress=False)
     else:
-        curve = drymount.sweep(model, 2.0, 15.0, points=3, backend="native",
+        curve = drymount.sweep(model, 2.0, 15.0, points=3, backend="inproc",
                                progress=False)
     assert isinstance(curve.plot(), Figure)
     fig = curve.plot(tmp_path / "c.png")

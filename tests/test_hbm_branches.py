@@ -59,7 +59,7 @@ def test_jenkins_slider_start_kept_only_while_stuck():
 def six_dof_upper_sweep(six_dof_halved_issue4):
     system = six_dof_halved_issue4
     freqs = np.linspace(3.0, 7.3, 5)
-    return system, vehicle.sweep(system, freqs, direction="up", backend="native",
+    return system, vehicle.sweep(system, freqs, direction="up", backend="inproc",
                                  progress=False)
 
 

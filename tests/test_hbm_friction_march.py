@@ -6,6 +6,7 @@ scalar AFT; the numba backend equals the NumPy one."""
 import numpy as np
 import pytest
 
+import drymount.hbm.friction_march as fm
 from drymount.fmu_src.mount_law import AxisParameters, MountParameters
 from drymount.hbm.aft import FourierBasis, aft_forces
 from drymount.hbm.elements import jenkins_periodic, nonlinear_axes
@@ -17,7 +18,7 @@ from drymount.hbm.systems import sdof
 ATOL_FORCE = 1e-12  # N
 ATOL_JAC = 1e-12  # relative to the largest Jacobian entry; measured 0.0
 
-HAVE_NUMBA = "numba" in {resolve_backend("auto")}
+HAVE_NUMBA = fm._HAVE_NUMBA
 backends = pytest.mark.parametrize("backend", [
     "scan", "numpy", pytest.param("numba", marks=pytest.mark.skipif(
         not HAVE_NUMBA, reason="numba not installed: pip install 'drymount[fast]'"))])

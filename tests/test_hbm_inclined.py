@@ -97,7 +97,7 @@ def test_frequency_response_is_complete_and_matches_cosimulation():
     curve = hbm.frequency_response(SYSTEM, 4.0, 9.0, options=HBMOptions(tol=None))
     assert curve.success, curve.message
     for f in (5.0, 8.0):
-        ss = steady_state(SYSTEM, f, backend="native", steps_per_period=1000,
+        ss = steady_state(SYSTEM, f, backend="inproc", steps_per_period=1000,
                           rtol=1e-8, max_periods=600)
         a_co = ss.amplitude[0]
         sols = solutions_at(SYSTEM, curve, f)

@@ -54,7 +54,7 @@ def _hand_march(u, p, u0=0.0):
     return np.array(out)
 
 
-@pytest.mark.parametrize("backend", ["native", "fmu"])
+@pytest.mark.parametrize("backend", ["inproc", "fmu"])
 def test_master_equals_the_hand_stepped_map(backend):
     th = simulate(_sdof(), 8.0, 0.5, backend=backend)
     u = th.deflections[:, 0]
@@ -66,7 +66,7 @@ def test_master_equals_the_hand_stepped_map(backend):
 
 def test_fmu_and_native_agree_under_the_weight_from_the_working_point():
     s = _sdof(70.0 * 9.81)
-    a = simulate(s, 7.0, 0.4, backend="native")
+    a = simulate(s, 7.0, 0.4, backend="inproc")
     b = simulate(s, 7.0, 0.4, backend="fmu")
     assert np.abs(a.q - b.q).max() == 0.0
     u0 = working_point(s).deflection[0, 0]
@@ -119,7 +119,7 @@ def test_fmu_rejects_an_invalid_inclined_parameter_naming_it():
 def test_control_refuses_the_inclined_axis():
     """Its normal forces follow from its kinematics (the batched steady states run
     it: tests/test_vehicle_batch.py)."""
-    with Master(_sdof(), "native") as m:
+    with Master(_sdof(), "inproc") as m:
         with pytest.raises(ValueError, match="does not read the normal-force input"):
             m.backend.set_control({("mount", "axial"): object()})
 
@@ -142,7 +142,7 @@ def test_config_preset_and_set_paths():
 def test_quarter_car_with_an_inclined_mount_runs_on_both_backends():
     mount = MountParameters(AXIS, BARE, BARE)
     s = quarter_car(70.0, 250.0, 40.0, 20000.0, 1000.0, 180000.0, 0.0, mount, 0.01)
-    a = simulate(s, 6.0, 0.2, backend="native")
+    a = simulate(s, 6.0, 0.2, backend="inproc")
     b = simulate(s, 6.0, 0.2, backend="fmu")
     assert np.abs(a.q - b.q).max() == 0.0
     ref = _hand_march(a.deflections[:, 0], AXIS)
@@ -180,7 +180,7 @@ def test_six_dof_engine_on_inclined_mounts_native_equals_fmu():
     data["static"] = {"gravity": True}
     data["excitation"]["amplitude"] = [0.0, 0.0, 0.001]
     s = config_from_dict(data).system
-    a = simulate(s, 7.0, 0.2, backend="native")
+    a = simulate(s, 7.0, 0.2, backend="inproc")
     b = simulate(s, 7.0, 0.2, backend="fmu")
     assert np.abs(a.q - b.q).max() == 0.0
     col = list(a.force_names).index("mount3_axial")

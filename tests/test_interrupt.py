@@ -41,7 +41,7 @@ ENV = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
 # prefix of the complete run
 HBM_ARGS = ["hbm", "six_dof_halved", "--fmax", "8.5", "--harmonics", "5",
             "--n-samples", "128", "-q"]
-SWEEP_ARGS = ["sweep", "sdof_halved", "--points", "14", "--backend", "native", "-q"]
+SWEEP_ARGS = ["sweep", "sdof_halved", "--points", "14", "--backend", "inproc", "-q"]
 
 
 def _cli(args, out: Path, cwd: Path) -> subprocess.Popen:
@@ -203,7 +203,7 @@ SLOW_DESIGNS = ["--set", "design.harmonics=7", "--set", "design.chunk=4", "-q"]
 WORKER_RUNS = {
     # 200 frequencies at 4096 steps per period: minutes, never done before the signal
     "sweep": ["sweep", "sdof_halved", "--points", "200", "--steps-per-period", "4096",
-              "--backend", "native", "--workers", "2", "-q"],
+              "--backend", "inproc", "--workers", "2", "-q"],
     "explore": ["explore", DESIGN, "--set", "design.samples=16", *SLOW_DESIGNS,
                 "--workers", "2"],
     "optimize": ["optimize", DESIGN, "--popsize", "4", "--maxiter", "2",

@@ -51,16 +51,16 @@ def test_iso8608_road_written_and_read_back_gives_the_same_response(tmp_path):
     assert not np.any(m.system.Cb)  # tyre without damping: y' does not enter
     road = vehicle.RandomRoad(m.system, "C", speed=20.0, seed=3)
     dt, T = 1e-3, 2.0
-    ref = vehicle.simulate(m.system, None, T, backend="native", dt=dt, inputs=road)
+    ref = vehicle.simulate(m.system, None, T, backend="inproc", dt=dt, inputs=road)
     ts = np.arange(round(T / dt) + 5) * dt
     csv = _write(tmp_path / "road.csv", ["distance [m]", "elevation [mm]"],
                  [20.0 * ts, 1e3 * road.base(ts)[:, 0]])
-    run = cosim(m, road=csv, speed=20.0, duration=T, dt=dt, backend="native")
+    run = cosim(m, road=csv, speed=20.0, duration=T, dt=dt, backend="inproc")
     assert np.ptp(ref.q[:, 2]) > 5e-3  # the road moves the wheel by millimetres
     assert _rel(run.q, ref.q) < ROUND_TRIP_RTOL
     assert _rel(run.forces, ref.forces) < ROUND_TRIP_RTOL
     # the default duration is the record's span (2.004 s here)
-    assert cosim(m, road=csv, speed=20.0, dt=dt, backend="native").t[-1] == \
+    assert cosim(m, road=csv, speed=20.0, dt=dt, backend="inproc").t[-1] == \
         pytest.approx(ts[-1])
 
 
@@ -75,8 +75,8 @@ def test_sampled_base_velocity_and_6dof_response_against_the_analytic_sine():
     err = np.max(np.abs(sampled.base_velocity(tt)[:, k] - A * w * np.cos(w * tt)))
     assert err <= SPLINE_BOUND * h ** 3 * A * w ** 4 / 24
     sine = vehicle.SineRoad(m.system, A, f)
-    ref = vehicle.simulate(m.system, None, 1.0, backend="native", dt=h, inputs=sine)
-    run = vehicle.simulate(m.system, None, 1.0, backend="native", dt=h,
+    ref = vehicle.simulate(m.system, None, 1.0, backend="inproc", dt=h, inputs=sine)
+    run = vehicle.simulate(m.system, None, 1.0, backend="inproc", dt=h,
                            inputs=sampled)
     assert _rel(run.q, ref.q) < SINE_RESPONSE_RTOL
 
@@ -91,8 +91,8 @@ def test_engine_force_in_kn_over_ms_gives_the_harmonic_response(tmp_path):
     force = m.system.excitation.amplitude[0] * w ** 2 * np.sin(w * ts)
     csv = _write(tmp_path / "bench.csv", ["time [ms]", "x [kN]"],
                  [1e3 * ts, 1e-3 * force])
-    run = cosim(m, engine=csv, duration=T, dt=dt, backend="native")
-    ref = vehicle.simulate(m.system, f, T, backend="native", dt=dt)
+    run = cosim(m, engine=csv, duration=T, dt=dt, backend="inproc")
+    ref = vehicle.simulate(m.system, f, T, backend="inproc", dt=dt)
     assert _rel(run.q, ref.q) < ROUND_TRIP_RTOL
 
 
@@ -196,12 +196,12 @@ def test_config_cosim_input_and_the_cli(tmp_path, capsys):
         '\n[cosim.input]\nroad = "data/road.csv"\nspeed = 20.0\n'
         '[cosim.input.units]\nelevation = "mm"\n')
     (tmp_path / "qc.toml").write_text(text)
-    ref = cosim(load(tmp_path / "qc.toml"), backend="native", dt=1e-3)
+    ref = cosim(load(tmp_path / "qc.toml"), backend="inproc", dt=1e-3)
     direct = cosim(m, road=tmp_path / "data" / "road.csv", speed=20.0,
-                   units={"elevation": "mm"}, backend="native", dt=1e-3)
+                   units={"elevation": "mm"}, backend="inproc", dt=1e-3)
     assert np.array_equal(ref.q, direct.q)
     out, psd = tmp_path / "run.csv", tmp_path / "psd.csv"
-    code = main(["cosim", str(tmp_path / "qc.toml"), "--backend", "native",
+    code = main(["cosim", str(tmp_path / "qc.toml"), "--backend", "inproc",
                  "--out", str(out), "--spectra", str(psd), "--spectra-plot",
                  str(tmp_path / "psd.png"), "--skip", "0.2"])
     assert code == 0
@@ -219,6 +219,6 @@ def test_config_cosim_input_and_the_cli(tmp_path, capsys):
     # a file problem exits with 2 and names the file
     capsys.readouterr()
     code = main(["cosim", "quarter_car_halved", "--road",
-                 str(tmp_path / "data" / "road.csv"), "--backend", "native"])
+                 str(tmp_path / "data" / "road.csv"), "--backend", "inproc"])
     assert code == 2
     assert "column `elevation` has no unit" in capsys.readouterr().err

@@ -53,7 +53,7 @@ def six_dof():
 def test_steady_state_through_native_fmu_equals_in_process_law(any_native_fmu):
     native_fmu = any_native_fmu
     system = six_dof()
-    with Master(system, "native") as m:
+    with Master(system, "inproc") as m:
         a = run_steady(m, 6.0, start="linear")
         b = run_steady(m, 6.5)
     assert np.any(a.sliders != 0.0)

@@ -370,7 +370,7 @@ def test_fmu_error_mid_sweep_writes_partial(tmp_path, capsys, monkeypatch):
 
     monkeypatch.setattr(sys.modules["drymount.vehicle.sweep"], "run_steady", failing)
     code, _, err = run(["sweep", "sdof_halved", "--points", "5", "--backend",
-                        "native", "-q", "--out", "s.csv"], capsys)
+                        "inproc", "-q", "--out", "s.csv"], capsys)
     assert code == 1, err
     lines = (tmp_path / "s.csv").read_text().splitlines()
     assert lines[0].startswith("# partial: FMUError") and "2 frequencies" in lines[0]
@@ -411,7 +411,7 @@ def test_cosim_failure_writes_the_steps_computed(tmp_path, capsys, monkeypatch):
     from drymount.vehicle import master
 
     monkeypatch.chdir(tmp_path)
-    argv = ["cosim", "sdof_halved", "--freq", "5", "--backend", "native",
+    argv = ["cosim", "sdof_halved", "--freq", "5", "--backend", "inproc",
             "--duration", "2", "--steps-per-period", "2000", "--out", "c.csv"]
     assert run(argv, capsys)[0] == 0
     complete = (tmp_path / "c.csv").read_text().splitlines()

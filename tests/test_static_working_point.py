@@ -57,7 +57,7 @@ def test_hbm_about_the_working_point_matches_cosimulation(preset, freqs):
     unloaded = hbm.solve_frequencies(load_config(preset_text(preset)).system,
                                      list(freqs), harmonics=7)
     for k, f in enumerate(freqs):
-        ss = steady_state(s, f, backend="native")
+        ss = steady_state(s, f, backend="inproc")
         assert ss.converged
         t_hbm, t_sim = r.transmissibility[k], ss.transmissibility
         assert abs(t_sim - t_hbm) / t_hbm < RTOL_COSIM, (f, t_sim, t_hbm)

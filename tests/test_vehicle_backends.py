@@ -151,7 +151,7 @@ def test_sliders_round_trip_between_backends(fmu_path):
     """A steady state's end (state and sliders) restarts a fresh FMU master exactly
     where the native one stopped."""
     system = six_dof()
-    with Master(system, "native") as m:
+    with Master(system, "inproc") as m:
         a = run_steady(m, 6.0, start="linear")
         b = run_steady(m, 6.5)
     assert np.any(a.sliders != 0.0)

@@ -87,7 +87,7 @@ def test_vector_law_rejects_unknown_input():
 
 
 def _compare(system, freqs):
-    ref = [steady_state(system, f, backend="native") for f in freqs]
+    ref = [steady_state(system, f, backend="inproc") for f in freqs]
     got = steady_states(system, freqs, batch_size=3)
     worst = 0.0
     for a, b in zip(ref, got, strict=True):
@@ -123,18 +123,18 @@ def test_batched_sweep_matches_serial_sweep_outside_bistable_bands():
     ax = AxisParameters(law="linear", k1=91870.0, c=150.0)
     s = sdof(70.0, MountParameters.from_axial(ax), "unbalance", 0.01)
     f = np.linspace(3.0, 9.0, 7)
-    serial = vehicle.sweep(s, f, backend="native", progress=False)
-    batch = vehicle.sweep(s, f, backend="native", progress=False, batch=True)
+    serial = vehicle.sweep(s, f, backend="inproc", progress=False)
+    batch = vehicle.sweep(s, f, backend="inproc", progress=False, batch=True)
     assert batch.notes["batch"] and batch.success
     np.testing.assert_allclose(batch.amplitude, serial.amplitude, rtol=1e-4)
 
 
-def test_batched_sweep_needs_the_native_backend_in_one_process():
+def test_batched_sweep_needs_the_inproc_backend_in_one_process():
     s = api.load("quarter_car_halved").system
-    with pytest.raises(ValueError, match="backend 'native' and workers 1"):
-        vehicle.sweep(s, [3.0, 4.0], backend="native", workers=2, batch=True,
+    with pytest.raises(ValueError, match="backend 'inproc' and workers 1"):
+        vehicle.sweep(s, [3.0, 4.0], backend="inproc", workers=2, batch=True,
                       progress=False)
-    with pytest.raises(ValueError, match="backend 'native' and workers 1"):
+    with pytest.raises(ValueError, match="backend 'inproc' and workers 1"):
         vehicle.sweep(s, [3.0, 4.0], backend="fmu", batch=True, progress=False)
 
 
@@ -145,7 +145,7 @@ def test_batched_steady_states_group_by_steps_per_period():
     from drymount.vehicle.master import Master
 
     s = api.load("sdof_halved").system
-    f_256 = 1.0 / (256 * Master(s, "native").dt_limit())
+    f_256 = 1.0 / (256 * Master(s, "inproc").dt_limit())
     freqs = [0.5 * f_256, 1.5 * f_256, 0.7 * f_256]
     assert _compare(s, freqs) <= STEADY_RTOL
     got = steady_states(s, freqs)
@@ -170,7 +170,7 @@ def test_stopped_batched_sweep_keeps_the_converged_frequencies(monkeypatch):
     monkeypatch.setattr(vb, "_analyse", analyse)
     s = api.load("quarter_car_halved").system
     with pytest.raises(KeyboardInterrupt) as info:
-        vehicle.sweep(s, [2.0, 3.0, 9.0, 10.0], backend="native", batch=True,
+        vehicle.sweep(s, [2.0, 3.0, 9.0, 10.0], backend="inproc", batch=True,
                       progress=False)
     part = info.value.partial_result
     assert len(part.freq_hz) == 2 and "stopped" in part.notes

@@ -24,7 +24,7 @@ def _system(n0=10.0):
     return sdof(70.0, MountParameters(axial=p), "unbalance", 0.030478)
 
 
-def _run(system, control, backend="native", duration=0.6):
+def _run(system, control, backend="inproc", duration=0.6):
     with Master(system, backend, control=control) as m:
         th = m.simulate(duration, freq_hz=6.0)
         log = m.backend.control_log
@@ -44,7 +44,7 @@ def test_constant_schedule_equals_the_passive_mount_with_that_n0():
 def test_on_off_with_limits_fmu_equals_in_process():
     lim = Limits(n_min=2.0, n_max=40.0, rate_max=2.0e4)
     ctl = {("mount", "axial"): GrowthControl(n_on=60.0, n_off=0.0, limits=lim)}
-    a, log_a = _run(_system(), ctl, "native")
+    a, log_a = _run(_system(), ctl, "inproc")
     b, log_b = _run(_system(), ctl, "fmu")
     np.testing.assert_allclose(b.q, a.q, rtol=RTOL_FMU, atol=0)
     t, n = log_a.arrays()

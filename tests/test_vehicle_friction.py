@@ -65,11 +65,11 @@ def test_fmu_and_native_agree(make, freqs, fmu_path):
     system = make()
     assert system.is_hysteretic
     res = {}
-    for backend in ("native", "fmu"):
+    for backend in ("inproc", "fmu"):
         with Master(system, backend, fmu_path=fmu_path) as m:
             res[backend] = [run_steady(m, f, start="linear" if i == 0 else "continue")
                             for i, f in enumerate(freqs)]
-    for a, b in zip(res["native"], res["fmu"], strict=True):
+    for a, b in zip(res["inproc"], res["fmu"], strict=True):
         assert a.converged and b.converged
         assert a.n_periods == b.n_periods
         np.testing.assert_allclose(b.amplitude, a.amplitude, rtol=RTOL_BACKENDS)
@@ -82,7 +82,7 @@ def test_fmu_and_native_agree(make, freqs, fmu_path):
         assert a.friction_energy > 0
 
 
-@pytest.mark.parametrize("backend", ["native", "fmu"])
+@pytest.mark.parametrize("backend", ["inproc", "fmu"])
 @pytest.mark.parametrize("freq_hz", [5.5, 6.0, 9.0])
 def test_friction_energy_equals_loop_area(backend, freq_hz, fmu_path):
     system = sdof_friction()
@@ -147,6 +147,6 @@ def test_sweep_keeps_fmu_instances_alive(fmu_path, monkeypatch):
     fmu = vehicle.sweep(system, [5.0, 5.5, 6.0], backend="fmu", fmu_path=fmu_path,
                         progress=False)
     assert calls == {"instantiate": 1, "free": 1, "terminate": 1}
-    nat = vehicle.sweep(system, [5.0, 5.5, 6.0], backend="native", progress=False)
+    nat = vehicle.sweep(system, [5.0, 5.5, 6.0], backend="inproc", progress=False)
     np.testing.assert_allclose(fmu.amplitude, nat.amplitude, rtol=RTOL_BACKENDS)
     np.testing.assert_array_equal(fmu.n_periods, nat.n_periods)

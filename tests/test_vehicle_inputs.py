@@ -198,7 +198,7 @@ def test_simulated_crank_response_equals_linear_frf():
     w2 = 2 * (2 * math.pi * 900.0 / 60.0)
     period = 2 * math.pi / w2
     n_per = 256
-    th = simulate(s, None, 40 * period, backend="native", inputs=inp,
+    th = simulate(s, None, 40 * period, backend="inproc", inputs=inp,
                   dt=period / n_per)
     q = th.q[-n_per - 1:-1, 0]  # last second-order period
     spec = np.fft.rfft(q) / n_per * 2
@@ -220,7 +220,7 @@ def test_random_road_time_history_through_the_fmu(tmp_path):
     s = quarter_car(70.0, 230.0, 30.0, 15000.0, 1000.0, 200000.0, 0.0,
                     MountParameters.from_axial(ax), 0.0)
     road = RandomRoad(s, "C", 20.0, seed=2)
-    a = simulate(s, None, 1.0, backend="native", inputs=road)
+    a = simulate(s, None, 1.0, backend="inproc", inputs=road)
     b = simulate(s, None, 1.0, backend="fmu", inputs=road, fmu_path=fmu)
     np.testing.assert_allclose(b.q, a.q, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(b.friction_energy, a.friction_energy, rtol=1e-9,
@@ -232,10 +232,10 @@ def test_random_road_time_history_through_the_fmu(tmp_path):
 def test_simulate_rejects_bad_arguments():
     s = sdof(70.0, LINEAR, "force", 1.0)
     with pytest.raises(ValueError, match="give `freq_hz`"):
-        simulate(s, None, 0.1, backend="native")
+        simulate(s, None, 0.1, backend="inproc")
     with pytest.raises(ValueError, match="`duration` must be finite and > 0"):
-        simulate(s, 5.0, -1.0, backend="native")
+        simulate(s, 5.0, -1.0, backend="inproc")
     with pytest.raises(ValueError, match="exceeds the step limit"):
-        simulate(s, 5.0, 0.1, backend="native", dt=0.05)
+        simulate(s, 5.0, 0.1, backend="inproc", dt=0.05)
     with pytest.raises(ValueError, match="made for another system"):
-        simulate(s, None, 0.1, backend="native", inputs=SineRoad(qc(), 0.01, 2.0))
+        simulate(s, None, 0.1, backend="inproc", inputs=SineRoad(qc(), 0.01, 2.0))

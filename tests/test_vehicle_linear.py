@@ -83,7 +83,7 @@ def test_native_sweep_equals_exact_frf_over_band(make, freqs):
     """Stepped sweep from rest over the band (resonances included), default step."""
     system = make()
     worst = 0.0
-    with Master(system, "native") as m:
+    with Master(system, "inproc") as m:
         for i, f in enumerate(freqs):
             ss = run_steady(m, f, start="rest" if i == 0 else "continue")
             assert ss.converged, ss.message
@@ -160,7 +160,7 @@ def test_backends_give_identical_linear_histories(fmu_path):
     from drymount.vehicle import simulate
 
     system = sdof_force()
-    a = simulate(system, 7.0, 0.3, backend="native")
+    a = simulate(system, 7.0, 0.3, backend="inproc")
     b = simulate(system, 7.0, 0.3, backend="fmu", fmu_path=fmu_path)
     assert a.q.shape == b.q.shape == (len(a.t), 1)
     np.testing.assert_allclose(b.q, a.q, rtol=RTOL_BACKENDS, atol=1e-15)

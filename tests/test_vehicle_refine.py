@@ -62,9 +62,9 @@ def test_refined_sweep_reads_the_hbm_peak(quarter_car):
     m, curve = quarter_car
     ref = float(np.max(curve.transmissibility))
     f = np.linspace(0.5, 30.0, 30)
-    plain = vehicle.sweep(m.system, f, backend="native", progress=False, batch=True)
-    refined = vehicle.sweep(m.system, f, backend="native", progress=False, refine=8)
-    guided = vehicle.sweep(m.system, f, backend="native", progress=False, refine=4,
+    plain = vehicle.sweep(m.system, f, backend="inproc", progress=False, batch=True)
+    refined = vehicle.sweep(m.system, f, backend="inproc", progress=False, refine=8)
+    guided = vehicle.sweep(m.system, f, backend="inproc", progress=False, refine=4,
                            hbm=curve, batch=True)
     assert abs(_peak(plain) / ref - 1) > 0.05  # the grid alone misses it
     assert abs(_peak(refined) / ref - 1) <= PEAK_RTOL
@@ -78,4 +78,4 @@ def test_refined_sweep_reads_the_hbm_peak(quarter_car):
 def test_refine_must_be_a_count():
     with pytest.raises(ValueError, match="`refine` must be an integer >= 0"):
         vehicle.sweep(api.load("quarter_car_halved").system, [3.0, 4.0],
-                      backend="native", refine=-1, progress=False)
+                      backend="inproc", refine=-1, progress=False)

@@ -99,7 +99,7 @@ def test_sweep_csv_and_plot(tmp_path):
 
 
 def test_time_history_csv(tmp_path):
-    th = vehicle.simulate(cubic_sdof(), 4.0, 0.05, backend="native")
+    th = vehicle.simulate(cubic_sdof(), 4.0, 0.05, backend="inproc")
     path = th.to_csv(tmp_path / "run.csv")
     lines = path.read_text().splitlines()
     assert lines[0].startswith("# ") and "time [s]" in lines[0] and "x [m]" in lines[0]

@@ -5,7 +5,7 @@
 - :mod:`vehicle.inputs`: harmonic, crank-mechanism, road and base inputs.
 - :mod:`vehicle.master`: fixed-step master (leapfrog with a velocity predictor, one
   mount-force evaluation per step), :func:`simulate`.
-- :mod:`vehicle.backends`: ``native`` (the mount law in-process) and ``fmu`` (one
+- :mod:`vehicle.backends`: ``inproc`` (the mount law in-process) and ``fmu`` (one
   ``FrictionMount.fmu`` instance per mount through fmpy).
 - :mod:`vehicle.sampled`: measured (sampled) base displacement and DOF forces,
   resampled to the step by a cubic spline.

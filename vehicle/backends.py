@@ -7,7 +7,7 @@ outputs (force ``F``, friction force ``Ffr`` per active axis, cumulative frictio
 ``E`` per mount) into row k, and advance the linear part with one matrix-vector product
 ``rec[k+1, :n_next] = W @ rec[k, o_x:]`` (see :mod:`vehicle.master`).
 
-``native``
+``inproc`` (``native`` before, a deprecated alias now)
     calls :func:`fmu_src.mount_law.axis_force` (the FMU's own law) in-process, one call
     per active axis and step, and commits the slider positions at once.
 ``fmu``
@@ -34,6 +34,7 @@ import collections
 import ctypes
 import logging
 import shutil
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,7 +44,7 @@ from drymount.fmu_src.mount_law import (AXES, axis_force, conform_state,
                                         friction_kind_code, initial_sliders, law_code,
                                         slider_position)
 
-__all__ = ["Layout", "NativeBackend", "FMUBackend", "FMUError", "BACKENDS",
+__all__ = ["Layout", "InProcessBackend", "FMUBackend", "FMUError", "BACKENDS",
            "make_backend"]
 
 _log = logging.getLogger(__name__)
@@ -260,10 +261,12 @@ class _Backend:
         self.close()
 
 
-class NativeBackend(_Backend):
-    """The mount law of :mod:`fmu_src.mount_law` called in-process (no FMI)."""
+class InProcessBackend(_Backend):
+    """The mount law of :mod:`fmu_src.mount_law` called in-process (no FMI): the
+    backend ``"inproc"`` (called ``"native"`` before: that word now means only the
+    C FMU, ``fmu_build.native``)."""
 
-    name = "native"
+    name = "inproc"
 
     def __init__(self, system, layout: Layout):
         super().__init__(system, layout)
@@ -646,15 +649,35 @@ class FMUBackend(_Backend):
             pass
 
 
-BACKENDS = {"native": NativeBackend, "fmu": FMUBackend}
+BACKENDS = {"inproc": InProcessBackend, "fmu": FMUBackend}
+#: Deprecated backend names -> their names now (accepted with a FutureWarning).
+RENAMED_BACKENDS = {"native": "inproc"}
+
+
+def renamed_backend_message(old: str) -> str:
+    """The one-line notice for a deprecated backend name."""
+    return (f"backend {old!r} is deprecated: it is called "
+            f"{RENAMED_BACKENDS[old]!r} now (the law in-process); the native C FMU "
+            f"is the fmu backend with dist/FrictionMountNative.fmu")
+
+
+def backend_name(name, stacklevel: int = 3) -> str:
+    """``name`` with a deprecated alias replaced by the backend's name now (a
+    FutureWarning, one line, says so); other names are returned as given."""
+    if isinstance(name, str) and name in RENAMED_BACKENDS:
+        warnings.warn(renamed_backend_message(name), FutureWarning,
+                      stacklevel=stacklevel)
+        return RENAMED_BACKENDS[name]
+    return name
 
 
 def make_backend(name: str, system, layout: Layout, **options):
-    """Create the backend ``name`` (``"native"`` or ``"fmu"``)."""
+    """Create the backend ``name`` (``"inproc"`` or ``"fmu"``)."""
+    name = backend_name(name)
     if name not in BACKENDS:
         raise ValueError(f"`backend` must be one of {sorted(BACKENDS)}, got {name!r}")
-    if name == "native":  # FMU options are ignored
-        return NativeBackend(system, layout)
+    if name == "inproc":  # FMU options are ignored
+        return InProcessBackend(system, layout)
     return FMUBackend(system, layout, options.get("fmu_path"),
                       logging_on=options.get("logging_on", True),
                       start_values=options.get("start_values"))

@@ -1,8 +1,9 @@
-"""Batched native time stepping: many frequency points stepped as one array computation.
+"""Batched in-process time stepping: many frequency points stepped as one array
+computation.
 
-The native backend (:class:`vehicle.backends.NativeBackend`) calls the scalar mount law
-once per active axis and step, so a stepped sweep pays the Python cost of a step once
-per frequency. Here the steady states of B frequencies run side by side: one
+The in-process backend (:class:`vehicle.backends.InProcessBackend`) calls the scalar
+mount law once per active axis and step, so a stepped sweep pays the Python cost of a
+step once per frequency. Here the steady states of B frequencies run side by side: one
 :class:`vehicle.master.Master` per frequency keeps its own row buffer, step size,
 inputs and bookkeeping, but the buffers are views into one array ``(B, N + 1, width)``
 and each step is
@@ -250,7 +251,7 @@ class _Batch:
             self.rebind()
 
     def run_rows(self, rows: int) -> None:
-        """Step every master through rows 0..rows-1 (as NativeBackend.run).
+        """Step every master through rows 0..rows-1 (as InProcessBackend.run).
 
         The sliders of every step are kept; the friction energy (an output only)
         follows after the loop as the running sum of ``Fs |w_k - w_(k-1)|``, the
@@ -278,7 +279,7 @@ class _Batch:
                 u, v = row[:, cu], row[:, cv]
                 force, f_fr, w = law.forces(u, v, wh[k])
                 wh[k + 1] = w
-                if gen:   # as NativeBackend.run: dt = 0 at a backend's first row
+                if gen:   # as InProcessBackend.run: dt = 0 at a backend's first row
                     dt = [be._h_step if k or be.steps else 0.0 for be in backends]
                     gf, gfr, gdiss[k], states = law.generic_step(u, v, states, dt)
                     force[:, gen], f_fr[:, gen] = gf, gfr
@@ -316,10 +317,10 @@ def steady_states(system, freqs_hz, *, steps_per_period: int | None = None,
                   max_periods: int = DEFAULT_MAX_PERIODS, batch_size: int = BATCH_SIZE,
                   progress=None, report=None) -> list[SteadyState]:
     """Steady states of ``system`` at every frequency of ``freqs_hz``, stepped in
-    batches (native law; each from the linearised start, see the module docstring).
+    batches (in-process law; each from the linearised start, see the module docstring).
 
     Returns one :class:`vehicle.steady.SteadyState` per frequency, in the order of
-    ``freqs_hz``; the same as ``steady_state(system, f, backend="native")`` per
+    ``freqs_hz``; the same as ``steady_state(system, f, backend="inproc")`` per
     frequency up to round-off. ``progress`` (a tqdm bar or None) is advanced by one
     per finished frequency; ``report(index, steady_state)`` is called for each
     as it finishes (so a caller keeps what was computed if the run is stopped).
@@ -355,11 +356,11 @@ def steady_states(system, freqs_hz, *, steps_per_period: int | None = None,
 
 
 def _masters(system, count: int) -> list[Master]:
-    """``count`` native masters of ``system`` (the step limit computed once)."""
-    first = Master(system, "native")
+    """``count`` in-process masters of ``system`` (the step limit computed once)."""
+    first = Master(system, "inproc")
     out = [first]
     for _ in range(count - 1):
-        m = Master(system, "native")
+        m = Master(system, "inproc")
         m._dt_limit = first.dt_limit()
         out.append(m)
     return out

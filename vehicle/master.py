@@ -45,7 +45,7 @@ spectral radius <= 1 of the linearised amplification matrix.
 Measured accuracy (linear SDOF m = 70 kg, k = 91 870 N/m, c = 150 N s/m, unbalance
 excitation; steady-state fundamental amplitude against the exact FRF, worst of 0.7,
 0.9, 1.0, 1.1, 1.5 and 3 times the natural frequency 5.77 Hz; run from rest with
-rtol = 1e-9, native backend):
+rtol = 1e-9, inproc backend):
 
     steps per period    16        32        64        128       256
     max rel. error      7.1e-2    1.7e-2    4.0e-3    9.9e-4    2.5e-4
@@ -66,7 +66,7 @@ import scipy.linalg
 
 from drymount.hbm.static import working_point
 
-from .backends import Layout, make_backend
+from .backends import Layout, backend_name, make_backend
 from .inputs import HarmonicInput, Input
 from .results import TimeHistory
 
@@ -126,7 +126,7 @@ class Master:
     Parameters
     ----------
     system : hbm.system.System
-    backend : {"native", "fmu"}
+    backend : {"inproc", "fmu"}
     fmu_path : path-like, optional
         FMU for the ``fmu`` backend (default ``fmu_build.ensure_fmu()``).
     fmu_logging : bool
@@ -138,7 +138,7 @@ class Master:
         Accuracy limit omega_max * h of the step (default 0.5).
     """
 
-    def __init__(self, system, backend: str = "native", *, fmu_path=None,
+    def __init__(self, system, backend: str = "inproc", *, fmu_path=None,
                  fmu_logging: bool = True, fmu_start_values=None,
                  omega_h_max: float = OMEGA_H_MAX, control: dict | None = None):
         if not (isinstance(omega_h_max, (int, float)) and 0 < omega_h_max < 2):
@@ -147,6 +147,7 @@ class Master:
         self.layout = Layout.of(system)
         self.omega_h_max = float(omega_h_max)
         self._setup_matrices()
+        backend = backend_name(backend, stacklevel=3)
         self.backend_name = backend
         self.backend = make_backend(backend, system, self.layout, fmu_path=fmu_path,
                                     logging_on=fmu_logging,
@@ -550,7 +551,7 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
         None; also sets the default step: one period / 256).
     duration : float
         Simulated time, s.
-    backend : {"fmu", "native"}
+    backend : {"fmu", "inproc"}
     dt : float, optional
         Step, s (default: see :meth:`Master.simulate`).
     inputs : vehicle.inputs.Input, optional
@@ -570,7 +571,7 @@ def simulate(system, freq_hz: float | None = None, duration: float = 1.0, *,
     >>> from drymount.hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
-    >>> th = simulate(s, 10.0, 0.5, backend="native")
+    >>> th = simulate(s, 10.0, 0.5, backend="inproc")
     >>> th.q.shape
     (1281, 1)
     """

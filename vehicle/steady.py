@@ -380,7 +380,7 @@ def _analyse(master: Master, period, freq_hz: float, h: float, E_start, change: 
         wall_time=master.wall_time - wall0, message=msg)
 
 
-def steady_state(system, freq_hz: float, *, backend: str = "native",
+def steady_state(system, freq_hz: float, *, backend: str = "inproc",
                  steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
                  min_periods: int = DEFAULT_MIN_PERIODS,
                  max_periods: int = DEFAULT_MAX_PERIODS, start="linear",
@@ -393,7 +393,7 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
     system : hbm.system.System
     freq_hz : float
         Excitation frequency, Hz.
-    backend : {"native", "fmu"}
+    backend : {"inproc", "fmu"}
     steps_per_period : int, optional
         Least steps per period (default 256; more if the step limit demands).
     rtol : float
@@ -415,7 +415,7 @@ def steady_state(system, freq_hz: float, *, backend: str = "native",
     >>> from drymount.hbm.systems import sdof
     >>> s = sdof(70.0, MountParameters.from_axial(AxisParameters(law="linear")),
     ...          "unbalance", 0.01)
-    >>> ss = steady_state(s, 5.0, backend="native")
+    >>> ss = steady_state(s, 5.0, backend="inproc")
     >>> bool(ss.converged)
     True
     """

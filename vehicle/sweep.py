@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .backends import backend_name
 from .master import Master
 from .results import atomic_path, dof_unit, write_csv
 from .steady import (
@@ -109,7 +110,7 @@ class SweepResult:
     friction_energy: np.ndarray
     dof_names: tuple[str, ...]
     direction: str = "up"
-    backend: str = "native"
+    backend: str = "inproc"
     system_name: str = ""
     transmissibility_kind: str = ""
     elapsed: float = 0.0
@@ -275,7 +276,7 @@ def _stop_pool(pool) -> None:
             p.join(timeout=1.0)
 
 
-def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
+def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "inproc",
           workers: int = 1, progress: bool = True, fmu_path=None,
           steps_per_period: int | None = None, rtol: float = DEFAULT_RTOL,
           min_periods: int = DEFAULT_MIN_PERIODS,
@@ -291,7 +292,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         Frequencies, Hz (> 0); run ascending for ``up``, descending for
         ``down``.
     direction : {"up", "down"}
-    backend : {"native", "fmu"}
+    backend : {"inproc", "fmu"}
     workers : int
         Processes; > 1 splits the list into contiguous chunks with a warm-up each
         (see the module docstring).
@@ -305,7 +306,7 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
         Warm-up frequencies of each parallel chunk after the first.
     batch : bool
         Step all frequencies at once as one array computation
-        (:mod:`vehicle.batch`; ``native`` backend, one process): each frequency
+        (:mod:`vehicle.batch`; ``inproc`` backend, one process): each frequency
         starts from the linearised response instead of the previous steady state.
     refine : int
         Extra frequencies to add where they matter (:mod:`vehicle.refine`): at the
@@ -327,15 +328,16 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "native",
                          f"> 0, got {np.asarray(freqs_hz).tolist()}")
     if direction not in ("up", "down"):
         raise ValueError(f"`direction` must be 'up' or 'down', got {direction!r}")
-    if backend not in ("native", "fmu"):
-        raise ValueError(f"`backend` must be 'native' or 'fmu', got {backend!r}")
+    backend = backend_name(backend)
+    if backend not in ("inproc", "fmu"):
+        raise ValueError(f"`backend` must be 'inproc' or 'fmu', got {backend!r}")
     if not (isinstance(workers, (int, np.integer)) and workers >= 1):
         raise ValueError(f"`workers` must be an integer >= 1, got {workers!r}")
     if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
         raise ValueError(f"`warmup` must be an integer >= 0, got {warmup!r}")
-    if batch and (backend != "native" or workers != 1):
-        raise ValueError(f"`batch` steps the native law in one process: it needs "
-                         f"backend 'native' and workers 1, got backend {backend!r}, "
+    if batch and (backend != "inproc" or workers != 1):
+        raise ValueError(f"`batch` steps the in-process law in one process: it needs "
+                         f"backend 'inproc' and workers 1, got backend {backend!r}, "
                          f"workers {workers!r}")
     if not (isinstance(refine, (int, np.integer)) and refine >= 0):
         raise ValueError(f"`refine` must be an integer >= 0, got {refine!r}")

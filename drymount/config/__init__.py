@@ -43,28 +43,34 @@ checker), ``mounts`` (mount tables -> mount parameters), ``systems`` (model tabl
 excitation, settings, building the System), ``loading`` (dict, file, text, presets).
 """
 
-from drymount.config.loading import (
-    config_from_dict,
-    list_presets,
-    load_config,
-    load_preset,
-    preset_text,
-    resolve_config,
-)
-from drymount.config.mounts import mount_from_table, readable_unit
-from drymount.config.checks import INERTIA_RANGE_KGM2, MASS_RANGE_KG
-from drymount.config.schema import (
-    ALLOWED_KEYS,
-    MAX_HARMONICS,
-    MAX_N_SAMPLES,
-    MAX_POINTS,
-    MODELS,
-    Config,
-    ConfigError,
-    CosimSettings,
-    HBMSettings,
-    SweepSettings,
-)
+from drymount.hbm.lazy import lazy_face
+
+# The names are imported on first use (PEP 562): the command line catches
+# ConfigError and states the bounds in its --help without loading NumPy or the
+# model builders (issue 27).
+_WHERE = {
+    "config_from_dict": "loading",
+    "list_presets": "catalog",
+    "load_config": "loading",
+    "load_preset": "loading",
+    "preset_description": "catalog",
+    "preset_text": "catalog",
+    "resolve_config": "loading",
+    "mount_from_table": "mounts",
+    "readable_unit": "mounts",
+    "INERTIA_RANGE_KGM2": "checks",
+    "MASS_RANGE_KG": "checks",
+    "ALLOWED_KEYS": "schema",
+    "MAX_HARMONICS": "limits",
+    "MAX_N_SAMPLES": "limits",
+    "MAX_POINTS": "limits",
+    "MODELS": "schema",
+    "Config": "schema",
+    "ConfigError": "errors",
+    "CosimSettings": "schema",
+    "HBMSettings": "schema",
+    "SweepSettings": "schema",
+}
 
 __all__ = [
     "MAX_HARMONICS",
@@ -83,8 +89,12 @@ __all__ = [
     "load_preset",
     "list_presets",
     "preset_text",
+    "preset_description",
     "resolve_config",
     "readable_unit",
     "ALLOWED_KEYS",
     "mount_from_table",
 ]
+
+
+__getattr__, __dir__ = lazy_face(__name__, _WHERE, __all__)

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import difflib
 import sys
 import warnings
 from dataclasses import replace
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
+from drymount.config.catalog import check_spec, preset_text
 from drymount.config.checks import (
     _Checker,
     _type_name,
@@ -193,25 +192,6 @@ def parse_toml(text: str, source: str) -> dict:
 # ======================================================================================
 
 
-def list_presets() -> list[str]:
-    """Names of the presets shipped in ``drymount/presets`` (sorted)."""
-    root = resources.files("drymount.presets")
-    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
-
-
-def preset_text(name: str) -> str:
-    """The TOML text of preset ``name`` (with its comments)."""
-    names = list_presets()
-    if name not in names:
-        close = difflib.get_close_matches(name, names, n=1, cutoff=0.5)
-        hint = f" (did you mean `{close[0]}`?)" if close else ""
-        raise ConfigError(
-            [f"unknown preset `{name}`{hint}; presets: {', '.join(names)}"],
-            f"preset:{name}")
-    return resources.files("drymount.presets").joinpath(f"{name}.toml").read_text(
-        encoding="utf-8")
-
-
 def load_preset(name: str) -> Config:
     """The :class:`Config` of preset ``name`` (see :func:`list_presets`)."""
     text = preset_text(name)
@@ -229,13 +209,6 @@ def resolve_config(spec) -> Config:
     that suggests the closest preset.
     """
     spec = str(spec)
-    path = Path(spec)
-    if path.is_file():
-        return load_config(path)
-    if spec in list_presets():
-        return load_preset(spec)
-    names = list_presets()
-    close = difflib.get_close_matches(spec, names, n=1, cutoff=0.5)
-    hint = f"; did you mean preset `{close[0]}`?" if close else ""
-    raise ConfigError([f"`{spec}` is neither a file nor a preset{hint} (presets: "
-                       f"{', '.join(names)})"], spec)
+    if check_spec(spec) == "file":
+        return load_config(Path(spec))
+    return load_preset(spec)

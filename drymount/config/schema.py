@@ -8,10 +8,15 @@ import numpy as np
 
 from drymount.fmu_src.friction import element_fields
 from drymount.fmu_src.mount_law import AXES
-from drymount.hbm.options import MAX_HARMONICS as _HBM_MAX_HARMONICS
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.system import System
 
+from drymount.config.errors import ConfigError  # noqa: F401 - re-exported
+from drymount.config.limits import (  # noqa: F401 - re-exported
+    MAX_HARMONICS,
+    MAX_N_SAMPLES,
+    MAX_POINTS,
+)
 from drymount.config.static import StaticSettings
 
 
@@ -22,17 +27,11 @@ EXCITATION_KINDS = {
     "quarter_car": ("base",),
     "rigid_engine": ("base", "unbalance", "force"),
 }
-BACKENDS = ("fmu", "native")
+BACKENDS = ("fmu", "inproc")
+#: Old backend names, accepted with a FutureWarning: "native" now means only the C FMU.
+RENAMED_BACKENDS = {"native": "inproc"}
 DIRECTIONS = ("up", "down")
 SPACINGS = ("linear", "log")
-#: Largest number of harmonics accepted: the HBM's one bound (hbm.options).
-MAX_HARMONICS = _HBM_MAX_HARMONICS
-#: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
-#: sharpest kink of the friction law at H = 50 many times over).
-MAX_N_SAMPLES = 8192
-#: Largest number of sweep frequencies (a 10 000-point co-simulated sweep takes
-#: hours; more is a typo).
-MAX_POINTS = 10_000
 #: Relative size below which the smallest eigenvalue of the linearised (stuck)
 #: stiffness counts as zero: the mounts leave a rigid-body motion free.
 SINGULAR_RTOL = 1e-10
@@ -74,26 +73,6 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
 _MODEL_TABLES = {"sdof": "sdof", "quarter_car": "quarter_car",
                  "rigid_engine": "rigid_engine", "mount": ("sdof", "quarter_car"),
                  "mounts": ("rigid_engine",)}
-
-
-class ConfigError(ValueError):
-    """An invalid configuration. ``problems`` lists every problem found.
-
-    Each problem names the field path (``mounts[2].axial.friction.kf``; indices of
-    ``[[mounts]]`` count from 0), the value found and what is allowed. ``str()`` gives
-    a message with one problem per line, meant to be printed as is.
-    """
-
-    def __init__(self, problems: list[str], source: str | None = None):
-        self.problems = list(problems)
-        self.source = source
-        super().__init__(self._message())
-
-    def _message(self) -> str:
-        n = len(self.problems)
-        where = f" {self.source}" if self.source else ""
-        head = f"invalid configuration{where}: {n} problem{'s' if n != 1 else ''}"
-        return "\n".join([head + ":"] + [f"  - {p}" for p in self.problems])
 
 
 # ======================================================================================
@@ -179,8 +158,9 @@ class CosimSettings:
     Attributes
     ----------
     backend : str
-        ``"fmu"`` (one FMU instance per mount through fmpy) or ``"native"`` (the same
-        mount law called in-process, for long sweeps).
+        ``"fmu"`` (one FMU instance per mount through fmpy) or ``"inproc"`` (the same
+        mount law called in-process, for long sweeps; ``"native"``, its old name, is
+        accepted with a FutureWarning).
     freq_hz : float or None
         Default excitation frequency of ``drymount cosim``, Hz.
     duration : float or None

@@ -4,6 +4,8 @@ builders (:mod:`hbm.systems`) they call."""
 from __future__ import annotations
 
 
+import warnings
+
 import numpy as np
 
 from drymount.hbm import systems as models
@@ -27,6 +29,7 @@ from drymount.config.schema import (
     MAX_HARMONICS,
     MAX_N_SAMPLES,
     MAX_POINTS,
+    RENAMED_BACKENDS,
     SINGULAR_RTOL,
     SPACINGS,
     SweepSettings,
@@ -100,6 +103,12 @@ def _settings(ck: _Checker, data: dict):
                                             maximum=MAX_HARMONICS)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
+    if isinstance(cs.get("backend"), str) and cs["backend"] in RENAMED_BACKENDS:
+        old = cs["backend"]
+        cs = {**cs, "backend": RENAMED_BACKENDS[old]}
+        warnings.warn(f"`cosim.backend` = {old!r} is deprecated: use "
+                      f"{cs['backend']!r} (the law in-process; {old!r} now names "
+                      f"only the C FMU)", FutureWarning, stacklevel=2)
     backend = ck.choice(cs, "backend", "cosim", BACKENDS, required=False,
                         default=CosimSettings.backend)
     freq = ck.number(cs, "freq_hz", "cosim", rule=">0", unit="Hz", required=False)

@@ -20,11 +20,8 @@ the same numbers.
 from __future__ import annotations
 
 import logging
-import multiprocessing
 import os
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures import as_completed as futures_completed
 from dataclasses import dataclass
 from enum import Enum
 
@@ -142,6 +139,9 @@ class Runner:
     def __enter__(self) -> Runner:
         kind = self.spec.kind
         if kind is BackendKind.PROCESSES:
+            import multiprocessing  # here: the CLI's parser reads MAX_WORKERS
+            from concurrent.futures import ProcessPoolExecutor
+
             from drymount.vehicle.sweep import _init_worker
 
             # the sweep's worker set-up: SIGINT ignored, exit when the parent dies
@@ -185,6 +185,8 @@ class Runner:
     def as_completed(self, fn: Callable, items: Sequence) -> Iterator:
         """``fn(item)`` for every item, yielded as each finishes (any order)."""
         if self._pool is not None:
+            from concurrent.futures import as_completed as futures_completed
+
             futures = [self._pool.submit(fn, it) for it in items]
             for fut in futures_completed(futures):
                 yield fut.result()

@@ -72,7 +72,7 @@ def _check_one(cfg, space: DesignSpace, r) -> CheckResult:
     system = config_from_dict(apply_values(cfg.data, space.variables, r.values),
                               source=cfg.source, name=cfg.name).system
     freqs = np.linspace(*space.objectives[0].band_hz, CHECK_POINTS)
-    sw = vehicle.sweep(system, freqs, direction="up", backend="native", workers=1,
+    sw = vehicle.sweep(system, freqs, direction="up", backend="inproc", workers=1,
                        progress=False)
     a_h, stable, msg = hbm_matching(system, freqs, sw, space.harmonics)
     a_co = np.asarray(sw.amplitude)

@@ -151,7 +151,7 @@ def _sweeps(system: System, freqs, progress: bool, failures: list) -> dict:
     sweeps = {}
     for direction in progress_bar(("up", "down"), "jump sweeps", progress):
         grid = freqs if direction == "up" else freqs[::-1]
-        sw = vehicle.sweep(system, grid, direction=direction, backend="native",
+        sw = vehicle.sweep(system, grid, direction=direction, backend="inproc",
                            progress=progress)
         if not np.all(sw.converged):
             failures.append(f"sweep {direction}: "
@@ -181,7 +181,7 @@ def _frequency_step(system: System, jump_up: Jump, f_lo: float, step: float
     f_a = max(0.9 * f_lo, step)
     t_step = JUMP_RAMP_S + JUMP_HOLD_S
     profile = _FrequencyStep(f_a, f1, f2, JUMP_RAMP_S, t_step)
-    th = vehicle.simulate(system, duration=t_step + JUMP_AFTER_S, backend="native",
+    th = vehicle.simulate(system, duration=t_step + JUMP_AFTER_S, backend="inproc",
                           inputs=_frequency_step_input(system, profile),
                           dt=1.0 / (f2 * 128))
     t, x = np.asarray(th.t), np.asarray(th.q)[:, 0]

@@ -17,7 +17,7 @@ time-domain scenarios:
 And on the single-DOF engine (``sdof_halved``), the unbalance at 3 Hz (stuck band),
 4.2 Hz (resonance) and 8 Hz, measured over the last periods of a run from rest.
 
-Designs, each simulated with the in-process law (``backend="native"``, the FMU's law):
+Designs, each simulated with the in-process law (``backend="inproc"``, the FMU's law):
 
 * ``passive original``: the preset's normal force n0;
 * ``passive best n0``: the constant n0 among ``N0_FACTORS`` x n0 with the smallest RMS
@@ -152,7 +152,7 @@ def _inputs(system: System, scenario: str, quick: bool):
 
 
 def _simulate(system, inputs, dur, dt, control, engine_dof):
-    with Master(system, "native", control=control) as m:
+    with Master(system, "inproc", control=control) as m:
         th = m.simulate(dur, dt=dt, inputs=inputs)
     axial = [i for i, name in enumerate(th.force_names) if name.endswith("_axial")]
     f = th.forces[:, axial].sum(axis=1)

@@ -1,0 +1,144 @@
+"""Which Jenkins march runs under ``"auto"``: NumPy until the compiled one pays.
+
+numba (the ``fast`` extra) marches 3-15x faster per call, but a fresh process pays
+about 1 s CPU to import it and load its cached kernels, and several seconds to compile
+them where no cache exists yet (a new machine or a new numba). One small curve marches
+for less than that in total (issue 27: 0.51 s end to end with NumPy against 1.12 s
+with numba at N = 64). The choice is therefore made by the work done, as in the
+ski-rental problem:
+
+- every call runs the NumPy march and adds its CPU time to :attr:`AutoMarch.spent_s`;
+- once ``spent_s`` reaches what numba's start costs with a warm cache (the larger of
+  :data:`WARM_START_S` and :data:`START_RATIO` times the process's start-up CPU time,
+  which a loaded machine inflates alike) and the cache is warm, numba is imported and
+  every later call is compiled; a process whose marches cost less never imports
+  numba, so the ``fast`` extra never makes it slower
+  (``bench/bench_numba_start.py``), and a long one pays at most about twice the best
+  choice;
+- a cold cache (no compiled kernels beside :mod:`hbm.friction_march_numba`, or under
+  ``$NUMBA_CACHE_DIR``) is warmed in the background: once ``spent_s`` reaches
+  :data:`WARMUP_AFTER_S`, one detached low-priority process compiles the kernels into
+  the cache while this one goes on with NumPy, and switches when the cache is warm.
+
+Both marches give the same numbers bit for bit (``tests/test_hbm_friction_march.py``),
+so the switch changes no result. numba already imported in the process (its start
+paid) is used at once.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+__all__ = ["AutoMarch", "WARM_START_S", "WARMUP_AFTER_S", "cache_is_warm",
+           "start_warmup"]
+
+#: NumPy march time (s) after which numba's start (warm cache) has paid for itself,
+#: on an idle machine (0.7-1.0 s measured, issue 27) ...
+WARM_START_S = 1.0
+#: ... and as a multiple of the process's own CPU time before its first march (its
+#: imports of NumPy, SciPy and drymount, about 0.6 s idle): numba's start is imports
+#: too, and a busy machine slows both alike. The larger of the two counts, at most
+#: MAX_START_S (a long-lived process, a notebook, has spent much more before).
+START_RATIO = 1.5
+MAX_START_S = 5.0
+#: NumPy march time (s) after which a cold cache is compiled in the background.
+WARMUP_AFTER_S = 0.25
+#: The compiled entry points whose cache indices make a warm cache.
+KERNELS = ("_march", "_samples", "_march_samples")
+_SOURCE = Path(__file__).resolve().parent / "friction_march_numba.py"
+_MODULE = "drymount.hbm.friction_march_numba"
+
+
+def _cache_dirs() -> list[Path]:
+    """Where numba keeps the kernels: under ``$NUMBA_CACHE_DIR`` when it is set
+    (numba then looks nowhere else), else beside the source."""
+    root = os.environ.get("NUMBA_CACHE_DIR")
+    if root:
+        return sorted({p.parent for p in Path(root).rglob(f"{_SOURCE.stem}.*.nbi")})
+    return [_SOURCE.parent / "__pycache__"]
+
+
+def cache_is_warm() -> bool:
+    """Whether numba's cache holds every kernel, newer than their source."""
+    stamp = _SOURCE.stat().st_mtime
+    for name in KERNELS:
+        found = [p for d in _cache_dirs()
+                 for p in d.glob(f"{_SOURCE.stem}.{name}-*.nbi")]
+        if not any(p.stat().st_mtime >= stamp for p in found):
+            return False
+    return True
+
+
+def start_warmup() -> subprocess.Popen | None:
+    """Compile the kernels into numba's cache in a detached low-priority process
+    (its output discarded); None if it could not start."""
+    code = f"import os; os.nice(10); import {_MODULE} as m; m.warm()"
+    try:
+        return subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                start_new_session=True)
+    except OSError:
+        return None
+
+
+class AutoMarch:
+    """The per-process choice of ``"auto"``: :meth:`choose` before a march,
+    :meth:`spent` after a NumPy one."""
+
+    def __init__(self, have_numba: bool, warm_start_s: float = WARM_START_S,
+                 warmup_after_s: float = WARMUP_AFTER_S, warmup: bool = True,
+                 scale_by_start: bool = True):
+        self.have_numba = have_numba
+        self.scaled = None if scale_by_start else False
+        self.warm_start_s = warm_start_s
+        self.warmup_after_s = warmup_after_s
+        self.warmup = warmup
+        self.spent_s = 0.0
+        self.compiled = False
+        self.warming: subprocess.Popen | None = None
+        self._next_check = warm_start_s
+
+    def choose(self) -> str:
+        """``"numba"`` once it pays (or is loaded already), else ``"numpy"``."""
+        if self.compiled:
+            return "numba"
+        if not self.have_numba:
+            return "numpy"
+        if self.scaled is None:  # the first march: scale by the start-up's cost
+            self.scaled = True
+            start = min(START_RATIO * self.clock(), MAX_START_S)
+            self.warm_start_s = max(self.warm_start_s, start)
+            self._next_check = self.warm_start_s
+        if _MODULE in sys.modules:  # its start is paid
+            self.compiled = True
+            return "numba"
+        if self.spent_s >= self._next_check:
+            self._next_check = self.spent_s + 0.25 * self.warm_start_s
+            if self.spent_s >= self.warm_start_s and self._warm():
+                self.compiled = True
+                return "numba"
+        return "numpy"
+
+    def spent(self, seconds: float) -> None:
+        """Add the time of one NumPy march; start the warm-up when it is due."""
+        self.spent_s += seconds
+        if (self.warmup and self.warming is None and self.have_numba
+                and self.spent_s >= self.warmup_after_s and not self.compiled):
+            if not cache_is_warm():
+                self.warming = start_warmup() or False
+
+    def _warm(self) -> bool:
+        if self.warming:  # the background compile still running: not yet
+            if self.warming.poll() is None:
+                return False
+        return cache_is_warm()
+
+    @staticmethod
+    def clock() -> float:
+        """CPU seconds of this process (a busy machine inflates them less than
+        wall time)."""
+        return time.process_time()
