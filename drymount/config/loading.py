@@ -30,6 +30,7 @@ from drymount.config.systems import (
     _settings,
 )
 from drymount.hbm.static import StaticStatus, static_equilibrium
+from drymount.paths import MAX_NESTING
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -181,11 +182,37 @@ def load_config(path_or_text, name: str | None = None) -> Config:
 
 
 def parse_toml(text: str, source: str) -> dict:
-    """The TOML document ``text``; ConfigError naming ``source`` on a syntax error."""
+    """The TOML document ``text``; ConfigError naming ``source`` on a syntax error
+    or on tables and arrays nested deeper than :data:`MAX_NESTING`."""
+    allowed = (f"at most {MAX_NESTING} levels are allowed (the shipped configurations "
+               f"nest 5)")
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError([f"TOML syntax error: {exc}"], source) from None
+    except RecursionError:  # tomllib parses nested arrays and inline tables recursively
+        raise ConfigError([f"arrays or inline tables nested hundreds of levels deep; "
+                           f"{allowed}"], source) from None
+    depth = nesting_depth(data)  # dotted keys and [a.b.c] headers: no recursion
+    if depth > MAX_NESTING:
+        raise ConfigError([f"tables and arrays nested {depth} levels deep; {allowed}"],
+                          source)
+    return data
+
+
+def nesting_depth(value) -> int:
+    """Levels of tables and arrays in ``value`` (0 for a scalar), without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        node, level = stack.pop()
+        if isinstance(node, dict):
+            node = node.values()
+        elif not isinstance(node, list):
+            deepest = max(deepest, level)
+            continue
+        deepest = max(deepest, level + 1)
+        stack.extend((child, level + 1) for child in node)
+    return deepest
 
 
 # ======================================================================================
@@ -214,11 +241,7 @@ def preset_text(name: str) -> str:
 
 def load_preset(name: str) -> Config:
     """The :class:`Config` of preset ``name`` (see :func:`list_presets`)."""
-    text = preset_text(name)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:  # a broken package file
-        raise ConfigError([f"TOML syntax error: {exc}"], f"preset:{name}") from None
+    data = parse_toml(preset_text(name), f"preset:{name}")
     return config_from_dict(data, source=f"preset:{name}", name=name)
 
 
