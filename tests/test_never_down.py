@@ -4,6 +4,8 @@ output files), full disks named, large fits decimated."""
 
 from __future__ import annotations
 
+import warnings
+
 import pytest
 
 from drymount import cli
@@ -61,3 +63,55 @@ def test_a_set_value_nested_5000_deep_is_exit_2(capsys):
                         "mount.c=" + "[" * DEEP + "]" * DEEP], capsys)
     assert code == 2, err
     assert "mount.c" in err and f"at most {MAX_NESTING} levels" in err, err[-500:]
+
+
+# ------------------------------------------------------------- static extremes
+
+
+@pytest.mark.parametrize(("args", "word"), [
+    (["--load", "x=1e308"], "--load"), (["--load", "x=-1.5e9"], "--load"),
+    (["--load", "x=inf"], "--load"), (["--g", "1e308"], "--g")])
+def test_static_bounds_the_load_and_g(tmp_path, capsys, args, word):
+    out = tmp_path / "s.csv"
+    code, _, err = run(["static", "sdof_halved", *args, "--out", out], capsys)
+    assert code == 2, err
+    assert word in err and ("1e+09" in err or "1000" in err), err
+    assert not out.exists()
+
+
+def test_static_at_the_load_limit_is_the_linear_sag(tmp_path, capsys):
+    """1e9 N on sdof_halved: past the knee, on the k2 branch. Reference written
+    here: u = delta + (F - k1 delta) / k2 with F = 1e9 - m g (gravity down)."""
+    out = tmp_path / "s.csv"
+    code, stdout, err = run(["static", "sdof_halved", "--load", "x=1e9", "--out", out],
+                            capsys)
+    assert code == 0, err
+    from drymount.config import load_preset
+
+    cfg = load_preset("sdof_halved")
+    e = cfg.system.elements[0]
+    p = e.params.axes[e.active_axes[0]]
+    weight = cfg.system.M[0, 0] * cfg.static.g
+    u_ref = p.delta + (1e9 - weight - p.k1 * p.delta) / p.k2
+    rows = [ln.split(",") for ln in out.read_text().splitlines()
+            if not ln.startswith("#")]
+    u = float(rows[1][2])
+    assert abs(u - u_ref) <= 1e-9 * abs(u_ref), (u, u_ref)
+
+
+def test_a_static_load_that_overflows_the_laws_is_refused(capsys):
+    """[static] loads are not bounded by themselves: an equilibrium that is not
+    finite is refused (it converged with an infinite force before), no numpy
+    warning printed."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)  # an overflow warning fails
+        code, _, err = run(["static", "sdof_halved", "--set", "static.loads.x=1e308"],
+                           capsys)
+    assert code == 2, err
+    assert "not finite" in err, err
+
+
+def test_static_to_dev_null_is_exit_2_like_the_other_commands(capsys):
+    code, _, err = run(["static", "six_dof_halved", "--out", "/dev/null"], capsys)
+    assert code == 2, err
+    assert "/dev/null" in err and "device" in err, err

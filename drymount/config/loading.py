@@ -116,8 +116,13 @@ def _check_working_point(ck: _Checker, system, load) -> None:
     """A static load needs a static equilibrium of the elastic laws."""
     if load is None:
         return
-    point = static_equilibrium(system, load)
-    if point.status is not StaticStatus.CONVERGED:
+    with np.errstate(all="ignore"):  # an overflow is refused below
+        point = static_equilibrium(system, load)
+    finite = all(np.isfinite(a).all() for a in (point.q, point.deflection, point.force))
+    if not finite:
+        ck.add(f"[static]: the static equilibrium under the load {load.tolist()} is "
+               f"not finite (the mounts' elastic laws overflow); check the loads")
+    elif point.status is not StaticStatus.CONVERGED:
         ck.add(f"[static]: the mounts' elastic laws find no static equilibrium under "
                f"the load {load.tolist()} ({point.status.value}, largest residual "
                f"{point.residual:.3g}); check the stiffnesses and loads")
