@@ -4,14 +4,23 @@ output files), full disks named, large fits decimated."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import warnings
+from pathlib import Path
 
 import pytest
 
 from drymount import cli
+from drymount.design.backends import BackendKind, BackendSpec
+from drymount.design.explore import expected_duration
+from drymount.design.space import MAX_DESIGNS
 from drymount.config import ConfigError, load_config
 from drymount.config.loading import nesting_depth
 from drymount.paths import MAX_NESTING
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def run(argv, capsys):
@@ -115,3 +124,76 @@ def test_static_to_dev_null_is_exit_2_like_the_other_commands(capsys):
     code, _, err = run(["static", "six_dof_halved", "--out", "/dev/null"], capsys)
     assert code == 2, err
     assert "/dev/null" in err and "device" in err, err
+
+
+# ------------------------------------------------------------ design sizes
+
+DESIGN = ROOT / "examples" / "design" / "sdof_n0.toml"
+
+
+@pytest.mark.parametrize(("sets", "word"), [
+    (["design.samples=1000000000000"], "`design.samples` must be an integer in "
+                                       "1..100000"),
+    (["design.method=grid", "design.variables[*].points=1000"],
+     "the grid has 1,000,000 designs (1000 (n0) x 1000 (c)); at most 100,000"),
+    (["design.method=grid", "design.variables[0].points=200000"], "2..100000"),
+])
+def test_a_design_space_beyond_the_limit_is_exit_2_naming_the_field(capsys, sets,
+                                                                    word):
+    argv = ["explore", DESIGN, "-q", "--out", "never-written"]
+    for s in sets:
+        argv += ["--set", s]
+    code, _, err = run(argv, capsys)
+    assert code == 2, err
+    assert word in err, err
+    assert MAX_DESIGNS == 100_000
+
+
+def test_the_grid_limit_itself_is_accepted():
+    from drymount.config import load_config
+    from drymount.design import design_space
+    from drymount.paths import override_config
+
+    cfg = override_config(load_config(DESIGN), ["design.method=grid",
+                                                 "design.variables[0].points=1000",
+                                                 "design.variables[1].points=100"])
+    assert design_space(cfg).size() == MAX_DESIGNS
+
+
+def test_expected_duration_from_the_first_chunk():
+    """4 designs in 10 s on one of 2 workers: 2.5 s each, the 96 others on 2 workers
+    take 96 * 2.5 / 2 = 120 s more: 130 s = 2.2 min in all."""
+    line = expected_duration(10.0, 4, 100, BackendSpec(BackendKind.PROCESSES, 2))
+    assert "about 2.2 min for 100 designs" in line and "2.5 s per design" in line, line
+    line = expected_duration(10.0, 4, 100, BackendSpec(BackendKind.SERIAL))
+    assert "about 4.2 min" in line, line  # 10 + 96 * 2.5 = 250 s
+    line = expected_duration(3.0, 8, 1_000_000, BackendSpec(BackendKind.DASK,
+                                                            address="tcp://h:1"))
+    assert "about 4.3 days" in line and "one worker's pace" in line, line
+
+
+def test_explore_announces_its_duration(tmp_path, capsys):
+    code, _, err = run(["explore", DESIGN, "-q", "--set", "design.samples=4",
+                        "--set", "design.chunk=2", "--out", tmp_path / "ex"], capsys)
+    assert code == 0, err
+    assert "explore: expected duration at most about" in err, err
+    assert "for 4 designs" in err and "measured on the first 2" in err, err
+
+
+@pytest.mark.parametrize("command", ["explore", "optimize"])
+def test_a_bad_design_config_fails_before_scipy_loads(tmp_path, command):
+    """The error comes before the heavy imports (explore's scipy.stats, optimize's
+    scipy.optimize), guarded by what the process imported (-X importtime)."""
+    p = subprocess.run([sys.executable, "-X", "importtime", "-m", "drymount.cli",
+                        command, str(DESIGN), "--set", "mount.k1=-5", "-q", "--out",
+                        str(tmp_path / "x")], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=120,
+                       env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    lines = p.stderr.splitlines()
+    modules = {ln.split("|")[-1].strip() for ln in lines
+               if ln.startswith("import time:")}
+    assert p.returncode == 2, p.stderr[-2000:]
+    assert any("mount.k1" in ln for ln in lines)
+    heavy = sorted(m for m in modules if m.split(".")[0] in ("scipy", "matplotlib"))
+    assert not heavy, heavy[:5]
+    assert not (tmp_path / "x").exists()
