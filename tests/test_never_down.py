@@ -10,12 +10,14 @@ import sys
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from drymount import cli
 from drymount.design.backends import BackendKind, BackendSpec
 from drymount.design.explore import expected_duration
 from drymount.design.space import MAX_DESIGNS
+from drymount.fit import bin_means
 from drymount.config import ConfigError, load_config
 from drymount.config.loading import nesting_depth
 from drymount.paths import MAX_NESTING
@@ -197,3 +199,59 @@ def test_a_bad_design_config_fails_before_scipy_loads(tmp_path, command):
     heavy = sorted(m for m in modules if m.split(".")[0] in ("scipy", "matplotlib"))
     assert not heavy, heavy[:5]
     assert not (tmp_path / "x").exists()
+
+
+# ------------------------------------------------------------ large fits
+
+
+def _piecewise_curve(path: Path, n: int, seed: int = 5) -> tuple[float, float, float]:
+    k1, k2, delta = 45935.0, 256900.0, 0.01225
+    rng = np.random.default_rng(seed)
+    u = np.linspace(-0.02, 0.02, n)
+    F = np.where(np.abs(u) <= delta, k1 * u,
+                 np.sign(u) * (k1 * delta + k2 * (np.abs(u) - delta)))
+    F = F + rng.normal(0.0, 5.0, n)
+    with open(path, "w") as f:
+        f.write("# synthetic piecewise curve\ndeflection [m],force [N]\n")
+        np.savetxt(f, np.c_[u, F], delimiter=",", fmt="%.10g")
+    return k1, k2, delta
+
+
+def test_fit_bins_a_curve_of_200000_rows(tmp_path, capsys):
+    """2e5 rows -> 5000 means of 40 points; the piecewise law is chosen and its
+    parameters are the generating ones within 4 standard errors (noise 5 N)."""
+    data = tmp_path / "big.csv"
+    k1, k2, delta = _piecewise_curve(data, 200_000)
+    code, out, err = run(["fit", "elastic", data, "--out", tmp_path / "fit",
+                          "--no-plot"], capsys)
+    assert code == 0, err
+    assert "200000 points binned to 5000 means of 40 consecutive points" in out, out
+    assert "fit elastic" in err  # the progress bar
+    chosen = [ln for ln in (tmp_path / "fit" / "fit.csv").read_text().splitlines()
+              if ",yes," in ln]
+    got = {r.split(",")[2]: (float(r.split(",")[3]), float(r.split(",")[4]))
+           for r in chosen}
+    assert set(got) >= {"k1", "k2", "delta"}, got
+    for name, ref in (("k1", k1), ("k2", k2), ("delta", delta)):
+        value, se = got[name]
+        assert 0 < se < 1e-3 * ref and abs(value - ref) <= 4 * se, (name, value, se)
+
+
+def test_bin_means_keep_equal_runs():
+    u = np.arange(10.0)
+    ub, Fb = bin_means(u, 2 * u, 3)  # runs of 3, 3, 4
+    np.testing.assert_allclose(ub, [1.0, 4.0, 7.5], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(Fb, 2 * ub, rtol=0, atol=1e-15)
+
+
+def test_the_fast_reader_equals_the_line_reader(tmp_path, monkeypatch):
+    from drymount import rigdata
+
+    data = tmp_path / "c.csv"
+    _piecewise_curve(data, 1000)
+    fast = rigdata.read_table(data, ("deflection", "force"))
+    monkeypatch.setattr(rigdata, "_numeric_table", lambda *a: None)
+    slow = rigdata.read_table(data, ("deflection", "force"))
+    assert fast.lines == slow.lines and fast.lines[0] == 3
+    for q in ("deflection", "force"):
+        assert np.array_equal(fast.columns[q], slow.columns[q])
