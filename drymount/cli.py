@@ -678,6 +678,11 @@ def _run(argv) -> int:
             return interrupted()
         if args.traceback or os.environ.get("DRYMOUNT_TRACEBACK"):
             raise
+        from drymount.io import OutputError
+
+        if isinstance(exc, OutputError):  # e.g. a full disk: the file and the reason
+            _err(str(exc))
+            return EXIT_FAILURE
         _err(f"{type(exc).__name__}: {exc} (run with --traceback for details)")
         return EXIT_FAILURE
 

@@ -255,3 +255,61 @@ def test_the_fast_reader_equals_the_line_reader(tmp_path, monkeypatch):
     assert fast.lines == slow.lines and fast.lines[0] == 3
     for q in ("deflection", "force"):
         assert np.array_equal(fast.columns[q], slow.columns[q])
+
+
+# ------------------------------------------------------------ full disk
+
+
+def _limited(limit_bytes: int):
+    """A child process whose files may not grow beyond ``limit_bytes`` (a write past
+    it fails with EFBIG, as a full disk fails with ENOSPC)."""
+    import resource
+    import signal
+
+    def set_limit():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # an OSError, not a signal
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, limit_bytes))
+    return set_limit
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_FSIZE semantics")
+@pytest.mark.parametrize("command", ["static", "fit", "explore"])
+def test_a_write_that_fails_names_the_file_and_the_reason(tmp_path, command):
+    argv = {"static": ["static", "sdof_halved", "--out", "s.csv"],
+            "fit": ["fit", "elastic", str(ROOT / "examples/data/rig_piecewise.csv"),
+                    "--out", "fit", "--no-plot"],
+            "explore": ["explore", str(DESIGN), "-q", "--set", "design.samples=2",
+                        "--out", "ex"]}[command]
+    (tmp_path / "s.csv").write_text("# drymount an earlier result\n")
+    p = subprocess.run([sys.executable, "-m", "drymount.cli", *argv], cwd=tmp_path,
+                       capture_output=True, text=True, timeout=300,
+                       env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                       preexec_fn=_limited(100))
+    assert p.returncode == 1, p.stderr
+    last = p.stderr.strip().splitlines()[-1]
+    assert last.startswith("drymount: error: cannot write "), p.stderr
+    assert "File too large" in last and "Traceback" not in p.stderr, p.stderr
+    named = {"static": "s.csv", "fit": "fit.csv", "explore": "designs.csv"}[command]
+    assert named in last, last
+    if command == "static":  # the file it would have replaced is untouched
+        assert (tmp_path / "s.csv").read_text() == "# drymount an earlier result\n"
+    assert not [f for f in tmp_path.rglob(".*") if f.is_file()], "a temporary left"
+
+
+def test_enospc_while_writing_a_csv_names_it(tmp_path, monkeypatch, capsys):
+    """A full disk (ENOSPC) in the middle of the CSV writer: exit 1 naming the file."""
+    import errno
+
+    from drymount.hbm import io as hbm_io
+
+    real = hbm_io.format_value
+
+    def full(v):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    monkeypatch.setattr(hbm_io, "format_value", full)
+    out = tmp_path / "s.csv"
+    code, _, err = run(["static", "sdof_halved", "--out", out], capsys)
+    monkeypatch.setattr(hbm_io, "format_value", real)
+    assert code == 1, err
+    assert f"cannot write {out}: No space left on device" in err, err
+    assert not out.exists()
