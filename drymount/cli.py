@@ -642,8 +642,14 @@ def _release_process_resources(timeout: float = 2.0) -> None:
     if "multiprocessing.util" not in sys.modules:
         return
     import threading
-    from multiprocessing import util
+    from multiprocessing import synchronize, util
 
+    # first the semaphores themselves, here (unlink + unregister, no lock taken that
+    # another thread could hold): a timed-out thread left one registered under load
+    for fin in list((util._finalizer_registry or {}).values()):
+        if getattr(fin, "_callback", None) is synchronize.SemLock._cleanup:
+            with contextlib.suppress(Exception):
+                fin()
     t = threading.Thread(target=util._run_finalizers, daemon=True)
     t.start()
     t.join(timeout)
