@@ -29,13 +29,10 @@ else:  # pragma: no cover - Python 3.10
 
 __all__ = ["WILDCARD", "FieldPath", "PathError", "parse_path", "expand", "get_value",
            "set_value", "format_parts", "parse_assignment", "apply_overrides",
-           "load_with_overrides", "override_config", "MAX_NESTING"]
+           "load_with_overrides", "override_config"]
 
 #: The ``[*]`` part of a path: every item of an array.
 WILDCARD = "*"
-#: Deepest nesting of tables and arrays a configuration may have (the deepest
-#: shipped one nests 5: ``[[mounts]]`` > ``axial`` > ``friction`` > an array).
-MAX_NESTING = 32
 
 _KEY = r"[A-Za-z_][A-Za-z0-9_]*"
 _SEGMENT = re.compile(rf"({_KEY})((?:\[(?:\d+|\*)\])*)$")
@@ -211,8 +208,8 @@ def parse_value(text: str):
         return tomllib.loads(f"v = {text}")["v"]
     except RecursionError:  # arrays or inline tables nested thousands deep
         raise PathError(f"value {text[:40]!r}... nests arrays or tables hundreds of "
-                        f"levels deep; a configuration nests at most {MAX_NESTING} "
-                        f"levels") from None
+                        f"levels deep; a configuration value nests a few (the "
+                        f"configuration at most 32 levels)") from None
     except tomllib.TOMLDecodeError:
         if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.:/-]*", text.strip()):
             return text.strip()

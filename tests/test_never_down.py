@@ -20,7 +20,7 @@ from drymount.design.space import MAX_DESIGNS
 from drymount.fit import bin_means
 from drymount.config import ConfigError, load_config
 from drymount.config.loading import nesting_depth
-from drymount.paths import MAX_NESTING
+from drymount.config.loading import MAX_NESTING
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -30,7 +30,6 @@ from drymount.config.systems import (
     _settings,
 )
 from drymount.hbm.static import StaticStatus, static_equilibrium
-from drymount.paths import MAX_NESTING
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -184,6 +183,11 @@ def load_config(path_or_text, name: str | None = None) -> Config:
         raise ConfigError([f"expected a file path or TOML text, got "
                            f"{_type_name(path_or_text)}"], "<input>")
     return config_from_dict(parse_toml(text, source), source=source, name=name)
+
+
+#: Deepest nesting of tables and arrays a configuration may have (the deepest
+#: shipped one nests 5: ``[[mounts]]`` > ``axial`` > ``friction`` > an array).
+MAX_NESTING = 32
 
 
 def parse_toml(text: str, source: str) -> dict:
