@@ -741,8 +741,14 @@ def _release_process_resources(timeout: float = 2.0) -> None:
     if "multiprocessing.util" not in sys.modules:
         return
     import threading
-    from multiprocessing import util
+    from multiprocessing import synchronize, util
 
+    # first the semaphores themselves, here (unlink + unregister, no lock taken that
+    # another thread could hold): a timed-out thread left one registered under load
+    for fin in list((util._finalizer_registry or {}).values()):
+        if getattr(fin, "_callback", None) is synchronize.SemLock._cleanup:
+            with contextlib.suppress(Exception):
+                fin()
     t = threading.Thread(target=util._run_finalizers, daemon=True)
     t.start()
     t.join(timeout)
@@ -810,6 +816,11 @@ def _run(argv) -> int:
             return interrupted()
         if args.traceback or os.environ.get("DRYMOUNT_TRACEBACK"):
             raise
+        from drymount.io import OutputError
+
+        if isinstance(exc, OutputError):  # e.g. a full disk: the file and the reason
+            _err(str(exc))
+            return EXIT_FAILURE
         _err(f"{type(exc).__name__}: {exc} (run with --traceback for details)")
         return EXIT_FAILURE
 

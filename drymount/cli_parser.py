@@ -569,11 +569,12 @@ def _cmd_static(sub) -> None:
               "drymount static six_dof_halved --load beta=40 --travel-mm 15"])
     _config_arg(p)
     p.add_argument("--g", type=_positive_float, default=None,
-                   help="gravitational acceleration, m/s^2 (default: [static] g, "
-                        "else 9.81)")
+                   help="gravitational acceleration, m/s^2, at most 1000 (default: "
+                        "[static] g, else 9.81)")
     p.add_argument("--no-gravity", action="store_true", help="only the --load terms")
     p.add_argument("--load", action="append", default=None, metavar="DOF=VALUE",
-                   help="static generalised load on a DOF, N or N m (repeatable)")
+                   help="static generalised load on a DOF, N or N m, within +-1e9 "
+                        "(repeatable)")
     p.add_argument("--travel-mm", type=_positive_float, default=None,
                    help="warn when a mount axis deflects more than this, mm")
     p.add_argument("--out", type=_path, default=None,

@@ -196,11 +196,20 @@ def _elastic(args, out: Path) -> AxisParameters:
 
     u, F = read_curve(args.data)
     _check_curve(args.data, u, F)
-    cmp = compare_elastic(u, F)
+    n_read = u.size
+    binned = n_read > MAX_FIT_POINTS
+    if binned:
+        u, F = bin_means(u, F, MAX_FIT_POINTS)
+        lo, hi = n_read // u.size, -(-n_read // u.size)
+        print(f"{args.data}: {n_read} points binned to {u.size} means of "
+              f"{lo if lo == hi else f'{lo}-{hi}'} consecutive points (more "
+              f"than {MAX_FIT_POINTS}: R^2 and AIC below are of the means; the "
+              f"parameters and their standard errors estimate those of all points)")
+    cmp = compare_elastic(u, F, laws=_law_bar(binned))
     chosen = cmp.best if args.law == "auto" else next(f for f in cmp.fits
                                                       if f.model == args.law)
-    print(f"{args.data}: {u.size} points, laws fitted (* = "
-          f"{'lowest AIC' if args.law == 'auto' else '--law'}):")
+    print(f"{args.data}: {u.size} {'bin means' if binned else 'points'}, laws fitted "
+          f"(* = {'lowest AIC' if args.law == 'auto' else '--law'}):")
     for f in cmp.fits:
         print(_summary(f, chosen))
     _fits_csv(out / "fit.csv", cmp.fits, chosen, str(args.data))
@@ -217,6 +226,30 @@ def _elastic(args, out: Path) -> AxisParameters:
         c_known=c_known)
     atomic_write_text(out / "mount.toml", text)
     return axis
+
+
+#: Most points an elastic fit uses: a longer curve is replaced by the means of
+#: equal runs of consecutive points (the knee search costs points x 6400 pairs).
+MAX_FIT_POINTS = 5000
+
+
+def bin_means(u: np.ndarray, F: np.ndarray,
+              n_bins: int) -> tuple[np.ndarray, np.ndarray]:
+    """Means of ``u`` and ``F`` over ``n_bins`` runs of consecutive points whose
+    lengths differ by at most one (a monotonic curve stays monotonic)."""
+    starts = np.linspace(0, u.size, n_bins + 1).astype(int)
+    counts = np.diff(starts)
+    return (np.add.reduceat(u, starts[:-1]) / counts,
+            np.add.reduceat(F, starts[:-1]) / counts)
+
+
+def _law_bar(show: bool):
+    """The laws to fit, through a progress bar on stderr for a large curve."""
+    if not show:
+        return FIT_LAWS
+    from tqdm import tqdm
+
+    return tqdm(FIT_LAWS, desc="fit elastic", unit="law", file=sys.stderr)
 
 
 #: Ranges of a mount's quasi-static curve that a fit can resolve: deflections span

@@ -206,6 +206,10 @@ def parse_value(text: str):
     ``"native"``), or a bare word taken as a string (``native``)."""
     try:
         return tomllib.loads(f"v = {text}")["v"]
+    except RecursionError:  # arrays or inline tables nested thousands deep
+        raise PathError(f"value {text[:40]!r}... nests arrays or tables hundreds of "
+                        f"levels deep; a configuration value nests a few (the "
+                        f"configuration at most 32 levels)") from None
     except tomllib.TOMLDecodeError:
         if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.:/-]*", text.strip()):
             return text.strip()

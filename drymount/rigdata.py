@@ -17,6 +17,7 @@ NaN) raises :class:`hbm.identify.DataError` naming the file, the line and the va
 from __future__ import annotations
 
 import csv
+import io
 import math
 import re
 from dataclasses import dataclass
@@ -106,6 +107,10 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
         raise DataError([f"{path}, line {line}: not UTF-8 text (byte "
                          f"0x{exc.object[exc.start]:02x}); save the file as UTF-8 "
                          f"CSV"]) from None
+    if text_column is None:  # numbers only: parsed in C (1e6 rows in about a second)
+        table = _numeric_table(path, text, quantities)
+        if table is not None:
+            return table
     rows = [(n, r) for n, r in enumerate(csv.reader(text.splitlines()), start=1)
             if r and not r[0].lstrip().startswith("#")]
     if not rows:
@@ -138,6 +143,38 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
                                          if len(problems) > 10 else []))
     return RigTable(path, {q: np.array(v) for q, v in values.items()}, labels,
                     [line for line, _ in body])
+
+
+def _numeric_table(path: Path, text: str, quantities) -> RigTable | None:
+    """The table of a file of plain numbers (comment lines only before the header,
+    no quotes, no blank lines), read by numpy; None when anything is unusual, and the
+    line-by-line reader, which names the line of each problem, reads it instead."""
+    pos, first = 0, 1  # skip the leading comment and blank lines
+    while pos < len(text):
+        end = text.find("\n", pos)
+        end = len(text) if end < 0 else end
+        line = text[pos:end]
+        if line.strip() and not line.lstrip().startswith("#"):
+            break
+        pos, first = end + 1, first + 1
+    end = text.find("\n", pos)
+    if end < 0:
+        return None
+    header, body = text[pos:end].rstrip("\r"), text[end + 1:]
+    if any(ch in text[pos:] for ch in '"#\r') or "\n\n" in body or not body.strip():
+        return None
+    head = next(csv.reader([header]))
+    cols = _header(path, head, quantities, None)
+    try:
+        arr = np.loadtxt(io.StringIO(body), delimiter=",", ndmin=2, comments=None,
+                         dtype=float)
+    except ValueError:
+        return None
+    n = body.count("\n") + (not body.endswith("\n"))
+    if arr.shape != (n, len(head)) or not np.isfinite(arr).all():
+        return None
+    columns = {q: arr[:, cols[q][0]] * cols[q][1] for q in quantities}
+    return RigTable(path, columns, None, list(range(first + 1, first + 1 + n)))
 
 
 def read_curve(path) -> tuple[np.ndarray, np.ndarray]:

@@ -25,7 +25,13 @@ from drymount.fmu_src.mount_law import AXES, ELASTIC_LAWS
 from drymount.hbm.static import (StaticStatus, gravity_load, knee_warnings,
                                  static_equilibrium)
 
-__all__ = ["main"]
+__all__ = ["main", "MAX_LOAD", "MAX_G"]
+
+#: Largest ``--load`` magnitude, N or N m (a thousand times the weight of a
+#: 100-tonne body: beyond it the elastic laws' forces overflow long before).
+MAX_LOAD = 1e9
+#: Largest ``--g``, m/s^2 (100 g).
+MAX_G = 1e3
 
 
 def _loads(specs, dof_names) -> np.ndarray:
@@ -37,10 +43,11 @@ def _loads(specs, dof_names) -> np.ndarray:
             x = float(value)
         except ValueError:
             x = None
-        if name not in dof_names or x is None or not np.isfinite(x):
+        if (name not in dof_names or x is None or not np.isfinite(x)
+                or abs(x) > MAX_LOAD):
             raise ValueError(f"--load must be DOF=VALUE with DOF one of "
-                             f"{', '.join(dof_names)} and a finite number (N or N m), "
-                             f"got {spec!r}")
+                             f"{', '.join(dof_names)} and a number (N or N m) within "
+                             f"+-{MAX_LOAD:g}, got {spec!r}")
         f[dof_names.index(name)] += x
     return f
 
@@ -95,13 +102,23 @@ def main(args) -> int:
     for name, x in st.loads.items():  # the configuration's [static] loads
         load[names.index(name)] += x
     g = st.g if args.g is None else args.g
+    if args.g is not None and not args.g <= MAX_G:
+        print(f"drymount: error: --g must be <= {MAX_G:g} m/s^2, got {args.g:g}",
+              file=sys.stderr)
+        return 2
     if not args.no_gravity:
         load += gravity_load(system, vertical_dofs(cfg.model, names), g)
     travel = st.travel if args.travel_mm is None else args.travel_mm * 1e-3
     from drymount.cli_guard import check_out
 
     out = check_out(Path(args.out or f"{cfg.name}_static.csv"), "--out")
-    point = static_equilibrium(system, load)
+    with np.errstate(all="ignore"):  # refused below if not finite
+        point = static_equilibrium(system, load)
+    if not all(np.isfinite(a).all() for a in (point.q, point.deflection, point.force)):
+        print(f"drymount: error: the static equilibrium under the load "
+              f"{np.array2string(load, precision=4)} is not finite (the elastic laws "
+              f"overflow); nothing written to {out}", file=sys.stderr)
+        return 1
     what = "no gravity" if args.no_gravity else f"g = {g:g} m/s^2"
     if args.load:
         what += ", loads " + ", ".join(args.load)

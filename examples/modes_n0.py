@@ -17,7 +17,8 @@ import drymount
 from drymount.hbm.plot import plain_log_ticks
 
 N0 = (5.0, 10.0, 20.0, 40.0)  # N; 10 N: the preset
-#: modal amplitudes a = sqrt(m) X, kg^0.5 m (X from 0.012 mm to 12 mm on 70 kg, below the knee at 12.25 mm)
+#: modal amplitudes a = sqrt(m) X, kg^0.5 m: X from 0.012 to 12 mm on 70 kg
+#: (below the knee at 12.25 mm)
 RANGE = (1e-4, 0.1)
 
 

@@ -269,3 +269,44 @@ def test_no_worker_outlives_a_signal_to_the_parent_alone(tmp_path, command, sig)
     assert "Traceback" not in err and "leaked semaphore" not in err, err
     assert err.strip().splitlines()[-1] in ("drymount: error: interrupted",
                                             "drymount: error: terminated (SIGTERM)")
+
+
+_WORKER_SCRIPT = """
+import os, sys, time
+from pathlib import Path
+from drymount.design.backends import BackendKind, BackendSpec, Runner
+
+READY = Path(sys.argv[1])
+
+def work(_):
+    from tqdm import tqdm
+    tqdm(total=1, disable=True).close()  # what the HBM code does inside a design
+    READY.write_text("in the chunk")
+    time.sleep(120)
+
+if __name__ == "__main__":
+    try:
+        with Runner(BackendSpec(BackendKind.PROCESSES, workers=1)) as runner:
+            runner._pool.submit(work, 0)
+            while not READY.exists():
+                time.sleep(0.02)
+            raise KeyboardInterrupt  # the run stops, as on SIGINT or SIGTERM
+    except KeyboardInterrupt:
+        pass
+    from drymount.cli import _release_process_resources
+    _release_process_resources()
+    os._exit(130)  # as drymount.cli.main leaves after a signal
+"""
+
+
+def test_a_stopped_design_worker_leaks_no_semaphore(tmp_path):
+    """The cause of the 'leaked semaphore' warning after a signal: a design worker
+    made a tqdm bar (tqdm's default lock is a multiprocessing RLock, registered with
+    the parent's resource tracker) and was terminated. Deterministic: the worker is
+    inside its chunk when the pool is stopped."""
+    script = tmp_path / "stop_a_worker.py"
+    script.write_text(_WORKER_SCRIPT)
+    p = subprocess.run([sys.executable, str(script), str(tmp_path / "ready")],
+                       env=ENV, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 130, p.stderr
+    assert "leaked semaphore" not in p.stderr and "Traceback" not in p.stderr, p.stderr

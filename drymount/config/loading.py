@@ -114,8 +114,13 @@ def _check_working_point(ck: _Checker, system, load) -> None:
     """A static load needs a static equilibrium of the elastic laws."""
     if load is None:
         return
-    point = static_equilibrium(system, load)
-    if point.status is not StaticStatus.CONVERGED:
+    with np.errstate(all="ignore"):  # an overflow is refused below
+        point = static_equilibrium(system, load)
+    finite = all(np.isfinite(a).all() for a in (point.q, point.deflection, point.force))
+    if not finite:
+        ck.add(f"[static]: the static equilibrium under the load {load.tolist()} is "
+               f"not finite (the mounts' elastic laws overflow); check the loads")
+    elif point.status is not StaticStatus.CONVERGED:
         ck.add(f"[static]: the mounts' elastic laws find no static equilibrium under "
                f"the load {load.tolist()} ({point.status.value}, largest residual "
                f"{point.residual:.3g}); check the stiffnesses and loads")
@@ -179,12 +184,43 @@ def load_config(path_or_text, name: str | None = None) -> Config:
     return config_from_dict(parse_toml(text, source), source=source, name=name)
 
 
+#: Deepest nesting of tables and arrays a configuration may have (the deepest
+#: shipped one nests 5: ``[[mounts]]`` > ``axial`` > ``friction`` > an array).
+MAX_NESTING = 32
+
+
 def parse_toml(text: str, source: str) -> dict:
-    """The TOML document ``text``; ConfigError naming ``source`` on a syntax error."""
+    """The TOML document ``text``; ConfigError naming ``source`` on a syntax error
+    or on tables and arrays nested deeper than :data:`MAX_NESTING`."""
+    allowed = (f"at most {MAX_NESTING} levels are allowed (the shipped configurations "
+               f"nest 5)")
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError([f"TOML syntax error: {exc}"], source) from None
+    except RecursionError:  # tomllib parses nested arrays and inline tables recursively
+        raise ConfigError([f"arrays or inline tables nested hundreds of levels deep; "
+                           f"{allowed}"], source) from None
+    depth = nesting_depth(data)  # dotted keys and [a.b.c] headers: no recursion
+    if depth > MAX_NESTING:
+        raise ConfigError([f"tables and arrays nested {depth} levels deep; {allowed}"],
+                          source)
+    return data
+
+
+def nesting_depth(value) -> int:
+    """Levels of tables and arrays in ``value`` (0 for a scalar), without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        node, level = stack.pop()
+        if isinstance(node, dict):
+            node = node.values()
+        elif not isinstance(node, list):
+            deepest = max(deepest, level)
+            continue
+        deepest = max(deepest, level + 1)
+        stack.extend((child, level + 1) for child in node)
+    return deepest
 
 
 # ======================================================================================
@@ -194,11 +230,7 @@ def parse_toml(text: str, source: str) -> dict:
 
 def load_preset(name: str) -> Config:
     """The :class:`Config` of preset ``name`` (see :func:`list_presets`)."""
-    text = preset_text(name)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:  # a broken package file
-        raise ConfigError([f"TOML syntax error: {exc}"], f"preset:{name}") from None
+    data = parse_toml(preset_text(name), f"preset:{name}")
     return config_from_dict(data, source=f"preset:{name}", name=name)
 
 

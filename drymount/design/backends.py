@@ -129,6 +129,24 @@ def _quiet_dask() -> None:
         logging.getLogger(name).setLevel(logging.CRITICAL)
 
 
+def _init_design_worker() -> None:
+    """A design worker's set-up: the sweep's (SIGINT ignored, exit when the parent
+    dies), and tqdm's write lock a thread lock. tqdm's default lock holds a
+    multiprocessing RLock, a named semaphore registered with the parent's resource
+    tracker: a worker terminated when the run stops (or exiting on its parent's
+    death) never unregisters it, and the tracker prints 'There appear to be 1 leaked
+    semaphore objects' after the run. A spawned worker's bars share no lock with
+    other processes anyway (each process would create its own)."""
+    import threading
+
+    from tqdm import tqdm
+
+    from drymount.vehicle.sweep import _init_worker
+
+    _init_worker(None)
+    tqdm.set_lock(threading.RLock())
+
+
 class Runner:
     """Context manager running chunks on a backend (see the module docstring)."""
 
@@ -142,13 +160,10 @@ class Runner:
             import multiprocessing  # here: the CLI's parser reads MAX_WORKERS
             from concurrent.futures import ProcessPoolExecutor
 
-            from drymount.vehicle.sweep import _init_worker
-
-            # the sweep's worker set-up: SIGINT ignored, exit when the parent dies
             self._pool = ProcessPoolExecutor(
                 max_workers=self.spec.workers,
                 mp_context=multiprocessing.get_context("spawn"),
-                initializer=_init_worker, initargs=(None,))
+                initializer=_init_design_worker)
         elif kind is BackendKind.DASK:
             distributed = _import_distributed()
             if self.spec.address is None:

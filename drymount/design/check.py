@@ -22,6 +22,7 @@ from drymount.design.space import (
     DEFAULT_GRID_POINTS,
     DEFAULT_SAMPLES,
     DESIGN_KEYS,
+    MAX_DESIGNS,
     ROTATIONS,
     BoxConstraint,
     DesignSpace,
@@ -157,7 +158,7 @@ def _variable(problems, t: dict, i: int, cfg: Config) -> Variable | None:
             lower, upper = b
     elif has_v:
         values = r.numbers("values", None, "a non-empty array of finite numbers") or ()
-    points = r.integer("points", DEFAULT_GRID_POINTS, 2)
+    points = r.integer("points", DEFAULT_GRID_POINTS, 2, MAX_DESIGNS)
     if len(problems) > n0:
         return None
     text = "+".join(str(q) for q in paths)
@@ -286,10 +287,22 @@ def _check_ranges(problems, cfg: Config, variables) -> None:
                                     f"configuration is invalid: {msg}")
 
 
+def _check_grid_size(problems, variables) -> None:
+    """A grid's designs (the product of the variables' grid sizes) <= MAX_DESIGNS."""
+    sizes = [len(v.grid()) for v in variables]
+    n = math.prod(sizes)
+    if n > MAX_DESIGNS:
+        what = " x ".join(f"{k} ({v.name})" for k, v in zip(sizes, variables,
+                                                           strict=True))
+        problems.append(f"`design.variables[*].points`: the grid has {n:,} designs "
+                        f"({what}); at most {MAX_DESIGNS:,} are allowed (fewer "
+                        f"points or values, or method \"lhs\" with `samples`)")
+
+
 def _settings(problems, d: dict, cfg: Config):
     r = _Reader(problems, d, "design", DESIGN_KEYS["design"])
     method = r.choice("method", Method, Method.LHS)
-    samples = r.integer("samples", DEFAULT_SAMPLES, 1)
+    samples = r.integer("samples", DEFAULT_SAMPLES, 1, MAX_DESIGNS)
     if method is Method.SOBOL and samples and samples & (samples - 1):
         r.add("samples", samples, "a power of 2 for method \"sobol\" (its balance "
                                   "properties need it), e.g. 64")
@@ -330,6 +343,8 @@ def design_space(cfg: Config) -> DesignSpace:
         else:
             problems.append(f"`design.constraints[{i}].kind` must be \"response\" "
                             f"(default) or \"box\", got {_show(kind)}")
+    if method is Method.GRID and not problems:
+        _check_grid_size(problems, variables)
     if not problems:
         _check_ranges(problems, cfg, variables)
     names = [x.name for x in (*variables, *objectives, *constraints) if x is not None]

@@ -92,13 +92,13 @@ def _setup(args, load, usage_error):
 
 
 def cmd_explore(args, load, usage_error) -> int:
-    from drymount.design.backends import BackendError
-    from drymount.design.explore import explore
-    from drymount.design.table import TableError
-
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"explore-{cfg.name}")
     check_out_dir(out, "--out")
+    from drymount.design.backends import BackendError  # scipy.stats: after the checks
+    from drymount.design.explore import explore
+    from drymount.design.table import TableError
+
     print(f"{cfg.name}: {space.size()} designs ({space.method.value}), "
           f"{len(space.variables)} variables, on {backend.describe()}", file=sys.stderr)
     try:
@@ -115,10 +115,6 @@ def cmd_explore(args, load, usage_error) -> int:
 
 
 def cmd_optimize(args, load, usage_error) -> int:
-    from drymount.design.backends import BackendError
-    from drymount.design.optimize import OptimizeSettings, optimize
-    from drymount.design.table import TableError
-
     cfg, space, backend = _setup(args, load, usage_error)
     out = args.out or Path(f"optimize-{cfg.name}")
     check_out_dir(out, "--out")
@@ -126,6 +122,10 @@ def cmd_optimize(args, load, usage_error) -> int:
     if args.objective is not None and args.objective not in names:
         raise usage_error(f"--objective must be one of {', '.join(names)} (the "
                           f"objectives of [design]), got {args.objective!r}")
+    from drymount.design.backends import BackendError  # scipy: after the checks
+    from drymount.design.optimize import OptimizeSettings, optimize
+    from drymount.design.table import TableError
+
     s = OptimizeSettings(objective=args.objective, maxiter=args.maxiter,
                          popsize=args.popsize, seed=args.seed,
                          polish_maxfev=args.polish)

@@ -14,7 +14,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from drymount.design.backends import BackendSpec, Runner
+from drymount.design.backends import BackendKind, BackendSpec, Runner
 from drymount.design.evaluate import DesignResult, Task, evaluate_chunk
 from drymount.design.report import plot_front, summary_markdown
 from drymount.design.sampling import sample
@@ -89,9 +89,13 @@ def explore(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = None
             with Runner(backend) as runner, _bar(len(X), len(done), progress) as bar:
                 t0 = time.perf_counter()  # after the pool / cluster started
                 tasks = chunks(space, cfg.data, cfg.source, cfg.name, todo)
-                for results in runner.as_completed(evaluate_chunk, tasks):
+                for k, results in enumerate(runner.as_completed(evaluate_chunk, tasks)):
                     table.add(results)
                     bar.update(len(results))
+                    if k == 0:  # the first chunk measures the cost of a design
+                        bar.write(expected_duration(
+                            time.perf_counter() - t0, len(results), len(todo),
+                            backend), file=sys.stderr)
     finally:
         table.close()
     seconds = time.perf_counter() - t0
@@ -111,6 +115,31 @@ def explore(cfg, space: DesignSpace, out_dir, backend: BackendSpec | None = None
 
     atomic_write_text(out / SUMMARY_NAME, summary_markdown(space, results, info))
     return ExploreResult(results, len(done), seconds, tuple(files))
+
+
+def expected_duration(seconds: float, n_first: int, n_todo: int,
+                      backend: BackendSpec) -> str:
+    """The line announcing how long the run takes, from its first chunk: ``n_first``
+    designs took ``seconds`` on one worker, the ``n_todo`` designs share the
+    backend's workers (a remote Dask cluster's are unknown: one worker's pace)."""
+    per_design = seconds / max(n_first, 1)
+    remote = backend.kind is BackendKind.DASK and backend.address is not None
+    parallel = 1 if remote or backend.kind is BackendKind.SERIAL else backend.workers
+    total = seconds + per_design * max(n_todo - n_first, 0) / parallel
+    pace = ("at one worker's pace; divide by the cluster's workers" if remote
+            else f"on {backend.describe()}")
+    return (f"explore: expected duration at most about {_human(total)} for {n_todo} "
+            f"designs ({per_design:.3g} s per design, measured on the first "
+            f"{n_first}, start-up included; {pace})")
+
+
+def _human(seconds: float) -> str:
+    """``42 s``, ``3.5 min``, ``2.1 h``, ``4.3 days``."""
+    for unit, size in (("days", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if seconds >= 2 * size:
+            return f"{seconds / size:.2g} {unit}" if seconds < 10 * size else \
+                f"{seconds / size:.0f} {unit}"
+    return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
 
 
 def _checks(cfg, space, results, k: int, out: Path, progress: bool) -> list:

@@ -75,6 +75,9 @@ AXES = {"x": 0, "y": 1, "z": 2}
 DEFAULT_GRID_POINTS = 5
 DEFAULT_SAMPLES = 64
 DEFAULT_CHUNK = 8
+#: Most designs of one exploration (``samples``, or the grid's product of ``points``
+#: and list lengths): 0.03-3 s each, 1e5 designs are 1 hour to 3 days on one core.
+MAX_DESIGNS = 100_000
 
 DESIGN_KEYS = {
     "design": ("method", "samples", "seed", "harmonics", "band_hz", "chunk",

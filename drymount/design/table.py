@@ -19,7 +19,7 @@ from pathlib import Path
 
 from drymount.design.evaluate import DesignResult, DesignStatus
 from drymount.design.space import DesignSpace
-from drymount.io import atomic_write_text
+from drymount.io import atomic_write_text, writing
 
 __all__ = ["ResultsTable", "fingerprint", "read_table", "parse_row", "columns",
            "TableError",
@@ -106,14 +106,18 @@ class ResultsTable:
         self.comment = _comment(space, source, fp)
         self.results = {r.index: r for r in done}
         atomic_write_text(self.path, _text(self.comment, space, self.results.values()))
-        self._fh = open(self.path, "a", encoding="utf-8", newline="")
+        with writing(self.path):
+            self._fh = open(self.path, "a", encoding="utf-8", newline="")
         self._w = csv.writer(self._fh, lineterminator="\n")
 
     def add(self, results) -> None:
-        for r in results:
-            self.results[r.index] = r
-            self._w.writerow(table_row(r))
-        self._fh.flush()
+        """Append rows (a full disk: OutputError naming the file; the rows before
+        stay, and a rerun resumes from them)."""
+        with writing(self.path):
+            for r in results:
+                self.results[r.index] = r
+                self._w.writerow(table_row(r))
+            self._fh.flush()
 
     def close(self) -> None:
         if not self._fh.closed:
