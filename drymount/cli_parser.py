@@ -336,7 +336,7 @@ def _cmd_cosim(sub) -> None:
              """\
              Fixed-step co-simulation of the bodies with one mount FMU instance per
              mount (backend fmu, through fmpy) or the same mount law in-process
-             (backend native). Writes the time histories: time, every DOF and every
+             (backend inproc). Writes the time histories: time, every DOF and every
              mount force.""",
              ["drymount cosim sdof_halved --freq 5 --duration 4 --out run.csv",
               "drymount cosim six_dof_halved --freq 7 --duration 3 --backend inproc "

@@ -227,7 +227,7 @@ def _family_points(system, system_hbm, case: Case, dense_amp) -> list[FamilyPoin
         if not r.n_points:
             raise ValueError(f"{case.name}: no HBM solution at {f} Hz ({r.message})")
         start = steady.orbit_start(system, r.coefficients[0], f, r.n_samples)
-        runs = [steady.steady_state(system, f, backend="native", start=st)
+        runs = [steady.steady_state(system, f, backend="inproc", start=st)
                 for st in (start, "rest")]
         for i in dofs:
             a = [float(r.amplitude[0, i])] + [float(x.amplitude[i]) for x in runs]

@@ -181,7 +181,7 @@ def test_the_six_dof_neimark_sacker_leaves_the_periodic_branch_in_cosimulation(
 
     out = tmp_path / "sweep.csv"
     main(["sweep", "six_dof_halved", "--fmin", "5", "--fmax", "9.8", "--points", "49",
-          "--direction", "up", "--backend", "native", "--quiet", "--out", str(out)])
+          "--direction", "up", "--backend", "inproc", "--quiet", "--out", str(out)])
     lines = out.read_text(encoding="utf-8").splitlines()
     cols = lines[1].split(",")
     rows = {round(float(r.split(",")[0]), 6): r.split(",") for r in lines[2:]

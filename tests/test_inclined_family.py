@@ -71,8 +71,8 @@ def test_orbit_start_is_the_fourier_series_at_phase_zero(system):
 @pytest.mark.parametrize("i, f", [(1, 5.5), (3, 9.0)])
 def test_started_on_the_orbit_it_stays_there(curve, system, i, f):
     start = steady.orbit_start(system, curve.coefficients[i], f, curve.n_samples)
-    orbit = steady.steady_state(system, f, backend="native", start=start)
-    rest = steady.steady_state(system, f, backend="native", start="rest")
+    orbit = steady.steady_state(system, f, backend="inproc", start=start)
+    rest = steady.steady_state(system, f, backend="inproc", start="rest")
     a = curve.amplitude[i, 0]
     assert abs(orbit.amplitude[0] - a) <= 1e-3 * PEAK   # measured 4.5e-6 (5.5 Hz)
     assert abs(orbit.mean[0] - curve.coefficients[i, 0, 0]) <= 1e-3 * PEAK
@@ -82,13 +82,13 @@ def test_started_on_the_orbit_it_stays_there(curve, system, i, f):
 
 def test_where_both_surfaces_slip_it_forgets_its_start(curve, system):
     start = steady.orbit_start(system, curve.coefficients[2], 7.0, curve.n_samples)
-    orbit = steady.steady_state(system, 7.0, backend="native", start=start)
-    rest = steady.steady_state(system, 7.0, backend="native", start="rest")
+    orbit = steady.steady_state(system, 7.0, backend="inproc", start=start)
+    rest = steady.steady_state(system, 7.0, backend="inproc", start="rest")
     assert abs(orbit.amplitude[0] - rest.amplitude[0]) <= 1e-4 * PEAK
 
 
 def test_an_fmu_backend_refuses_a_whole_element_state(system):
     from drymount.vehicle.backends import _Backend
 
-    with pytest.raises(ValueError, match="native"):
+    with pytest.raises(ValueError, match="inproc"):
         _Backend.set_element_states(type("B", (), {"name": "fmu"})(), {})

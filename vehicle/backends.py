@@ -198,7 +198,7 @@ class _Backend:
         only: an FMU's ``w_<axis>`` relaxes its element there."""
         raise ValueError(f"the {self.name!r} backend cannot set a whole friction-"
                          f"element state (its w_<axis> relaxes the element); use "
-                         f"backend 'native' (the same law in-process)")
+                         f"backend 'inproc' (the same law in-process)")
 
     def set_control(self, controls: dict) -> None:
         """Drive normal forces from ``controls`` = ``{(mount name, axis name):
