@@ -83,7 +83,15 @@ def signals_interrupt(program: bool = False):
         global _stopped_by
         if _stopped_by is None:
             _stopped_by = signum
+        if _cannot_raise_in(frame):
+            _redeliver_soon()
+            return
         raise KeyboardInterrupt(signal.Signals(signum).name)
+
+    def late(signum, frame):
+        """SIGALRM of :func:`_redeliver_soon`: the deferred interrupt."""
+        if _stopped_by is not None:
+            handler(_stopped_by, frame)
 
     import threading
 
@@ -91,11 +99,32 @@ def signals_interrupt(program: bool = False):
         yield
         return
     saved = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    saved_alarm = signal.signal(signal.SIGALRM, late)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, saved_alarm)
         for s, h in saved.items():
             signal.signal(s, signal.SIG_IGN if program else h)
+
+
+#: Delay of a deferred interrupt (:func:`_redeliver_soon`), s.
+REDELIVER_S = 0.005
+
+
+def _cannot_raise_in(frame) -> bool:
+    """Whether an exception raised in ``frame`` would be swallowed: the signal
+    arrived inside a weak-reference callback of importlib's module locks (``cb``),
+    where Python prints "Exception ignored" with a traceback and carries on."""
+    code = getattr(frame, "f_code", None)
+    return (code is not None and code.co_name == "cb"
+            and code.co_filename.startswith("<frozen importlib"))
+
+
+def _redeliver_soon() -> None:
+    """Raise the interrupt a moment later, outside the callback (SIGALRM)."""
+    signal.setitimer(signal.ITIMER_REAL, REDELIVER_S)
 
 
 def stop_reason(exc: BaseException) -> str:

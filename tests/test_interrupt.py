@@ -310,3 +310,24 @@ def test_a_stopped_design_worker_leaks_no_semaphore(tmp_path):
                        env=ENV, capture_output=True, text=True, timeout=120)
     assert p.returncode == 130, p.stderr
     assert "leaked semaphore" not in p.stderr and "Traceback" not in p.stderr, p.stderr
+
+
+def test_a_signal_inside_an_import_lock_callback_is_raised_a_moment_later():
+    """A KeyboardInterrupt raised in importlib's weak-reference callback is swallowed
+    ("Exception ignored", a traceback): the handler defers it by SIGALRM instead."""
+    import time
+    import types
+
+    from drymount.cli_guard import signals_interrupt, stopped_by
+
+    cb = types.SimpleNamespace(f_code=types.SimpleNamespace(
+        co_name="cb", co_filename="<frozen importlib._bootstrap>"))
+    before = signal.getsignal(signal.SIGALRM)
+    with pytest.raises(KeyboardInterrupt), signals_interrupt():
+        handler = signal.getsignal(signal.SIGINT)
+        handler(signal.SIGINT, cb)  # deferred: returns
+        assert stopped_by() == signal.SIGINT
+        time.sleep(1.0)  # the SIGALRM raises here
+        pytest.fail("the deferred interrupt did not arrive")
+    assert signal.getsignal(signal.SIGALRM) is before  # restored afterwards
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
