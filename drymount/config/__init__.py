@@ -53,10 +53,9 @@ from drymount.config.loading import (
 )
 from drymount.config.mounts import mount_from_table, readable_unit
 from drymount.config.checks import INERTIA_RANGE_KGM2, MASS_RANGE_KG
+from drymount.hbm.options import MAX_HARMONICS, MAX_N_SAMPLES  # the one bound of each
 from drymount.config.schema import (
     ALLOWED_KEYS,
-    MAX_HARMONICS,
-    MAX_N_SAMPLES,
     MAX_POINTS,
     MODELS,
     Config,

@@ -8,7 +8,6 @@ import numpy as np
 
 from drymount.fmu_src.friction import element_fields
 from drymount.fmu_src.mount_law import AXES
-from drymount.hbm.options import MAX_HARMONICS as _HBM_MAX_HARMONICS
 from drymount.hbm.options import HBMOptions
 from drymount.hbm.system import System
 
@@ -25,11 +24,8 @@ EXCITATION_KINDS = {
 BACKENDS = ("fmu", "native")
 DIRECTIONS = ("up", "down")
 SPACINGS = ("linear", "log")
-#: Largest number of harmonics accepted: the HBM's one bound (hbm.options).
-MAX_HARMONICS = _HBM_MAX_HARMONICS
-#: Largest number of AFT samples per period (64..1024 are used; 8192 resolves the
-#: sharpest kink of the friction law at H = 50 many times over).
-MAX_N_SAMPLES = 8192
+# The bounds on H and N are drymount.hbm.options' MAX_HARMONICS and MAX_N_SAMPLES,
+# checked by its check_harmonics / check_samples (drymount.config re-exports them).
 #: Largest number of sweep frequencies (a 10 000-point co-simulated sweep takes
 #: hours; more is a typo).
 MAX_POINTS = 10_000
