@@ -273,6 +273,9 @@ def _band(m: Model, fmin_hz, fmax_hz) -> tuple[float, float]:
 
 def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
         harmonics: int | None = None, n_samples: int | None = None,
+        tol: float | None = None, max_harmonics: int | None = None,
+        ds_initial: float | None = None, ds_min: float | None = None,
+        ds_max: float | None = None, max_angle: float | None = None,
         progress: bool = True) -> Curve:
     """Harmonic-balance frequency response (``drymount hbm``).
 
@@ -282,27 +285,60 @@ def hbm(model, fmin_hz: float | None = None, fmax_hz: float | None = None, *,
     fmin_hz, fmax_hz : float, optional
         Band, Hz (default: the configuration's ``[sweep]``).
     harmonics : int, optional
-        Harmonics H, fixed (default: ``[hbm] harmonics``, where the ``[hbm] tol``
-        adaptation starts, as ``drymount hbm``).
+        Harmonics H in 1..50, fixed (default: ``[hbm] harmonics``, where the
+        ``tol`` adaptation starts, as ``drymount hbm``).
     n_samples : int, optional
-        AFT samples per period, >= 2H + 1, fixed (default: ``[hbm] n_samples``,
+        AFT samples per period, 2H + 1..8192, fixed (default: ``[hbm] n_samples``,
         adapted likewise).
+    tol, max_harmonics, ds_initial, ds_min, ds_max, max_angle : optional
+        Accuracy and step controls (``drymount hbm --tol`` ...; default: ``[hbm]``
+        of the configuration, else ``hbm.HBMOptions``'s): the wanted accuracy
+        relative to the peak, the cap on H of its adaptation (1..50), the arc-length
+        steps (scaled) and the largest tangent angle (rad).
     progress : bool
         Progress bar on stderr.
+
+    Raises
+    ------
+    drymount.hbm.options.OptionsError
+        (a ValueError) An argument out of its range, naming it, its value and what
+        is allowed; raised before any work.
     """
     import drymount.hbm as _hbm
 
-    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
-
-    # the CLI's and the config's limits (an unbounded H or N runs for hours)
-    _check_count("harmonics", harmonics, 1, MAX_HARMONICS)
-    _check_count("n_samples", n_samples, 3, MAX_N_SAMPLES)
     m = _model(model)
     fmin, fmax = _band(m, fmin_hz, fmax_hz)
+    opts = _hbm_options(m, harmonics, n_samples, tol=tol, max_harmonics=max_harmonics,
+                        ds_initial=ds_initial, ds_min=ds_min, ds_max=ds_max,
+                        max_angle=max_angle)
     return Curve(_hbm.frequency_response(m.system, fmin, fmax, harmonics=harmonics,
-                                         n_samples=n_samples,
-                                         options=m.config.hbm.options(),
+                                         n_samples=n_samples, options=opts,
                                          progress=progress), "hbm")
+
+
+def _check_resolution(m: Model, harmonics, n_samples) -> tuple[int, int | None]:
+    """H and N of a run (the arguments over ``[hbm]``), checked by hbm.options' one
+    check (the argument's name, or the configuration field a value came from)."""
+    from drymount.hbm.options import check_harmonics, check_samples
+
+    h = m.config.hbm
+    if harmonics is not None:
+        check_harmonics(harmonics)
+    H = h.harmonics if harmonics is None else harmonics
+    N = h.n_samples if n_samples is None else n_samples
+    if N is not None and (harmonics is not None or n_samples is not None):
+        check_samples(N, H, "n_samples" if n_samples is not None else "hbm.n_samples")
+    return H, N
+
+
+def _hbm_options(m: Model, harmonics, n_samples, **controls):
+    """The checked ``hbm.HBMOptions`` of a run: ``controls`` not None over ``[hbm]``."""
+    from drymount.hbm.options import check_harmonics
+
+    _check_resolution(m, harmonics, n_samples)
+    if controls.get("max_harmonics") is not None:
+        check_harmonics(controls["max_harmonics"], "max_harmonics")
+    return m.config.hbm.options(**controls)  # HBMOptions checks the others
 
 
 def modes(model, mode="all", amplitude_range=None, *, harmonics: int | None = None,
@@ -330,26 +366,12 @@ def modes(model, mode="all", amplitude_range=None, *, harmonics: int | None = No
         ``freq_hz``, ``damping_ratio``, ``harmonics``, ``slipping``), ``to_csv``,
         ``plot``.
     """
-    from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
     from drymount.hbm.modes import nonlinear_modes
 
-    _check_count("harmonics", harmonics, 1, MAX_HARMONICS)
-    _check_count("n_samples", n_samples, 3, MAX_N_SAMPLES)
     m = _model(model)
-    h = m.config.hbm
-    return nonlinear_modes(m.system, mode, amplitude_range,
-                           harmonics=h.harmonics if harmonics is None else harmonics,
-                           n_samples=h.n_samples if n_samples is None else n_samples,
-                           options=h.options())
-
-
-def _check_count(name: str, value, low: int, high: int) -> None:
-    """``value`` None or an integer in ``low..high``; else ValueError naming it."""
-    if value is None:
-        return
-    integer = isinstance(value, int) and not isinstance(value, bool)
-    if not integer or not low <= value <= high:
-        raise ValueError(f"`{name}` must be an integer in {low}..{high}, got {value!r}")
+    H, N = _check_resolution(m, harmonics, n_samples)
+    return nonlinear_modes(m.system, mode, amplitude_range, harmonics=H, n_samples=N,
+                           options=m.config.hbm.options())
 
 
 def _fmu_kw(backend: str, fmu_path) -> dict:

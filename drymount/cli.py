@@ -260,62 +260,50 @@ def cmd_export_xc(args) -> int:
     return EXIT_OK
 
 
+#: `drymount hbm`'s options by the API argument they set (to name them in messages)
+_HBM_OPTIONS = {"harmonics": "--harmonics", "n_samples": "--n-samples",
+                "max_harmonics": "--max-harmonics"}
+_HBM_CONTROLS = ("tol", "max_harmonics", "ds_initial", "ds_min", "ds_max", "max_angle")
+
+
 def cmd_hbm(args) -> int:
-    from drymount.config import MAX_HARMONICS
+    from drymount.api import Model, hbm
+    from drymount.hbm.options import CountError, OptionsError
 
     cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
-    H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
-    n_samples = args.n_samples if args.n_samples is not None else cfg.hbm.n_samples
-    if n_samples is not None and n_samples < 2 * H + 1:
-        raise UsageError(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
-                         f"got {n_samples}")
-    if args.max_harmonics is not None and args.max_harmonics > MAX_HARMONICS:
-        raise UsageError(f"--max-harmonics must be an integer in 1..{MAX_HARMONICS} "
-                         f"(the configuration's limit on H), got {args.max_harmonics}")
     out = outputs(args, cfg, "hbm")
     events = events_sibling(out)
     backbone = (sibling(out, "_backbone.csv", "backbone file") if args.backbone
                 else None)
-    import drymount.hbm as hbm
-
-    try:
-        opts = cfg.hbm.options(**{k: getattr(args, k) for k in (
-            "tol", "max_harmonics", "ds_initial", "ds_min", "ds_max", "max_angle")})
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
+    controls = {k: getattr(args, k) for k in _HBM_CONTROLS}
     # --harmonics / --n-samples fix H / N; [hbm] values are where --tol starts
-    with partial_on_stop(out, "points"):
-        fr = hbm.frequency_response(cfg.system, fmin, fmax, harmonics=args.harmonics,
-                                    n_samples=args.n_samples, options=opts,
-                                    progress=not args.quiet)
+    try:
+        with partial_on_stop(out, "points"):
+            fr = hbm(Model(cfg), fmin, fmax, harmonics=args.harmonics,
+                     n_samples=args.n_samples, progress=not args.quiet,
+                     **controls).result
+    except CountError as exc:  # checked before any work, named as the option
+        raise UsageError(exc.named(_HBM_OPTIONS.get(exc.field, f"`{exc.field}`"))) \
+            from None
+    except OptionsError as exc:
+        raise UsageError(str(exc)) from None
     _write_with(out, fr.to_csv,
                 partial=None if fr.success else f"numerical failure: {fr.message}")
     _write_with(events, fr.events_to_csv)
     _info(f"wrote {out} ({len(fr.freq_hz)} points, H = {fr.harmonics}, "
           f"N = {fr.n_samples or 'closed forms'}) and {events} (folds and peaks)")
-    modes = _write_backbone(cfg, fr, opts, backbone) if backbone else None
+    modes = (_write_backbone(cfg, fr, cfg.hbm.options(**controls), backbone)
+             if backbone else None)
     if args.plot is not None:
         _write_with(args.plot, lambda p: _plot_hbm(fr, p, args.log_freq, modes))
         _info(f"wrote {args.plot}")
     _print_hbm_accuracy(fr)
     if fr.family_summary():
         print(f"  {fr.family_summary()}")
+    _print_hbm_summary(cfg.name, fr)
     if len(fr.freq_hz):
-        import numpy as np
-
-        f_peak, t_peak = fr.transmissibility_max()  # located, as the DOF peaks
-        peak = _peak_line(cfg.name, f_peak, t_peak) if t_peak == t_peak else ""
-        if peak:
-            print(f"{peak}; {len(fr.turning_points)} turning point(s); "
-                  f"{int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
-            for direction in ("up", "down"):
-                events = [f"jumps at {f:.4g} Hz" if k >= 0 else
-                          f"leaves the curve at {f:.4g} Hz (stability lost "
-                          f"without a fold)" for f, _, k in fr.sweep_jumps(direction)]
-                if events:
-                    print(f"  a slow sweep {direction} " + "; then ".join(events))
-            _print_bifurcations(fr, args.config)
+        _print_bifurcations(fr, args.config)
     if not fr.success:
         _err(f"harmonic balance did not complete: {fr.message}; the "
              f"{len(fr.freq_hz)} points computed so far are in {out}")
@@ -386,6 +374,25 @@ def _unstable_frequency(fr, e) -> float:
     st = np.asarray(fr.stable, bool)
     i = min(max(e.index, 1), len(st) - 1)
     return float(fr.freq_hz[i] if not st[i] else fr.freq_hz[i - 1])
+
+
+def _print_hbm_summary(name: str, fr) -> None:
+    """The located transmissibility peak, turning and unstable points, sweep jumps."""
+    if not len(fr.freq_hz):
+        return
+    import numpy as np
+
+    f_peak, t_peak = fr.transmissibility_max()  # located, as the DOF peaks
+    if t_peak != t_peak:
+        return
+    print(f"{_peak_line(name, f_peak, t_peak)}; {len(fr.turning_points)} turning "
+          f"point(s); {int(np.sum(~np.asarray(fr.stable, bool)))} unstable point(s)")
+    for direction in ("up", "down"):
+        jumps = [f"jumps at {f:.4g} Hz" if k >= 0 else
+                 f"leaves the curve at {f:.4g} Hz (stability lost "
+                 f"without a fold)" for f, _, k in fr.sweep_jumps(direction)]
+        if jumps:
+            print(f"  a slow sweep {direction} " + "; then ".join(jumps))
 
 
 def _print_hbm_accuracy(fr) -> None:

@@ -78,6 +78,23 @@ def _int_at_least(minimum: int, maximum: int | None = None):
     return parse
 
 
+def _harmonics_arg(text: str) -> int:
+    """A harmonic count, by hbm.options' one check of H (argparse names the option)."""
+    from drymount.hbm.options import CountError, check_harmonics
+
+    try:
+        n = int(text)
+    except ValueError:
+        n = text  # not an integer: the check says so
+    try:
+        return check_harmonics(n)
+    except CountError as exc:
+        raise argparse.ArgumentTypeError(exc.requirement) from None
+
+
+_harmonics_arg.__name__ = "harmonic count"
+
+
 def _path(text: str) -> Path:
     if not text.strip():
         raise argparse.ArgumentTypeError("the file name is empty")
@@ -141,7 +158,7 @@ def _hbm_accuracy_args(p) -> None:
                         "between CSV rows stays within tol/2")
     from drymount.config import MAX_HARMONICS
 
-    g.add_argument("--max-harmonics", type=_int_at_least(1, MAX_HARMONICS),
+    g.add_argument("--max-harmonics", type=_harmonics_arg,
                    default=None,
                    help=f"cap on H when --tol raises it, 1..{MAX_HARMONICS} (default "
                         f"25; 13 for systems of more than 3 DOF, the 6-DOF presets)")
@@ -306,7 +323,7 @@ def _cmd_hbm(sub) -> None:
               "drymount hbm sdof_cubic --harmonics 1 --fmin 2 --fmax 14 --out h1.csv",
               "drymount hbm my_engine.toml --harmonics 9"])
     _config_arg(p)
-    p.add_argument("--harmonics", "-H", type=_int_at_least(1, MAX_HARMONICS),
+    p.add_argument("--harmonics", "-H", type=_harmonics_arg,
                    default=None,
                    help=f"number of harmonics H, 1..{MAX_HARMONICS} (default: [hbm] "
                         f"harmonics of CONFIG, 7)")
@@ -637,5 +654,6 @@ def build_parser() -> argparse.ArgumentParser:
     # modes (drymount.modes_cmd)
     from drymount.modes_cmd import add_command as add_modes
 
-    add_modes(sub, _add, _config_arg, _int_at_least, _positive_float, _path)
+    add_modes(sub, _add, _config_arg, _int_at_least, _positive_float, _path,
+              harmonics_arg=_harmonics_arg)
     return parser

@@ -16,7 +16,8 @@ def _mode_spec(text: str) -> str | int:
     return int(text) if text.strip().isdigit() else text.strip()
 
 
-def add_command(sub, add, config_arg, int_at_least, positive_float, path) -> None:
+def add_command(sub, add, config_arg, int_at_least, positive_float, path, *,
+                harmonics_arg) -> None:
     """Add ``modes`` to the subparsers ``sub`` (the other arguments are the CLI's
     helpers of :mod:`drymount.cli_parser`)."""
     from drymount.config import MAX_HARMONICS, MAX_N_SAMPLES
@@ -44,7 +45,7 @@ def add_command(sub, add, config_arg, int_at_least, positive_float, path) -> Non
                    help="modal amplitudes a, kg^0.5 m, A0 < A1 (default per mode: from "
                         "0.1 to 10 times the deflections where the nonlinearities act: "
                         "slip displacement, knee, cubic scale)")
-    p.add_argument("--harmonics", "-H", type=int_at_least(1, MAX_HARMONICS),
+    p.add_argument("--harmonics", "-H", type=harmonics_arg,
                    default=None,
                    help=f"number of harmonics H, 1..{MAX_HARMONICS} (default: [hbm] "
                         f"harmonics of CONFIG, 7)")
@@ -86,13 +87,16 @@ def cmd_modes(args, load, usage_error) -> int:
     """Run ``drymount modes`` (``load``: the CLI's configuration loader)."""
     from drymount.cli_guard import outputs, partial_on_stop, write_with
     from drymount.hbm.modes import nonlinear_modes, select_modes
+    from drymount.hbm.options import CountError, check_samples
 
     cfg = load(args.config, args.overrides)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
     N = args.n_samples if args.n_samples is not None else cfg.hbm.n_samples
-    if N is not None and N < 2 * H + 1:
-        raise usage_error(f"--n-samples must be >= 2H + 1 = {2 * H + 1} for H = {H}, "
-                          f"got {N}")
+    if N is not None:
+        try:
+            check_samples(N, H)
+        except CountError as exc:
+            raise usage_error(exc.named("--n-samples")) from None
     rng = args.amplitude_range
     if rng is not None and not rng[0] < rng[1]:
         raise usage_error(f"--amplitude-range must satisfy A0 < A1, got A0 = "

@@ -14,18 +14,68 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:  # imported where used: the configuration's checks need no solver
     from drymount.hbm.continuation import ContinuationSettings
 
-__all__ = ["HBMOptions", "MAX_HARMONICS", "ADAPTIVE_MAX_HARMONICS",
-           "MULTI_DOF_MAX_HARMONICS"]
+__all__ = ["HBMOptions", "MAX_HARMONICS", "MAX_N_SAMPLES", "ADAPTIVE_MAX_HARMONICS",
+           "MULTI_DOF_MAX_HARMONICS", "OptionsError", "CountError", "check_harmonics",
+           "check_samples"]
 
 #: Largest number of harmonics accepted anywhere (a sanity bound: H = 7 already
 #: converges the friction systems to 1e-3; 50 harmonics cost ~50x more per Newton
-#: step). The configuration, the API and the CLI check against it.
+#: step). :func:`check_harmonics` is the one check against it.
 MAX_HARMONICS = 50
+#: Largest number of AFT samples per period accepted (64..1024 are used; 8192
+#: resolves the sharpest kink of the friction law at H = 50 many times over).
+MAX_N_SAMPLES = 8192
 #: Default cap on H of the ``tol`` adaptation (systems of up to MULTI_DOF DOF).
 ADAPTIVE_MAX_HARMONICS = 25
 #: Default cap on H for systems of more than MULTI_DOF DOF (the 6-DOF presets).
 MULTI_DOF_MAX_HARMONICS = 13
 MULTI_DOF = 3
+
+
+class OptionsError(ValueError):
+    """An invalid option of the harmonic balance (the message names the field, its
+    value and what is allowed); raised before any work."""
+
+
+class CountError(OptionsError):
+    """A harmonic or sample count out of its range. ``str()`` names the field in
+    backticks; :meth:`named` names it as the caller does (``--harmonics``)."""
+
+    def __init__(self, field: str, value, allowed: str):
+        self.field, self.value, self.allowed = field, value, allowed
+        super().__init__(self.named(f"`{field}`"))
+
+    @property
+    def requirement(self) -> str:
+        """The message without the field (argparse names the option itself)."""
+        return f"must be {self.allowed}, got {self.value!r}"
+
+    def named(self, name: str) -> str:
+        return f"{name} {self.requirement}"
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def check_harmonics(value, field: str = "harmonics") -> int:
+    """``value`` if it is a harmonic count H in 1..MAX_HARMONICS, else
+    :class:`CountError` naming ``field``. The one check of H: the configuration, the
+    API, the CLI's parser and :class:`HBMOptions` call it; the layers below trust
+    them."""
+    if not _is_int(value) or not 1 <= value <= MAX_HARMONICS:
+        raise CountError(field, value, f"an integer in 1..{MAX_HARMONICS}")
+    return value
+
+
+def check_samples(value, harmonics: int, field: str = "n_samples") -> int:
+    """``value`` if it is an AFT sample count N in 2H + 1..MAX_N_SAMPLES for
+    ``harmonics`` = H, else :class:`CountError` naming ``field``."""
+    low = 2 * harmonics + 1
+    if not _is_int(value) or not low <= value <= MAX_N_SAMPLES:
+        raise CountError(field, value, f"an integer in {low}..{MAX_N_SAMPLES} "
+                                       f"(>= 2H + 1 = {low} for H = {harmonics})")
+    return value
 
 
 @dataclass(frozen=True)
@@ -144,19 +194,21 @@ class HBMOptions:
         problems = []
         for f in fields(self):
             v = getattr(self, f.name)
+            if f.name in ("harmonics", "max_harmonics", "n_samples"):
+                problems += self._count_problem(f.name, v)
+                continue
             if f.name in ("stability", "error_estimate"):
                 if not isinstance(v, bool):
                     problems.append(f"`{f.name}` must be true or false, got {v!r}")
                 continue
-            if f.name in ("n_samples", "tol", "max_harmonics") and v is None:
+            if f.name == "tol" and v is None:
                 continue
             if f.name in ("refine_samples", "max_restarts"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                     problems.append(f"`{f.name}` must be an integer >= 0, got {v!r}")
                 continue
-            if f.name in ("harmonics", "n_samples", "n_norm", "max_newton", "max_steps",
-                          "n_peak", "stability_stride", "max_harmonics", "max_samples",
-                          "zigzag_refine"):
+            if f.name in ("n_norm", "max_newton", "max_steps", "n_peak",
+                          "stability_stride", "max_samples", "zigzag_refine"):
                 if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                     problems.append(f"`{f.name}` must be an integer >= 1, got {v!r}")
             elif not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
@@ -171,7 +223,20 @@ class HBMOptions:
         if not problems and self.restart_factor <= 1:
             problems.append(f"`restart_factor` must be > 1, got {self.restart_factor}")
         if problems:
-            raise ValueError("invalid HBMOptions: " + "; ".join(problems))
+            raise OptionsError("invalid HBMOptions: " + "; ".join(problems))
+
+    def _count_problem(self, name: str, value) -> list[str]:
+        if value is None and name != "harmonics":
+            return []
+        try:
+            if name == "n_samples":
+                if _is_int(self.harmonics):  # else harmonics' own problem says it
+                    check_samples(value, self.harmonics, name)
+            else:
+                check_harmonics(value, name)
+        except CountError as exc:
+            return [str(exc)]
+        return []
 
     def harmonics_cap(self, n_dof: int) -> int:
         """The cap on H of the ``tol`` adaptation for a system of ``n_dof`` DOF."""

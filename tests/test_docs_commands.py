@@ -10,10 +10,14 @@ Marks (an HTML comment line directly before a fenced block, agreed with the docs
   ``python3 -m pytest -m slow``).
 
 A docs/ page takes part when it has a line ``<!-- runnable -->``; README.md always
-does. The temporary folder holds links to the repository's ``examples/`` and
-``build_fmu.py`` (the commands name them relative to the repository root), nothing
-else. A leading ``python3 -m pip install ... &&`` is dropped: the test runs in the
-environment that is already installed, and must not change it.
+does. A page is read top to bottom, as a user follows it: its unmarked blocks run in
+order in one fresh temporary folder (a later block may use the files of an earlier
+one), one test per page; a slow block is a test of its own that first runs the
+page's unmarked blocks above it in its own fresh folder. The folder holds links to
+the repository's ``examples/`` and ``build_fmu.py`` (the commands name them relative
+to the repository root), nothing else. A leading ``python3 -m pip
+install ... &&`` is dropped: the test runs in the environment that is already
+installed, and must not change it.
 """
 
 from __future__ import annotations
@@ -63,16 +67,28 @@ def _pages() -> list[Path]:
     return [ROOT / "README.md", *docs]
 
 
+def page_cases(page: Path, rel) -> list:
+    """The tests of one page: ``(id, blocks, mark)`` with ``blocks`` the
+    ``(line, script)`` to run in order in one folder and ``mark`` None, ``"slow"``
+    or ``"skip: reason"``."""
+    blocks = command_blocks(page)
+    fast = [(line, script) for line, mark, _, script in blocks if not mark]
+    out = [(f"{rel}:{'+'.join(str(ln) for ln, _ in fast)}", fast, None)] if fast else []
+    for line, mark, reason, script in blocks:
+        if mark == "not-runnable":
+            out.append((f"{rel}:{line}", [], f"skip: not runnable: {reason}"))
+        elif mark == "slow":
+            above = [(ln, sc) for ln, sc in fast if ln < line]
+            out.append((f"{rel}:{line}", above + [(line, script)], "slow"))
+    return out
+
+
 def _cases():
     for page in _pages():
-        for line, mark, reason, script in command_blocks(page):
-            marks = []
-            if mark == "not-runnable":
-                marks.append(pytest.mark.skip(reason=f"not runnable: {reason}"))
-            elif mark == "slow":
-                marks.append(pytest.mark.slow)
-            name = f"{page.relative_to(ROOT)}:{line}"
-            yield pytest.param(script, id=name, marks=marks)
+        for name, blocks, mark in page_cases(page, page.relative_to(ROOT)):
+            marks = ([pytest.mark.skip(reason=mark[6:])] if mark and mark != "slow"
+                     else [pytest.mark.slow] if mark else [])
+            yield pytest.param(blocks, id=name, marks=marks)
 
 
 def test_marks_are_read(tmp_path):
@@ -84,15 +100,26 @@ def test_marks_are_read(tmp_path):
                                     (7, "slow", "", "a\nb"), (11, "", "", "c")]
     assert _PIP.sub("", "python3 -m pip install -e . && drymount demo") == \
         "drymount demo"
+    # unmarked blocks in order in one folder; a slow one after the fast ones above it
+    assert page_cases(page, "p.md") == [
+        ("p.md:11", [(11, "c")], None),
+        ("p.md:3", [], "skip: not runnable: a Dask cluster"),
+        ("p.md:7", [(7, "a\nb")], "slow")]
+    page.write_text("```sh\nx\n```\n<!-- slow -->\n```sh\ny\n```\n```sh\nz\n```\n",
+                    encoding="utf-8")
+    assert page_cases(page, "p.md") == [("p.md:1+8", [(1, "x"), (8, "z")], None),
+                                        ("p.md:5", [(1, "x"), (5, "y")], "slow")]
 
 
-@pytest.mark.parametrize("script", list(_cases()))
-def test_command_block_exits_0(script, tmp_path):
+@pytest.mark.parametrize("blocks", list(_cases()))
+def test_command_blocks_exit_0(blocks, tmp_path):
     for name in ("examples", "build_fmu.py"):
         (tmp_path / name).symlink_to(ROOT / name)
-    script = "\n".join(_PIP.sub("", ln) for ln in script.splitlines())
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ['PATH']}")
-    p = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", script], cwd=tmp_path,
-                       env=env, capture_output=True, text=True, timeout=HANG_S)
-    assert p.returncode == 0, (f"exit {p.returncode}\n{script}\n--- stderr:\n"
-                               f"{p.stderr[-4000:]}")
+    for line, script in blocks:
+        script = "\n".join(_PIP.sub("", ln) for ln in script.splitlines())
+        p = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", script],
+                           cwd=tmp_path, env=env, capture_output=True, text=True,
+                           timeout=HANG_S)
+        assert p.returncode == 0, (f"the block at line {line}: exit {p.returncode}\n"
+                                   f"{script}\n--- stderr:\n{p.stderr[-4000:]}")

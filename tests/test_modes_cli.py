@@ -49,7 +49,8 @@ def test_modes_writes_csv_plot_and_summary(tmp_path, capsys):
     (["--mode", "2"], "--mode: `mode` must be 'all', 1..1"),
     (["--amplitude-range", "1", "0.1"], "--amplitude-range must satisfy A0 < A1"),
     (["--amplitude-range", "0", "0.1"], "must be a finite number > 0"),
-    (["-H", "3", "--n-samples", "5"], "--n-samples must be >= 2H + 1 = 7"),
+    (["-H", "3", "--n-samples", "5"], "--n-samples must be an integer in 7..8192 "
+                                      "(>= 2H + 1 = 7 for H = 3), got 5"),
 ])
 def test_bad_input_exits_2_before_writing(argv, message, tmp_path, capsys):
     out = tmp_path / "m.csv"

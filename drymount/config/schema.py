@@ -32,6 +32,8 @@ BACKENDS = ("fmu", "inproc")
 RENAMED_BACKENDS = {"native": "inproc"}
 DIRECTIONS = ("up", "down")
 SPACINGS = ("linear", "log")
+# The bounds on H and N are drymount.hbm.options' MAX_HARMONICS and MAX_N_SAMPLES,
+# checked by its check_harmonics / check_samples; MAX_POINTS is config.limits'.
 #: Relative size below which the smallest eigenvalue of the linearised (stuck)
 #: stiffness counts as zero: the mounts leave a rigid-body motion free.
 SINGULAR_RTOL = 1e-10

@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 
 from drymount.hbm import systems as models
+from drymount.hbm.options import CountError, check_harmonics, check_samples
 from drymount.hbm.system import System
 from drymount.config.checks import (
     _Checker,
@@ -26,14 +27,24 @@ from drymount.config.schema import (
     DIRECTIONS,
     EXCITATION_KINDS,
     HBMSettings,
-    MAX_HARMONICS,
-    MAX_N_SAMPLES,
     MAX_POINTS,
     RENAMED_BACKENDS,
     SINGULAR_RTOL,
     SPACINGS,
     SweepSettings,
 )
+
+
+def _count(ck: _Checker, hb: dict, key: str, check, default=None):
+    """``[hbm] key`` checked by ``check`` (hbm.options' one check of H or N), its
+    problem added to ``ck``; ``default`` when absent, None when invalid."""
+    if key not in hb:
+        return default
+    try:
+        return check(hb[key], f"hbm.{key}")
+    except CountError as exc:
+        ck.add(str(exc))
+        return None
 
 
 # -- model tables ------------------------------------------------------------
@@ -88,19 +99,18 @@ def _settings(ck: _Checker, data: dict):
                         default=d.spacing)
     hb = ck.table(data, "hbm", "", required=False) or {}
     ck.keys(hb, "hbm", ALLOWED_KEYS["hbm"])
-    harmonics = ck.integer(hb, "harmonics", "hbm", minimum=1, maximum=MAX_HARMONICS,
-                           default=HBMSettings.harmonics)
+    harmonics = _count(ck, hb, "harmonics", check_harmonics,
+                       default=HBMSettings.harmonics)
     n_samples = None
     if harmonics is not None:
-        n_samples = ck.integer(hb, "n_samples", "hbm", minimum=2 * harmonics + 1,
-                               maximum=MAX_N_SAMPLES)
+        n_samples = _count(ck, hb, "n_samples",
+                           lambda v, f: check_samples(v, harmonics, f))
     hbm_extra = {k: ck.number(hb, k, "hbm", rule=">0", required=False)
                  for k in ("tol", "ds_initial", "ds_min", "ds_max", "max_angle")}
     if hbm_extra["tol"] is not None and not hbm_extra["tol"] < 0.5:
         ck.add(f"`hbm.tol` must be a number > 0 and < 0.5 (relative to the peak), "
                f"got {hbm_extra['tol']}")
-    hbm_extra["max_harmonics"] = ck.integer(hb, "max_harmonics", "hbm", minimum=1,
-                                            maximum=MAX_HARMONICS)
+    hbm_extra["max_harmonics"] = _count(ck, hb, "max_harmonics", check_harmonics)
     cs = ck.table(data, "cosim", "", required=False) or {}
     ck.keys(cs, "cosim", ALLOWED_KEYS["cosim"])
     if isinstance(cs.get("backend"), str) and cs["backend"] in RENAMED_BACKENDS:

@@ -15,7 +15,7 @@ import difflib
 import math
 
 from drymount.config import Config, ConfigError, config_from_dict
-from drymount.config.schema import MAX_HARMONICS
+from drymount.hbm.options import CountError, check_harmonics
 from drymount.design.space import (
     AXES,
     DEFAULT_CHUNK,
@@ -75,6 +75,16 @@ class _Reader:
             self.add(key, v, f"an integer {rng}")
             return None
         return v
+
+    def harmonics(self, key, default):
+        """A harmonic count, by hbm.options' one check of H."""
+        if key not in self.t:
+            return default
+        try:
+            return check_harmonics(self.t[key], f"{self.path}.{key}")
+        except CountError as exc:
+            self.problems.append(str(exc))
+            return None
 
     def choice(self, key, enum, default=None):
         if key not in self.t:
@@ -307,7 +317,7 @@ def _settings(problems, d: dict, cfg: Config):
         r.add("samples", samples, "a power of 2 for method \"sobol\" (its balance "
                                   "properties need it), e.g. 64")
     seed = r.integer("seed", 0, 0)
-    H = r.integer("harmonics", cfg.hbm.harmonics, 1, MAX_HARMONICS)
+    H = r.harmonics("harmonics", cfg.hbm.harmonics)
     band = r.band("band_hz", (cfg.sweep.fmin_hz, cfg.sweep.fmax_hz))
     chunk = r.integer("chunk", DEFAULT_CHUNK, 1)
     return method, samples, seed, H, band, chunk
