@@ -32,14 +32,14 @@ except (ImportError, AttributeError, OSError):  # no ctypes: hold a real referen
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability  # noqa: E402
 from pythonfmu.enums import Fmi2Status  # noqa: E402
 from pythonfmu.variables import Boolean, Integer, Real  # noqa: E402
+from drymount.fmu_src.interface import ALL_PARAMETER_FIELDS, AxisParameters  # noqa: E402
 
 _AXES = ("axial", "radial1", "radial2")
-_REAL_PARAMS = (("k1", 91870.0), ("kc", 0.0), ("k2", 513800.0), ("delta", 0.01225),
-                ("delta_neg", 0.01225), ("c", 150.0), ("kf", 60000.0), ("mu", 1.0),
-                ("n0", 0.0), ("spread", 0.0), ("fs_ratio", 1.0),
-                # the inclined friction element (friction_kind 1)
-                ("theta_deg", 60.0), ("k", 20000.0), ("kf2", 60000.0), ("mu1", 0.3),
-                ("mu2", 0.3), ("preload", 200.0))
+# The real parameters of every axis, from the FMU interface (the registry of elastic
+# laws and friction elements), at their defaults: the same set the harness asks for.
+_DEFAULTS = AxisParameters()
+_REAL_PARAMS = tuple((name, float(getattr(_DEFAULTS, name)))
+                     for name, kind, *_ in ALL_PARAMETER_FIELDS if kind == "Real")
 
 
 class NullMount(Fmi2Slave):
