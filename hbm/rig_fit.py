@@ -203,11 +203,17 @@ def _elastic_stiffness(model: RigModel, k1: float, amplitudes: np.ndarray
     return vals[inv]
 
 
+def _static_hydraulic(p: dict) -> float:
+    """The hydraulic mount's static stiffness ``kr + Ap^2 / (C1 + C2)``, N/m."""
+    return complex(hydraulic_complex_stiffness(_hydraulic(p), 0.0)).real
+
+
 def _rate_part(model: RigModel, p: dict, omega) -> np.ndarray:
-    """The linear frequency-dependent part of K* (no static stiffness), N/m."""
+    """The linear frequency-dependent part of K*, zero at omega = 0, N/m."""
     omega = np.asarray(omega, dtype=float)
     if model.kind == "hydraulic":
-        return np.array(hydraulic_complex_stiffness(_hydraulic(p), omega.tolist()))
+        return (np.array(hydraulic_complex_stiffness(_hydraulic(p), omega.tolist()))
+                - _static_hydraulic(p))
     return 1j * omega * p["c"] + _maxwell(model, p, omega)
 
 
@@ -216,7 +222,9 @@ def complex_stiffness(model: RigModel, params: dict, freq_hz, amplitude) -> np.n
     f, X = np.broadcast_arrays(np.asarray(freq_hz, float), np.asarray(amplitude, float))
     f, X = f.ravel(), X.ravel()
     K = _rate_part(model, params, 2 * np.pi * f)
-    if model.kind == "rubber":
+    if model.kind == "hydraulic":
+        K = K + _static_hydraulic(params)
+    else:
         K = K + _elastic_stiffness(model, params["k1"], X)
         if model.friction:
             F_s, F_c, _, _ = jenkins_coefficients(X, params["kf"], params["fs"])
@@ -242,9 +250,8 @@ def loop_force(model: RigModel, params: dict, test: LoopTest) -> np.ndarray:
     lin = np.zeros_like(spec)
     lin[idx] = _rate_part(model, params, omega) * spec[idx]
     F = np.fft.irfft(lin, u.size)
-    if model.kind == "hydraulic":   # its static stiffness on the mean and harmonics
-        k0 = complex(hydraulic_complex_stiffness(_hydraulic(params), 0.0)).real
-        return F + k0 * u
+    if model.kind == "hydraulic":   # its static stiffness on the measured deflection
+        return F + _static_hydraulic(params) * u
     k1 = params["k1"]
     F = F + k1 * u
     if model.elastic is not None and model.elastic.law != "linear":
