@@ -16,7 +16,8 @@ configuration loader accepts (paste it into a ``model = "sdof"`` or ``"quarter_c
 configuration, or give it to ``--mount`` of the next fit).
 
 Without ``--mount``, or with ``--maxwell``, ``--hydraulic``, ``--fix``, ``--fit-k1``
-or ``--no-friction``, a table or loop fit is :mod:`drymount.fit_dynamic`'s: the elastic
+or ``--no-friction``, ``drymount fit table|loops`` runs :mod:`drymount.fit_dynamic`
+instead (``drymount.cli.cmd_fit`` picks it): the elastic
 stiffness fitted with friction, damper and Maxwell branches (or the hydraulic mount)
 over every frequency and amplitude at once.
 """
@@ -326,11 +327,10 @@ def _usage(message: str) -> int:
 
 def main(args) -> int:
     """Run ``drymount fit`` (see the module docstring); return the exit status."""
-    if args.kind in ("loops", "table"):
-        from drymount import fit_dynamic
-
-        if fit_dynamic.wanted(args):   # the frequency-dependent model, k1 fitted
-            return fit_dynamic.main(args)
+    if args.kind in ("loops", "table") and args.mount is None:
+        return _usage(f"`drymount fit {args.kind}` here needs --mount: the elastic law "
+                      f"(without it `drymount fit` runs drymount.fit_dynamic, which "
+                      f"fits k1 too)")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     try:

@@ -5,7 +5,7 @@ N`` Maxwell branches, or ``--hydraulic`` (the inertia-track mount, ``--decoupler
 fitted over the whole table or every loop at once, with the elastic stiffness k1
 fitted too (``--mount`` gives the law's shape and, without ``--fit-k1``, its k1).
 ``--fix NAME=VALUE`` holds parameters; ``--no-friction`` leaves the Jenkins element
-out. :mod:`drymount.fit` sends a table or loop fit here when any of these is asked
+out. ``drymount.cli.cmd_fit`` sends a table or loop fit here when any of these is asked
 for, or when ``--mount`` is not given.
 
 Writes into ``--out``: ``fit.csv`` (every parameter, standard error, unit, fixed or
@@ -206,8 +206,9 @@ def main(args) -> int:
             amp = np.array([p.amplitude for p in data])
             K = np.array([p.K for p in data])
             rows = table_residuals(fit, data)
+            n_amp = len(set(amp.tolist()))
             what = (f"{len(data)} rows, {freq.min():.4g}-{freq.max():.4g} Hz, "
-                    f"{len(set(amp.tolist()))} amplitudes")
+                    f"{n_amp} amplitude{'' if n_amp == 1 else 's'}")
     except DataError as exc:
         print(f"drymount: error: bad data: {exc}", file=sys.stderr)
         return 2
