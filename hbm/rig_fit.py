@@ -32,7 +32,8 @@ the deflection's first ``test.harmonics`` harmonics, exact for periodic motion).
 The fit (:func:`fit_table`, :func:`fit_loops`) is ``scipy.optimize.least_squares``
 over the logarithms of the free parameters (all positive; scale free), from several
 starts computed from the data (the loop fit starts from a table fit to the loops'
-fundamentals). Standard errors: ``cov(log p) = s^2 (J^T J)^-1`` with J the Jacobian
+fundamentals; the Maxwell branches are numbered by rising relaxation frequency).
+Standard errors: ``cov(log p) = s^2 (J^T J)^-1`` with J the Jacobian
 of the residuals in the log parameters at the optimum and ``s^2 = RSS / (n - p)``,
 ``se(p) = p se(log p)`` (first order).
 """
@@ -398,6 +399,7 @@ def _solve(model: RigModel, resid, starts, y, residual_unit: str,
     params = {nm: float(params[nm]) for nm in model.names}
     stderr = {nm: 0.0 for nm in model.names}
     stderr.update(dict(zip(free, (vals * se_log).tolist(), strict=True)))
+    params, stderr = _order_branches(model, params, stderr)
     yc = y - y.mean()
     tss = float(yc @ yc)
     return RigFit(model=model.label, params=params, stderr=stderr, rss=rss,
@@ -406,6 +408,24 @@ def _solve(model: RigModel, resid, starts, y, residual_unit: str,
                   status=FitStatus.CONVERGED if res.success else
                   FitStatus.NOT_CONVERGED, message=str(res.message), rig=model,
                   sigma=math.sqrt(rss / dof), residual_unit=residual_unit)
+
+
+def _order_branches(model: RigModel, params: dict, stderr: dict
+                    ) -> tuple[dict, dict]:
+    """The Maxwell branches numbered by rising relaxation frequency k_i / (2 pi c_i)
+    (the fit's order is arbitrary: any permutation fits equally). Branches with a
+    fixed parameter keep their numbers."""
+    idx = range(1, model.maxwell + 1)
+    if model.maxwell < 2 or any(f"maxwell{i}_{q}" in model.fixed for i in idx
+                                for q in "kc"):
+        return params, stderr
+    order = sorted(idx, key=lambda i: params[f"maxwell{i}_k"] / params[f"maxwell{i}_c"])
+    p, se = dict(params), dict(stderr)
+    for new, old in zip(idx, order, strict=True):
+        for q in "kc":
+            p[f"maxwell{new}_{q}"] = params[f"maxwell{old}_{q}"]
+            se[f"maxwell{new}_{q}"] = stderr[f"maxwell{old}_{q}"]
+    return p, se
 
 
 def _check_points(points, model: RigModel) -> list[StiffnessPoint]:

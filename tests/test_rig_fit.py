@@ -345,3 +345,26 @@ def test_cli_hydraulic_table_writes_fit_residuals_and_plot(tmp_path, capsys):
     assert main(["fit", "table", str(data), "--hydraulic", "--fix", "Ap=0.003",
                  "--out", str(out)]) == 2
     assert "fix Ap and one of kr, C1, C2" in capsys.readouterr().err
+
+
+def test_fit_k1_of_a_given_law_and_bad_options(tmp_path, capsys):
+    # the halved mount's piecewise law (knee 12.25 mm) with its k1 refitted from the
+    # example loops and table (examples/data, generated from k1 = 45 935 N/m)
+    data = Path(__file__).resolve().parents[1] / "examples" / "data"
+    for kind, name in (("loops", "rig_loops.csv"), ("table",
+                                                    "rig_dynamic_stiffness.csv")):
+        out = tmp_path / kind
+        assert main(["fit", kind, str(data / name), "--mount", "sdof_halved",
+                     "--fit-k1", "--out", str(out), "--no-plot"]) == 0
+        assert "piecewise elastic + Jenkins + damper" in capsys.readouterr().out
+        rows = {r["parameter"]: r for r in _csv_rows(out / "fit.csv")}
+        assert rows["k1"]["how"] == "fitted"
+        assert abs(float(rows["k1"]["value"]) - 45935.0) / 45935.0 < 0.01, kind
+        assert "k2 = 256900.0" in (out / "mount.toml").read_text()
+    for bad, message in ((["--maxwell", "-1"], "from 0 to 8"),
+                         (["--fix", "c"], "must be NAME=VALUE"),
+                         (["--fix", "kq=1"], "'kq' is not one of"),
+                         (["--decoupler"], "--decoupler needs --hydraulic")):
+        assert main(["fit", "table", str(data / "rig_dynamic_stiffness.csv"),
+                     "--out", str(tmp_path / "bad")] + bad) == 2
+        assert message in capsys.readouterr().err, bad
