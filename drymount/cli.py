@@ -546,6 +546,8 @@ def cmd_demo(args) -> int:
 
 def cmd_fit(args) -> int:
     _check_out_dir(args.out, "--out")
+    if args.kind in ("loops", "table") and _lead_module("fit_dynamic").wanted(args):
+        return _lead_module("fit_dynamic").main(args)   # k1 fitted too (issue 28)
     return _lead_module("fit").main(args)
 
 

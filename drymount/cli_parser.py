@@ -507,6 +507,9 @@ def _cmd_fit(sub) -> None:
                       with the elastic law of --mount
              table    dynamic stiffness and loss angle vs frequency and amplitude:
                       kf, Fs and c with the elastic law of --mount
+             Without --mount (or with --maxwell, --hydraulic, --fix, --fit-k1,
+             --no-friction) a table or loop fit fits k1 too, with Maxwell branches
+             or the hydraulic mount, and writes residuals.csv as well.
              Writes fit.csv (parameters, standard errors, R^2, AIC), fit.png and
              mount.toml (a [mount] table for a configuration) into --out. The CSV
              header gives every column's unit, e.g. `deflection [mm],force [N]`
@@ -528,6 +531,22 @@ def _cmd_fit(sub) -> None:
                         "file (e.g. the mount.toml of `fit elastic`) or a preset")
     p.add_argument("--fix-c", action="store_true",
                    help="loops/table: keep c of --mount instead of fitting it")
+    # the frequency-dependent model (drymount/fit_dynamic.py); issue 28
+    p.add_argument("--maxwell", type=int, default=0, metavar="N",
+                   help="loops/table: N Maxwell branches (spring + damper in series) "
+                        "in parallel, the rubber's frequency dependence")
+    p.add_argument("--hydraulic", action="store_true",
+                   help="loops/table: fit the hydraulic (inertia-track) mount; needs "
+                        "--fix Ap=... and one of kr, C1, C2 fixed")
+    p.add_argument("--decoupler", action="store_true",
+                   help="with --hydraulic: the decoupler passage too")
+    p.add_argument("--no-friction", dest="friction", action="store_false",
+                   help="loops/table: no friction element in the model")
+    p.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
+                   help="loops/table: hold a parameter (SI units), e.g. c=0; repeat")
+    p.add_argument("--fit-k1", action="store_true",
+                   help="loops/table: fit k1 of the --mount law too (without --mount "
+                        "a linear law's k1 is always fitted)")
     p.add_argument("--out", type=_path, default=Path("fit"), help="output folder")
     p.add_argument("--no-plot", dest="plot", action="store_false",
                    help="do not draw fit.png")

@@ -14,6 +14,12 @@ Writes into ``--out``: ``fit.csv`` (every parameter with its standard error, R^2
 AIC), a plot of data and fits, and ``mount.toml``, a ``[mount]`` table that the
 configuration loader accepts (paste it into a ``model = "sdof"`` or ``"quarter_car"``
 configuration, or give it to ``--mount`` of the next fit).
+
+Without ``--mount``, or with ``--maxwell``, ``--hydraulic``, ``--fix``, ``--fit-k1``
+or ``--no-friction``, ``drymount fit table|loops`` runs :mod:`drymount.fit_dynamic`
+instead (``drymount.cli.cmd_fit`` picks it): the elastic
+stiffness fitted with friction, damper and Maxwell branches (or the hydraulic mount)
+over every frequency and amplitude at once.
 """
 
 from __future__ import annotations
@@ -322,9 +328,9 @@ def _usage(message: str) -> int:
 def main(args) -> int:
     """Run ``drymount fit`` (see the module docstring); return the exit status."""
     if args.kind in ("loops", "table") and args.mount is None:
-        return _usage(f"`drymount fit {args.kind}` needs --mount: the elastic law (the "
-                      f"mount.toml of `drymount fit elastic`, a TOML file with "
-                      f"[mount], or a preset such as sdof_halved)")
+        return _usage(f"`drymount fit {args.kind}` here needs --mount: the elastic law "
+                      f"(without it `drymount fit` runs drymount.fit_dynamic, which "
+                      f"fits k1 too)")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     try:

@@ -1,14 +1,17 @@
 """Measured rig data from CSV files with units in the header.
 
-A rig file is a CSV table whose header names every column with its unit in square
-brackets, e.g. ``deflection [mm],force [kN]``; lines starting with ``#`` are comments.
+A rig file is a CSV table whose header names every column with its unit, in one of
+the conventions rig software writes: ``deflection [mm]``, ``deflection (mm)`` or
+``deflection_mm`` (``stiffness_N_per_m``: ``_per_`` for ``/``; units match ignoring
+case when that is unambiguous); lines starting with ``#`` are comments.
 Values are converted to SI. Three kinds are read (``docs/design-your-own-mount.md``):
 
 - quasi-static force-deflection curve: ``deflection``, ``force``;
 - harmonic-test loops: ``test`` (a label, no unit), ``time``, ``deflection``,
   ``force`` (each test an integer number of steady-state periods);
-- dynamic-stiffness table: ``frequency``, ``amplitude``, ``stiffness`` (|K*|),
-  ``loss angle``.
+- dynamic-stiffness table: ``frequency``, ``amplitude``, ``stiffness`` (|K*|) and
+  ``loss angle``, or ``storage stiffness`` (K') and ``loss stiffness`` (K''); the CSV
+  of ``drymount characterise`` is one (its rows at zero preload are read).
 
 Every problem (missing column or unit, unknown unit, a cell that is not a number, a
 NaN) raises :class:`hbm.identify.DataError` naming the file, the line and the value.
@@ -28,7 +31,7 @@ import numpy as np
 from drymount.hbm.identify import DataError, LoopTest, StiffnessPoint
 
 __all__ = ["UNITS", "RigTable", "read_table", "read_curve", "read_loops",
-           "read_stiffness_table"]
+           "read_stiffness_table", "parse_header_cell", "TABLE_PAIRS"]
 
 _LENGTH = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
 #: Accepted units of each quantity and their factor to SI.
@@ -41,12 +44,71 @@ UNITS = {
     "stiffness": {"N/m": 1.0, "N/mm": 1e3, "kN/m": 1e3, "kN/mm": 1e6},
     "loss angle": {"deg": 1.0, "rad": 180.0 / math.pi},
 }
+_STIFFNESS = UNITS["stiffness"]
+UNITS.update({
+    "storage stiffness": _STIFFNESS,     # K' = Re K*
+    "loss stiffness": _STIFFNESS,        # K'' = Im K*
+    "preload": UNITS["force"],           # drymount characterise's static force
+})
+#: Columns a dynamic-stiffness table may carry besides frequency and amplitude:
+#: |K*| and the loss angle, or K' and K''; a preload column selects the unloaded rows.
+TABLE_PAIRS = (("stiffness", "loss angle"), ("storage stiffness", "loss stiffness"))
 #: Other spellings of the column names (lower case).
 ALIASES = {"displacement": "deflection", "u": "deflection", "f": "force",
            "t": "time", "freq": "frequency", "x": "amplitude",
            "dynamic stiffness": "stiffness", "|k*|": "stiffness",
-           "loss_angle": "loss angle", "delta": "loss angle", "phase": "loss angle"}
-_HEADER = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(\[(?P<unit>[^\]]*)\])?\s*$")
+           "loss_angle": "loss angle", "delta": "loss angle", "phase": "loss angle",
+           "k'": "storage stiffness", "k real": "storage stiffness",
+           "storage": "storage stiffness", "k''": "loss stiffness",
+           "k imag": "loss stiffness", "frequency hz": "frequency"}
+#: The three header conventions of rig software: ``name [unit]``, ``name (unit)``
+#: and ``name_unit`` (``stiffness_N_per_m``, ``freq_hz``: drymount's own CSVs).
+_HEADER = re.compile(r"^\s*(?P<name>[^\[\]()]+?)\s*(\[(?P<unit>[^\]]*)\]|"
+                     r"\((?P<unit2>[^)]*)\))?\s*$")
+
+
+def _quantity(name: str) -> str:
+    """The quantity a column name means (lower case, ``_`` as a space, aliases)."""
+    name = " ".join(name.strip().lower().replace("_", " ").split())
+    return ALIASES.get(name, name)
+
+
+def _unit(unit: str, allowed: dict) -> str | None:
+    """``unit`` as a key of ``allowed``: exact, with ``_per_`` as ``/``, or ignoring
+    case when that is unambiguous (``hz``, ``n_per_mm``); None if none."""
+    unit = unit.strip()
+    for u in (unit, re.sub(r"[_ ]per[_ ]", "/", unit)):
+        if u in allowed:
+            return u
+        same = [a for a in allowed if a.lower() == u.lower()]
+        if len(same) == 1:
+            return same[0]
+    return None
+
+
+def parse_header_cell(cell: str, known) -> tuple[str, str | None]:
+    """``(quantity, unit text or None)`` of one header cell, for each convention:
+    ``name [unit]``, ``name (unit)``, ``name_unit`` (the last split of the name at an
+    underscore whose left part is a quantity of ``known`` and whose right part is one
+    of its units; else the right part of the first split whose left part is a
+    quantity, so that a wrong unit is named)."""
+    m = _HEADER.match(cell)
+    if m and (m["unit"] is not None or m["unit2"] is not None):
+        return _quantity(m["name"]), (m["unit"] if m["unit"] is not None
+                                      else m["unit2"])
+    text = cell.strip()
+    whole = _quantity(text)
+    if whole in known:
+        return whole, None
+    cuts = [i for i, ch in enumerate(text) if ch == "_"]
+    wrong = None
+    for i in reversed(cuts):
+        name, unit = _quantity(text[:i]), text[i + 1:]
+        if name in known:
+            if name in UNITS and _unit(unit, UNITS[name]) is not None:
+                return name, unit
+            wrong = wrong or (name, unit)
+    return wrong or (whole, None)
 
 
 @dataclass(frozen=True)
@@ -59,31 +121,30 @@ class RigTable:
     lines: list  # file line number of each data row (1-based)
 
 
-def _header(path: Path, cells: list[str], quantities, text_column) -> dict:
-    """Map each wanted quantity to ``(column index, factor to SI)``."""
+def _header(path: Path, cells: list[str], quantities, text_column,
+            optional=()) -> dict:
+    """Map each wanted quantity to ``(column index, factor to SI)`` (the ``optional``
+    ones only when present)."""
     found, problems = {}, []
+    known = set(quantities) | set(optional) | ({text_column} if text_column else set())
     for i, cell in enumerate(cells):
-        m = _HEADER.match(cell)
-        if not m:
-            continue
-        name = m["name"].strip().lower()
-        name = ALIASES.get(name, name)
+        name, unit = parse_header_cell(cell, known)
         if name == text_column:
             found[name] = (i, None)
             continue
-        if name not in quantities:
+        if name not in known or name in found:
             continue
         allowed = UNITS[name]
-        unit = (m["unit"] or "").strip()
-        if not unit:
+        key = _unit(unit, allowed) if unit else None
+        if not unit or not unit.strip():
             problems.append(f"{path}: column {cell.strip()!r} has no unit; write it as "
                             f"`{name} [{next(iter(allowed))}]` (allowed units: "
                             f"{', '.join(allowed)})")
-        elif unit not in allowed:
-            problems.append(f"{path}: column {cell.strip()!r} has unit {unit!r}; "
-                            f"allowed: {', '.join(allowed)}")
+        elif key is None:
+            problems.append(f"{path}: column {cell.strip()!r} has unit "
+                            f"{unit.strip()!r}; allowed: {', '.join(allowed)}")
         else:
-            found[name] = (i, allowed[unit])
+            found[name] = (i, allowed[key])
     wanted = list(quantities) + ([text_column] if text_column else [])
     for q in wanted:
         if q not in found and not any(q in p for p in problems):
@@ -95,8 +156,10 @@ def _header(path: Path, cells: list[str], quantities, text_column) -> dict:
     return found
 
 
-def read_table(path, quantities, text_column: str | None = None) -> RigTable:
-    """Read the columns ``quantities`` (keys of ``UNITS``) of a rig CSV file, in SI."""
+def read_table(path, quantities, text_column: str | None = None,
+               optional=()) -> RigTable:
+    """Read the columns ``quantities`` (keys of ``UNITS``) of a rig CSV file, in SI,
+    and those of ``optional`` that it has."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
@@ -108,7 +171,7 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
                          f"0x{exc.object[exc.start]:02x}); save the file as UTF-8 "
                          f"CSV"]) from None
     if text_column is None:  # numbers only: parsed in C (1e6 rows in about a second)
-        table = _numeric_table(path, text, quantities)
+        table = _numeric_table(path, text, quantities, optional)
         if table is not None:
             return table
     rows = [(n, r) for n, r in enumerate(csv.reader(text.splitlines()), start=1)
@@ -116,7 +179,8 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
     if not rows:
         raise DataError([f"{path}: no header line (e.g. `deflection [m],force [N]`)"])
     (_, head), body = rows[0], rows[1:]
-    cols = _header(path, head, quantities, text_column)
+    cols = _header(path, head, quantities, text_column, optional)
+    quantities = [q for q in list(quantities) + list(optional) if q in cols]
     values = {q: [] for q in quantities}
     labels = [] if text_column else None
     problems = []
@@ -145,7 +209,8 @@ def read_table(path, quantities, text_column: str | None = None) -> RigTable:
                     [line for line, _ in body])
 
 
-def _numeric_table(path: Path, text: str, quantities) -> RigTable | None:
+def _numeric_table(path: Path, text: str, quantities,
+                   optional=()) -> RigTable | None:
     """The table of a file of plain numbers (comment lines only before the header,
     no quotes, no blank lines), read by numpy; None when anything is unusual, and the
     line-by-line reader, which names the line of each problem, reads it instead."""
@@ -164,7 +229,8 @@ def _numeric_table(path: Path, text: str, quantities) -> RigTable | None:
     if any(ch in text[pos:] for ch in '"#\r') or "\n\n" in body or not body.strip():
         return None
     head = next(csv.reader([header]))
-    cols = _header(path, head, quantities, None)
+    cols = _header(path, head, quantities, None, optional)
+    quantities = [q for q in list(quantities) + list(optional) if q in cols]
     try:
         arr = np.loadtxt(io.StringIO(body), delimiter=",", ndmin=2, comments=None,
                          dtype=float)
@@ -197,9 +263,35 @@ def read_loops(path) -> list[LoopTest]:
 
 
 def read_stiffness_table(path) -> list[StiffnessPoint]:
-    """Rows of a dynamic-stiffness table (zero preload)."""
-    t = read_table(path, ("frequency", "amplitude", "stiffness", "loss angle"))
+    """Rows of a dynamic-stiffness table (zero preload).
+
+    Columns ``frequency`` and ``amplitude`` and either ``stiffness`` (|K*|) and
+    ``loss angle`` or ``storage stiffness`` (K') and ``loss stiffness`` (K''), in any
+    of the header conventions (``drymount characterise``'s ``freq_hz``,
+    ``stiffness_N_per_m``, ... included). A ``preload`` column (characterise's
+    ``preload_N``) selects the rows at zero preload: the fits model the unloaded
+    mount."""
+    pairs = [q for pair in TABLE_PAIRS for q in pair]
+    t = read_table(path, ("frequency", "amplitude"), optional=pairs + ["preload"])
     c = t.columns
-    return [StiffnessPoint(float(f), float(a), float(k), float(d)) for f, a, k, d in
-            zip(c["frequency"], c["amplitude"], c["stiffness"], c["loss angle"],
-                strict=True)]
+    pair = next((pr for pr in TABLE_PAIRS if all(q in c for q in pr)), None)
+    if pair is None:
+        raise DataError([f"{t.path}: a dynamic-stiffness table needs the columns "
+                         f"`stiffness [N/m]` and `loss angle [deg]`, or "
+                         f"`storage stiffness [N/m]` (K') and `loss stiffness [N/m]` "
+                         f"(K''); found {', '.join(sorted(c)) or 'neither'}"])
+    rows = np.arange(c["frequency"].size)
+    if "preload" in c:
+        rows = np.flatnonzero(c["preload"] == 0.0)
+        if not rows.size:
+            loads = ", ".join(f"{x:g}" for x in sorted(set(c["preload"].tolist())))
+            raise DataError([f"{t.path}: `preload` is {loads} N in every row; the fit "
+                             f"models the unloaded mount and needs rows at preload 0 "
+                             f"(run `drymount characterise` with `--preloads 0`)"])
+    if pair[0] == "stiffness":
+        mag, ang = c["stiffness"], c["loss angle"]
+    else:
+        K = c["storage stiffness"] + 1j * c["loss stiffness"]
+        mag, ang = np.abs(K), np.degrees(np.angle(K))
+    return [StiffnessPoint(float(c["frequency"][i]), float(c["amplitude"][i]),
+                           float(mag[i]), float(ang[i])) for i in rows]

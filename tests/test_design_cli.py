@@ -119,10 +119,13 @@ def test_bad_curve_files_exit_2_with_the_problem(tmp_path, capsys, text, message
     assert message in capsys.readouterr().err
 
 
-def test_friction_fit_needs_the_elastic_law(tmp_path, capsys):
+def test_friction_fit_without_the_elastic_law_fits_k1(tmp_path, capsys):
+    # issue 28: without --mount the loop fit fits a linear law's k1 too (the loops
+    # stay inside the knee of sdof_halved, where its law is linear)
     assert main(["fit", "loops", str(DATA / "rig_loops.csv"), "--out",
-                 str(tmp_path)]) == 2
-    assert "needs --mount" in capsys.readouterr().err
+                 str(tmp_path), "--no-plot"]) == 0
+    assert "linear elastic + Jenkins + damper" in capsys.readouterr().out
+    assert abs(_mount(tmp_path).k1 - HALVED.k1) / HALVED.k1 < RTOL_ELASTIC
     assert main(["fit", "loops", str(DATA / "rig_loops.csv"), "--mount", "nope",
                  "--out", str(tmp_path)]) == 2
     assert "neither a file nor a preset" in capsys.readouterr().err
