@@ -134,4 +134,5 @@ def structure_event_indicators(structure: Element, ref: dict[str, str]) -> None:
     """ModelStructure's EventIndicator elements (FMI 3.0)."""
     for axis in AXES:
         for name in EVENT_INDICATORS:
-            SubElement(structure, "EventIndicator", valueReference=ref[f"{name}_{axis}"])
+            SubElement(structure, "EventIndicator",
+                       valueReference=ref[f"{name}_{axis}"])
