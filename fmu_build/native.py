@@ -646,7 +646,8 @@ def _documentation(target: NativeTarget, skipped: dict[str, str]) -> bytes:
                     f"</p>" if skipped else "")
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{ident}</title></head><body>
-<h1>{ident}: friction-damped engine mount (FMI {target.fmi}.0 Co-Simulation, C)</h1>
+<h1>{ident}: friction-damped engine mount (FMI {target.fmi}.0 Co-Simulation and Model
+Exchange, C)</h1>
 <p>The native build of drymount's FrictionMount FMU: the same variables, units, start
 values and default experiment as the PythonFMU build (FrictionMount.fmu), the mount law
 ported to C99. It needs only the C standard library and libm: no Python.</p>
