@@ -1,4 +1,5 @@
-"""Native (C99) builds of the FrictionMount FMU: FMI 2.0 and FMI 3.0 Co-Simulation.
+"""Native (C99) builds of the FrictionMount FMU: FMI 2.0 and FMI 3.0, Co-Simulation and
+Model Exchange (fmu_build/native_me.py).
 
 ``build_native_fmu(fmi=2)`` writes ``dist/FrictionMountNative.fmu`` (FMI 2.0) and
 ``build_native_fmu(fmi=3)`` ``dist/FrictionMountNative3.fmu`` (FMI 3.0). Both hold the
@@ -42,6 +43,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
+from drymount.fmu_build import native_me
 from drymount.fmu_build.extras import fmu_extras
 from drymount.fmu_src import interface
 from drymount.fmu_src.friction import FRICTION_ELEMENTS
@@ -52,7 +54,9 @@ __all__ = ["CFLAGS", "COMPILE", "NativeBuild", "NativeBuildError", "NativeTarget
            "variables_header", "write_zip"]
 
 SOURCE_DIR = Path(__file__).resolve().parent.parent / "fmu_src" / "native"
-GLUE = {2: ("fmi2_api.h", "fmi2_glue.c"), 3: ("fmi3_api.h", "fmi3_glue.c")}
+#: The glue of each FMI version: Co-Simulation and shared calls, Model Exchange.
+GLUE = {2: ("fmi2_api.h", "fmi2_glue.c", "fmi2_me.c"),
+        3: ("fmi3_api.h", "fmi3_glue.c", "fmi3_me.c")}
 #: Sources shared by both FMI versions (every file of fmu_src/native but the glue:
 #: the law, one file per friction element, the messages, the model), then the glue of
 #: each; plus the generated friction_table.h and model_variables.h.
@@ -269,7 +273,8 @@ def write_law_sources(folder) -> list[Path]:
     for name in COMMON_SOURCES:
         (folder / name).write_bytes((SOURCE_DIR / name).read_bytes())
     (folder / "friction_table.h").write_text(friction_table_header())
-    return [folder / n for n in COMMON_SOURCES if n.endswith(".c") and n != "model.c"]
+    return [folder / n for n in COMMON_SOURCES if n.endswith(".c")
+            and n not in ("model.c", "me.c")]  # the instance and its ME
 
 
 def _variables(target: NativeTarget) -> list[tuple[int, interface.Variable]]:
@@ -279,6 +284,7 @@ def _variables(target: NativeTarget) -> list[tuple[int, interface.Variable]]:
         out.append((len(out), interface.Variable(
             "time", "Real", "independent", "continuous", None, "s",
             "simulation time")))
+    out += [(len(out) + i, var) for i, var in enumerate(native_me.me_variables())]
     return out
 
 
@@ -287,6 +293,9 @@ def _role(var: interface.Variable) -> tuple[str, int, str]:
     native model does not implement it."""
     if var.causality == "independent":
         return "MD_TIME", -1, "MD_P_NONE"
+    me = native_me.me_role(var.name)
+    if me is not None:
+        return me[0], me[1], "MD_P_NONE"
     if var.name == "E_fr":
         return "MD_OUTPUT_E_TOTAL", -1, "MD_P_NONE"
     for j, axis in enumerate(AXES):
@@ -374,7 +383,7 @@ def _cosimulation(root: Element, target: NativeTarget) -> None:
 
 def _units(root: Element, target: NativeTarget) -> None:
     units = SubElement(root, "UnitDefinitions")
-    table = dict(interface.BASE_UNITS)
+    table = dict(interface.BASE_UNITS) | native_me.EXTRA_UNITS
     if target.fmi == 3:
         table["s"] = {"s": 1}
     for name, exps in table.items():
@@ -411,27 +420,40 @@ def _structure(root: Element, target: NativeTarget, variables) -> None:
         prefix, _, axis = var.name.rpartition("_")
         if var.name == "E_fr":
             deps = [f"{d}_{a}" for a in AXES for d in _DEPENDS["E_fr"]]
+            deps += native_me.me_depends("E_fr", None)
         else:
             deps = [f"{d}_{axis}" for d in _DEPENDS[prefix]]
-        outputs.append((ref[var.name], " ".join(ref[d] for d in deps)))
+            deps += [d for d in native_me.me_depends(prefix, axis) if d not in deps]
+        outputs.append((ref[var.name], " ".join(
+            sorted((ref[d] for d in deps), key=int))))
+    # Model Exchange: the states and derivatives are initial unknowns too
+    initial = [index for index, _ in outputs] + [
+        ref[n] for n in native_me.initial_unknowns()]
+    initial.sort(key=int)
     structure = SubElement(root, "ModelStructure")
     if target.fmi == 2:
         out_el = SubElement(structure, "Outputs")
-        init_el = SubElement(structure, "InitialUnknowns")
         for index, deps in outputs:
             SubElement(out_el, "Unknown", index=index, dependencies=deps)
-        for index, _ in outputs:
+        native_me.structure_derivatives(structure, 2, ref)
+        init_el = SubElement(structure, "InitialUnknowns")
+        for index in initial:
             SubElement(init_el, "Unknown", index=index)
         return
     for index, deps in outputs:
         SubElement(structure, "Output", valueReference=index, dependencies=deps)
-    for index, _ in outputs:
+    native_me.structure_derivatives(structure, 3, ref)
+    for index in initial:
         SubElement(structure, "InitialUnknown", valueReference=index)
+    native_me.structure_event_indicators(structure, ref)
 
 
 def model_description(target: NativeTarget, token: str) -> bytes:
     """``modelDescription.xml`` of the FMI 2.0 or FMI 3.0 flavour."""
     root = Element("fmiModelDescription", _header_attributes(target, token))
+    if target.fmi == 2:
+        root.set("numberOfEventIndicators", str(3 * len(native_me.EVENT_INDICATORS)))
+    native_me.model_exchange(root, target.fmi, target.model_identifier, UNITY)
     _cosimulation(root, target)
     _units(root, target)
     cats = SubElement(root, "LogCategories")
@@ -441,8 +463,13 @@ def model_description(target: NativeTarget, token: str) -> bytes:
                {k: repr(float(v)) for k, v in interface.DEFAULT_EXPERIMENT.items()})
     variables = _variables(target)
     mv = SubElement(root, "ModelVariables")
+    index = {var.name: vr for vr, var in variables}
     for vr, var in variables:
         _variable_element(mv, target, vr, var)
+        if var.name.startswith("der("):  # a Model Exchange state's derivative
+            state = index[var.name[4:-1]]
+            element = mv[-1] if target.fmi == 3 else mv[-1][0]
+            element.set("derivative", str(state + 1 if target.fmi == 2 else state))
     _structure(root, target, variables)
     indent(root)
     return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
@@ -619,7 +646,8 @@ def _documentation(target: NativeTarget, skipped: dict[str, str]) -> bytes:
                     f"</p>" if skipped else "")
     return f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>{ident}</title></head><body>
-<h1>{ident}: friction-damped engine mount (FMI {target.fmi}.0 Co-Simulation, C)</h1>
+<h1>{ident}: friction-damped engine mount (FMI {target.fmi}.0 Co-Simulation and Model
+Exchange, C)</h1>
 <p>The native build of drymount's FrictionMount FMU: the same variables, units, start
 values and default experiment as the PythonFMU build (FrictionMount.fmu), the mount law
 ported to C99. It needs only the C standard library and libm: no Python.</p>

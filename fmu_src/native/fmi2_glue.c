@@ -1,10 +1,12 @@
-/* FMI 2.0 Co-Simulation entry points of the native FrictionMount (model.h does the
- * work; this file converts types and names the calls). */
+/* FMI 2.0 entry points of the native FrictionMount shared by Co-Simulation and Model
+ * Exchange (model.h does the work; this file converts types and names the calls;
+ * the Model Exchange ones are in fmi2_me.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fmi2_api.h"
+#include "me.h"
 #include "model.h"
 
 typedef struct {
@@ -80,13 +82,13 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType,
     const char *name = instanceName ? instanceName : "";
     (void)resourceLocation;
     (void)visible;
-    if (fmuType != fmi2CoSimulation || fmuGUID == NULL
-        || strcmp(fmuGUID, md_instantiation_token()) != 0) {
+    if ((fmuType != fmi2CoSimulation && fmuType != fmi2ModelExchange)
+        || fmuGUID == NULL || strcmp(fmuGUID, md_instantiation_token()) != 0) {
         if (logger != NULL)
             logger(env, name, fmi2Error, "logStatusError",
-                   fmuType != fmi2CoSimulation
-                       ? "fmi2Instantiate: this FMU supports Co-Simulation only "
-                         "(fmuType 1)"
+                   fmuType != fmi2CoSimulation && fmuType != fmi2ModelExchange
+                       ? "fmi2Instantiate: fmuType must be 0 (Model Exchange) or 1 "
+                         "(Co-Simulation)"
                        : "fmi2Instantiate: the GUID does not match the "
                          "modelDescription.xml of this FMU");
         return NULL;
@@ -108,6 +110,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType,
             free(e);
         return NULL;
     }
+    e->m->model_exchange = fmuType == fmi2ModelExchange;
     return e;
 }
 
@@ -179,7 +182,7 @@ fmi2Status fmi2Reset(fmi2Component c)
     double x;                                                                   \
     CHECK(c, 0);                                                                \
     for (i = 0; i < nvr; ++i) {                                                 \
-        status = worst(status, md_get(M(c), call, mdtype, vr[i], &x));          \
+        status = worst(status, mx_get(M(c), call, mdtype, vr[i], &x));          \
         if (status >= fmi2Error) { /* a refused call returns zeros */           \
             memset(value, 0, nvr * sizeof value[0]);                            \
             return status;                                                      \
@@ -354,6 +357,8 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
 {
     CHECK(c, 0);
     (void)noSetFMUStatePriorToCurrentPoint;
+    if (mx_refuse_in_me(M(c), "fmi2DoStep") != MD_OK)
+        return fmi2Error;
     return (fmi2Status)md_do_step(M(c), "fmi2DoStep", currentCommunicationPoint,
                                   communicationStepSize);
 }

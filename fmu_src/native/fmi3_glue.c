@@ -1,12 +1,14 @@
-/* FMI 3.0 Co-Simulation entry points of the native FrictionMount (model.h does the
- * work; this file converts types and names the calls). Model Exchange and Scheduled
- * Execution are not provided: their functions log an error and return fmi3Error. */
+/* FMI 3.0 entry points of the native FrictionMount shared by Co-Simulation and Model
+ * Exchange (model.h does the work; this file converts types and names the calls; the
+ * Model Exchange ones are in fmi3_me.c). Scheduled Execution is not provided: its
+ * functions log an error and return fmi3Error. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fmi3_api.h"
+#include "me.h"
 #include "model.h"
 
 typedef struct {
@@ -111,12 +113,31 @@ fmi3Instance fmi3InstantiateModelExchange(fmi3String instanceName, fmi3String to
                                           fmi3InstanceEnvironment env,
                                           fmi3LogMessageCallback logMessage)
 {
-    UNUSED(token); UNUSED(resourcePath); UNUSED(visible); UNUSED(loggingOn);
-    if (logMessage != NULL)
-        logMessage(env, fmi3Error, "logStatusError",
-                   "fmi3InstantiateModelExchange: this FMU supports Co-Simulation only");
-    UNUSED(instanceName);
-    return NULL;
+    fmi3_env *e;
+    const char *name = instanceName ? instanceName : "";
+    char text[256];
+    UNUSED(resourcePath); UNUSED(visible);
+    if (token == NULL || strcmp(token, md_instantiation_token()) != 0) {
+        if (logMessage != NULL) {
+            snprintf(text, sizeof text, "%s: fmi3InstantiateModelExchange: the "
+                     "instantiationToken does not match the modelDescription.xml of "
+                     "this FMU", name);
+            logMessage(env, fmi3Error, "logStatusError", text);
+        }
+        return NULL;
+    }
+    e = (fmi3_env *)calloc(1, sizeof *e);
+    if (e == NULL)
+        return NULL;
+    e->logger = logMessage;
+    e->env = env;
+    e->m = md_new(name, "fmi3", log_bridge, e, NULL, NULL, loggingOn);
+    if (e->m == NULL) {
+        free(e);
+        return NULL;
+    }
+    e->m->model_exchange = 1;
+    return e;
 }
 
 fmi3Instance fmi3InstantiateScheduledExecution(
@@ -159,11 +180,6 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance c)
     return (fmi3Status)md_exit_initialization(M(c), "fmi3ExitInitializationMode");
 }
 
-fmi3Status fmi3EnterEventMode(fmi3Instance c)
-{
-    return unsupported(c, "fmi3EnterEventMode", "hasEventMode=false");
-}
-
 fmi3Status fmi3Terminate(fmi3Instance c)
 {
     CHECK(c);
@@ -197,7 +213,7 @@ static fmi3Status count_check(fmi3Instance c, const char *call, size_t nvr,
     if (count_check(c, call, nvr, nValues) != fmi3OK)                              \
         return fmi3Error;                                                          \
     for (i = 0; i < nvr; ++i) {                                                    \
-        s = md_get(M(c), call, mdtype, vr[i], &x);                                 \
+        s = mx_get(M(c), call, mdtype, vr[i], &x);                                 \
         if (s > status)                                                            \
             status = s;                                                            \
         if (status >= MD_ERROR) { /* a refused call returns zeros */              \
@@ -377,6 +393,8 @@ fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 currentCommunicationPoint,
     md_status status;
     CHECK(c);
     UNUSED(noSetFMUStatePriorToCurrentPoint);
+    if (mx_refuse_in_me(M(c), "fmi3DoStep") != MD_OK)
+        return fmi3Error;
     status = md_do_step(M(c), "fmi3DoStep", currentCommunicationPoint,
                         communicationStepSize);
     if (eventHandlingNeeded != NULL)
@@ -502,80 +520,6 @@ fmi3Status fmi3SetShiftFraction(fmi3Instance c, VR_IN, const fmi3UInt64 counters
 fmi3Status fmi3EvaluateDiscreteStates(fmi3Instance c)
 {
     return unsupported(c, "fmi3EvaluateDiscreteStates", "hasEventMode=false");
-}
-
-fmi3Status fmi3UpdateDiscreteStates(fmi3Instance c, fmi3Boolean *needUpdate,
-                                    fmi3Boolean *terminate, fmi3Boolean *nominalsChanged,
-                                    fmi3Boolean *valuesChanged,
-                                    fmi3Boolean *nextEventTimeDefined,
-                                    fmi3Float64 *nextEventTime)
-{
-    UNUSED(needUpdate); UNUSED(terminate); UNUSED(nominalsChanged);
-    UNUSED(valuesChanged); UNUSED(nextEventTimeDefined); UNUSED(nextEventTime);
-    return unsupported(c, "fmi3UpdateDiscreteStates", "hasEventMode=false");
-}
-
-#define ME_ONLY(call) return unsupported(c, call, "Co-Simulation only")
-
-fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance c)
-{
-    ME_ONLY("fmi3EnterContinuousTimeMode");
-}
-
-fmi3Status fmi3CompletedIntegratorStep(fmi3Instance c, fmi3Boolean noSet,
-                                       fmi3Boolean *enterEventMode,
-                                       fmi3Boolean *terminateSimulation)
-{
-    UNUSED(noSet); UNUSED(enterEventMode); UNUSED(terminateSimulation);
-    ME_ONLY("fmi3CompletedIntegratorStep");
-}
-
-fmi3Status fmi3SetTime(fmi3Instance c, fmi3Float64 time)
-{
-    UNUSED(time);
-    ME_ONLY("fmi3SetTime");
-}
-
-fmi3Status fmi3SetContinuousStates(fmi3Instance c, const fmi3Float64 x[], size_t n)
-{
-    UNUSED(x); UNUSED(n);
-    ME_ONLY("fmi3SetContinuousStates");
-}
-
-fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance c, fmi3Float64 dx[], size_t n)
-{
-    UNUSED(dx); UNUSED(n);
-    ME_ONLY("fmi3GetContinuousStateDerivatives");
-}
-
-fmi3Status fmi3GetEventIndicators(fmi3Instance c, fmi3Float64 z[], size_t n)
-{
-    UNUSED(z); UNUSED(n);
-    ME_ONLY("fmi3GetEventIndicators");
-}
-
-fmi3Status fmi3GetContinuousStates(fmi3Instance c, fmi3Float64 x[], size_t n)
-{
-    UNUSED(x); UNUSED(n);
-    ME_ONLY("fmi3GetContinuousStates");
-}
-
-fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance c, fmi3Float64 x[], size_t n)
-{
-    UNUSED(x); UNUSED(n);
-    ME_ONLY("fmi3GetNominalsOfContinuousStates");
-}
-
-fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance c, size_t *n)
-{
-    UNUSED(n);
-    ME_ONLY("fmi3GetNumberOfEventIndicators");
-}
-
-fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance c, size_t *n)
-{
-    UNUSED(n);
-    ME_ONLY("fmi3GetNumberOfContinuousStates");
 }
 
 fmi3Status fmi3GetOutputDerivatives(fmi3Instance c, VR_IN, const fmi3Int32 orders[],

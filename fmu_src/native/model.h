@@ -25,6 +25,7 @@ extern "C" {
 #include <stddef.h>
 
 #include "mount_law.h"
+#include "me_state.h"
 
 typedef enum { MD_OK = 0, MD_WARNING = 1, MD_DISCARD = 2, MD_ERROR = 3,
                MD_FATAL = 4 } md_status;
@@ -82,6 +83,7 @@ typedef struct {
     double dt;        /* size of the last step (0 before the first): the increment
                          rate-dependent elements integrate over */
     int started;      /* a step was done since initialization */
+    md_me me;         /* Model Exchange: continuous states, modes (me_state.h) */
 } md_data;
 
 typedef struct {
@@ -101,6 +103,7 @@ typedef struct {
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */
     unsigned long warned;  /* hash of the last "outputs are 0" warning's problems */
+    int model_exchange;    /* instantiated for Model Exchange (me.h) */
 } md_instance;
 
 /* Number of variables, the variable table and the instantiation token (GUID), all
