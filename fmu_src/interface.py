@@ -14,7 +14,9 @@ axes) and the locals ``w_<axis>`` (committed slider positions); then, appended s
 the earlier value references stay, ``<axis>_friction_kind`` with the fields of the
 second registered friction element (:data:`INCLINED_PARAMETER_FIELDS`) and the
 outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts); then the
-new fields of every later element (:data:`LATER_PARAMETER_FIELDS`). The friction
+new fields of every later element (:data:`LATER_PARAMETER_FIELDS`); then the outputs
+about the last step ``slipped_``, ``dE_fr_``, ``ks_<axis>``
+(``fmu_src/step_record.py``). The friction
 fields' rows are generated from the element declarations
 (:class:`fmu_src.friction.Field`).
 """
