@@ -16,7 +16,7 @@ import struct
 import zipfile
 
 import pytest
-from native_helpers import ROOT, build
+from native_helpers import ROOT, all_builds
 
 from drymount.fmu_src.interface import VARIABLES
 
@@ -30,12 +30,7 @@ WRONG = "{00000000-0000-0000-0000-000000000000}"
 
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory):
-    pytest.importorskip("pythonfmu", reason="the PythonFMU build needs pythonfmu")
-    from drymount.fmu_build import build_fmu
-
-    tmp = tmp_path_factory.mktemp("small")
-    return {"pythonfmu": build_fmu(tmp / "FrictionMount.fmu"),
-            "native2": build(tmp, 2), "native3": build(tmp, 3)}
+    return all_builds(tmp_path_factory.mktemp("small"))
 
 
 @pytest.mark.parametrize("name", ["pythonfmu", "native2", "native3"])

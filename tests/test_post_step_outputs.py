@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 import pytest
-from native_helpers import build
+from native_helpers import all_builds
 
 from drymount.fmu_src.interface import VARIABLES
 
@@ -153,12 +153,7 @@ class _Driver:
 
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory):
-    pytest.importorskip("pythonfmu", reason="the PythonFMU build needs pythonfmu")
-    from drymount.fmu_build import build_fmu
-
-    tmp = tmp_path_factory.mktemp("poststep")
-    return {"pythonfmu": build_fmu(tmp / "FrictionMount.fmu"),
-            "native2": build(tmp, 2), "native3": build(tmp, 3)}
+    return all_builds(tmp_path_factory.mktemp("poststep"))
 
 
 @pytest.fixture(scope="module")
