@@ -2,7 +2,8 @@
 
 It registers exactly the variable names of ``FrictionMount.fmu`` (see the agreed
 interface: inputs ``u_<axis>``, ``v_<axis>``, ``n_<axis>``; outputs ``F_<axis>``,
-``Ffr_<axis>``, ``kt_<axis>``, ``slip_<axis>``, ``E_fr``, ``E_fr_<axis>``; parameters
+``Ffr_<axis>``, ``kt_<axis>``, ``slip_<axis>``, ``E_fr``, ``E_fr_<axis>``,
+``slipped_<axis>``, ``dE_fr_<axis>``, ``ks_<axis>``; parameters
 ``<axis>_<field>``; locals ``w_<axis>``), so the vehicle harness can drive it
 unchanged. Its ``do_step`` returns at once and its outputs stay at their start
 values (zero force). The benchmark (``bench/bench_cosim.py``) builds it into a
@@ -73,11 +74,20 @@ class NullMount(Fmi2Slave):
                 setattr(self, f"{name}_{a}", 0.0)
                 self.register_variable(Real(f"{name}_{a}", start=0.0,
                                             description=descr, **out))
-            setattr(self, f"slip_{a}", False)
-            self.register_variable(Boolean(
-                f"slip_{a}", causality=Fmi2Causality.output,
-                variability=Fmi2Variability.discrete, initial=Fmi2Initial.exact,
-                start=False, description="slipping"))
+            for name in ("slip", "slipped"):
+                setattr(self, f"{name}_{a}", False)
+                self.register_variable(Boolean(
+                    f"{name}_{a}", causality=Fmi2Causality.output,
+                    variability=Fmi2Variability.discrete, initial=Fmi2Initial.exact,
+                    start=False, description="slipping"))
+            # the record of the last step (fmu_src/step_record.py)
+            for name, descr in (("dE_fr", "energy dissipated in the last step [J]"),
+                                ("ks", "secant stiffness of the last step [N/m]")):
+                setattr(self, f"{name}_{a}", 0.0)
+                self.register_variable(Real(
+                    f"{name}_{a}", causality=Fmi2Causality.output,
+                    variability=Fmi2Variability.discrete, initial=Fmi2Initial.exact,
+                    start=0.0, description=descr))
             setattr(self, f"{a}_law", 0)
             self.register_variable(Integer(
                 f"{a}_law", causality=Fmi2Causality.parameter,

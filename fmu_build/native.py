@@ -132,12 +132,16 @@ _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
 _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",
-               "w": "MD_LOCAL_W", "N": "MD_OUTPUT_N", "N2": "MD_OUTPUT_N2"}
+               "w": "MD_LOCAL_W", "N": "MD_OUTPUT_N", "N2": "MD_OUTPUT_N2",
+               "slipped": "MD_OUTPUT_SLIPPED", "dE_fr": "MD_OUTPUT_DE_STEP",
+               "ks": "MD_OUTPUT_KS"}
 #: Inputs each output depends on (per axis; E_fr on those of every axis): a
 #: rate-dependent friction element reads v in Ffr, kt and E_fr.
 _DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),
             "slip": ("u", "n"), "E_fr": ("u", "v", "n"), "N": ("u", "n"),
-            "N2": ("u", "n")}
+            "N2": ("u", "n"),
+            # the records of the last step change only in doStep (step_record.py)
+            "slipped": (), "dE_fr": (), "ks": ()}
 _LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError",
                    "logStatusFatal", "logAll")
 
@@ -431,6 +435,8 @@ def _structure(root: Element, target: NativeTarget, variables) -> None:
         ref[n] for n in native_me.initial_unknowns()]
     initial.sort(key=int)
     structure = SubElement(root, "ModelStructure")
+    # outputs declared initial="exact" (slipped_, dE_fr_) are no initial unknowns
+    exact = {ref[var.name] for _, var in variables if var.initial == "exact"}
     if target.fmi == 2:
         out_el = SubElement(structure, "Outputs")
         for index, deps in outputs:
@@ -438,13 +444,15 @@ def _structure(root: Element, target: NativeTarget, variables) -> None:
         native_me.structure_derivatives(structure, 2, ref)
         init_el = SubElement(structure, "InitialUnknowns")
         for index in initial:
-            SubElement(init_el, "Unknown", index=index)
+            if index not in exact:
+                SubElement(init_el, "Unknown", index=index)
         return
     for index, deps in outputs:
         SubElement(structure, "Output", valueReference=index, dependencies=deps)
     native_me.structure_derivatives(structure, 3, ref)
     for index in initial:
-        SubElement(structure, "InitialUnknown", valueReference=index)
+        if index not in exact:
+            SubElement(structure, "InitialUnknown", valueReference=index)
     native_me.structure_event_indicators(structure, ref)
 
 
@@ -654,8 +662,9 @@ ported to C99. It needs only the C standard library and libm: no Python.</p>
 <p>Variables per axis (axial, radial1, radial2): parameters &lt;axis&gt;_law, _k1, _kc,
 _k2, _delta, _delta_neg, _c, _friction, _friction_kind and the fields of the friction
 elements (as in the PythonFMU build); inputs u_, v_, n_; outputs F_, Ffr_, kt_,
-slip_, E_fr_; the output E_fr and the locals w_ (slider positions, settable also
-between steps, as in the PythonFMU build).</p>
+slip_, E_fr_, N_, N2_ and, about the step just taken, slipped_, dE_fr_, ks_; the
+output E_fr and the locals w_ (slider positions, settable also between steps, as in
+the PythonFMU build).</p>
 {floors}
 {missing_text}
 <h2>Compiling the sources for another platform</h2>

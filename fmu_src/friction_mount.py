@@ -49,7 +49,7 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
-from . import state_codec
+from . import state_codec, step_record
 from .fmi_state import Mode, call_error, set_error, setup_error, step_error
 from .interface import (
     ALL_PARAMETER_FIELDS,
@@ -230,6 +230,8 @@ class FrictionMount(Fmi2Slave):
         # the first (read by rate-dependent friction elements only)
         self._dt = 0.0
         self._res = [None, None, None]
+        # per axis, the record of the last step (fmu_src/step_record.py)
+        self._rec = [step_record.StepRecord() for _ in AXES]
         self._axes = None  # per-axis checked AxisParameters, see _prepare()
         self._mode = Mode.INSTANTIATED  # FMI state (fmi_state.Mode)
         self._t_next = None  # where the next doStep must start (None: anywhere)
@@ -274,6 +276,8 @@ class FrictionMount(Fmi2Slave):
             return (lambda: self._e[j] + self._axis(j)[_DISS]), None
         if quantity in ("N", "N2"):
             return (lambda: self._normal_output(j)[quantity == "N2"]), None
+        if quantity in ("slipped", "dE_fr", "ks", "kt", "slip"):
+            return self._record_getter(quantity, j), None
         idx = {"F": _F, "Ffr": _FFR, "kt": _KT, "slip": _SLIP}[quantity]
         return (lambda: self._axis(j)[idx]), None
 
@@ -287,12 +291,39 @@ class FrictionMount(Fmi2Slave):
                 variability=_VARIABILITY[var.variability],
                 description=var.description, getter=getter, setter=setter, **extra))
 
+    def _record_getter(self, quantity: str, j: int):
+        """Getter of an output that reads the record of the last step
+        (fmu_src/step_record.py): ``slipped_``, ``dE_fr_``, ``ks_`` and, while no
+        input of the axis changed since ``doStep``, ``kt_`` and ``slip_``."""
+        rec = self._rec
+        if quantity == "slipped":
+            return lambda: rec[j].slipped
+        if quantity == "dE_fr":
+            return lambda: rec[j].de
+        idx = _KT if quantity in ("kt", "ks") else _SLIP
+        field = "kt" if quantity == "kt" else "slipped"
+
+        def getter():
+            if quantity == "ks":
+                if self._mode in (Mode.INSTANTIATED, Mode.INITIALIZATION):
+                    return self._axis(j)[_KT]  # before the first step: the tangent
+                return rec[j].ks
+            if rec[j].post:
+                return getattr(rec[j], field)
+            return self._axis(j)[idx]
+
+        return getter
+
     def _set_parameter(self, attr: str, value) -> None:
         setattr(self, attr, value)
         self._axes = None
         self._res = [None, None, None]
+        for rec in self._rec:
+            rec.post = False
 
     def _set_input(self, store: list, j: int, value: float) -> None:
+        if store[j] != value:
+            self._rec[j].post = False
         store[j] = value
         self._res[j] = None
 
@@ -301,6 +332,7 @@ class FrictionMount(Fmi2Slave):
         (m; every slider there). Before the parameters are checked the number is
         kept and becomes the element's state in _prepare (conform_state)."""
         self._w[j] = value
+        self._rec[j].post = False
         if self._axes is not None:  # checked parameters: the state of the axis's kind
             self._w[j] = initial_sliders(self._axes[j], value)
         self._res[j] = None
@@ -316,6 +348,11 @@ class FrictionMount(Fmi2Slave):
         return normal_forces(self._axes[j], self._axis(j)[_W], self._n[j])
 
     def _set_normal_force(self, j: int, value: float) -> None:
+        if not self._n_set[j] and value == self._start(f"n_{AXES[j]}") \
+                and self._mode in (Mode.INSTANTIATED, Mode.INITIALIZATION):
+            return  # an importer writing the declared start: n keeps following n0
+        if value != self._normal_force(j):
+            self._rec[j].post = False
         self._n[j] = value
         self._n_set[j] = True
         self._res[j] = None
@@ -445,6 +482,10 @@ class FrictionMount(Fmi2Slave):
         self._prepare()  # invalid parameters: rejected, still initializationMode
         for j in range(3):  # the start outputs must be finite too
             self._axis(j)
+        for j in range(3):  # where the first step's secant starts
+            r = self._res[j]
+            self._rec[j] = step_record.start_record(r[_F], r[_KT], self._u[j],
+                                                    self._v[j], self._axes[j].c)
         self._mode = Mode.STEP_COMPLETE
 
     @_fmi_call("fmi2DoStep", rejected=lambda args: True)
@@ -455,10 +496,14 @@ class FrictionMount(Fmi2Slave):
         res = self._res
         results = [res[j] if res[j] is not None else self._evaluate(j)
                    for j in range(3)]
+        rec = self._rec
         for j in range(3):
             r = results[j]
             self._w[j] = r[_W]
             self._e[j] += r[_DISS]
+            rec[j] = step_record.step_record(rec[j], r[_F], r[_KT], r[_SLIP],
+                                             r[_DISS], self._u[j], self._v[j],
+                                             self._axes[j].c)
         # Outputs now follow the committed state: re-evaluated on the next get.
         self._res = [None, None, None]
         self._t_next = current_time + step_size
@@ -483,6 +528,7 @@ class FrictionMount(Fmi2Slave):
         state["_mode"] = self._mode.value
         state["_t_next"] = self._t_next
         state["_dt"] = self._dt
+        state["_step"] = [step_record.record_to_state(r) for r in self._rec]
         return state
 
     # Serialized states: bytes with a checksum, decoded without raising (pythonfmu
@@ -522,6 +568,9 @@ class FrictionMount(Fmi2Slave):
                    for w in state["_w"]]
         self._mode, self._t_next = Mode(state["_mode"]), state["_t_next"]
         self._dt = float(state.get("_dt", 0.0))
+        # in place: the getters hold the list
+        self._rec[:] = [step_record.record_from_state(r) for r in state["_step"]] \
+            if "_step" in state else [step_record.StepRecord() for _ in AXES]
         self._axes = None
         self._res = [None, None, None]
 
@@ -560,6 +609,9 @@ class FrictionMount(Fmi2Slave):
                 out.append(float(self._read(vr, "Real")))
             else:
                 j, idx = key
+                if idx == _KT and self._rec[j].post:  # after doStep: its tangent
+                    out.append(self._rec[j].kt)
+                    continue
                 r = res[j]
                 out.append((r if r is not None else self._evaluate(j))[idx])
         return out
@@ -603,8 +655,11 @@ class FrictionMount(Fmi2Slave):
         if self._mode is Mode.STEP_COMPLETE and all(
                 vr in fast and math.isfinite(x) for vr, x in zip(vrs, values)) \
                 and len(vrs) == len(values):
+            rec = self._rec
             for vr, value in zip(vrs, values):
                 store, j = fast[vr]
+                if store[j] != value:
+                    rec[j].post = False
                 store[j] = value
                 res[j] = None
             return
@@ -655,10 +710,16 @@ class FrictionMount(Fmi2Slave):
                     index[f"{d}_{axis}"] for d in deps.get(name, ("u", "n")))))
         rows.append((int(index["E_fr"]), " ".join(
             index[f"{d}_{axis}"] for axis in AXES for d in ("u", "v", "n"))))
+        # the records of the last step change only in doStep: no input dependencies
+        rows += [(int(index[f"{name}_{axis}"]), "") for axis in AXES
+                 for name in ("slipped", "dE_fr", "ks")]
         for i, refs in sorted(rows):
             SubElement(outputs, "Unknown", index=str(i), dependencies=refs)
         # Initial values of the outputs depend on inputs, parameters and the start
-        # value of w: no `dependencies` attribute = depends on all knowns (FMI 2.0).
+        # value of w: no `dependencies` attribute = depends on all knowns (FMI 2.0);
+        # outputs with initial="exact" (slipped_, dE_fr_) are not initial unknowns.
+        exact = {index[v.name] for v in VARIABLES if v.initial == "exact"}
         for unknown in outputs:
-            SubElement(initial, "Unknown", index=unknown.get("index"))
+            if unknown.get("index") not in exact:
+                SubElement(initial, "Unknown", index=unknown.get("index"))
         return root

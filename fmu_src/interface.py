@@ -14,7 +14,9 @@ axes) and the locals ``w_<axis>`` (committed slider positions); then, appended s
 the earlier value references stay, ``<axis>_friction_kind`` with the fields of the
 second registered friction element (:data:`INCLINED_PARAMETER_FIELDS`) and the
 outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts); then the
-new fields of every later element (:data:`LATER_PARAMETER_FIELDS`). The friction
+new fields of every later element (:data:`LATER_PARAMETER_FIELDS`); then the outputs
+about the last step ``slipped_``, ``dE_fr_``, ``ks_<axis>``
+(``fmu_src/step_record.py``). The friction
 fields' rows are generated from the element declarations
 (:class:`fmu_src.friction.Field`).
 """
@@ -168,7 +170,9 @@ def _variables() -> tuple[Variable, ...]:
                      f"{axis}: deflection rate d(u_{axis})/dt"),
             Variable(f"n_{axis}", "Real", "input", "continuous", defaults.n0, "N",
                      f"{axis}: normal force of the friction contact; equals "
-                     f"{axis}_n0 until set; negative = lost contact (Fs = 0)"),
+                     f"{axis}_n0 until set (setting it to its start value 0 before "
+                     f"the end of initialization, as importers writing start values "
+                     f"do, keeps {axis}_n0); negative = lost contact (Fs = 0)"),
         ]
     for axis in AXES:
         out += [
@@ -178,9 +182,14 @@ def _variables() -> tuple[Variable, ...]:
             Variable(f"Ffr_{axis}", "Real", "output", "continuous", None, "N",
                      f"{axis}: force of the friction element"),
             Variable(f"kt_{axis}", "Real", "output", "continuous", None, "N/m",
-                     f"{axis}: tangent stiffness dF/du (damping tangent dF/dv is c)"),
+                     f"{axis}: tangent stiffness dF/du (damping tangent dF/dv is c); "
+                     f"read after doStep (until an input of the axis changes): the "
+                     f"tangent the step ended with, i.e. the one the next step "
+                     f"starts from when it continues the motion"),
             Variable(f"slip_{axis}", "Boolean", "output", "discrete", None, None,
-                     f"{axis}: true while the friction slider slips"),
+                     f"{axis}: true while the friction slider slips (trial of the "
+                     f"current inputs; read after doStep until an input of the axis "
+                     f"changes: whether that step slipped, as slipped_{axis})"),
             Variable(f"E_fr_{axis}", "Real", "output", "continuous", None, "J",
                      f"{axis}: cumulative energy dissipated by friction"),
         ]
@@ -205,7 +214,31 @@ def _variables() -> tuple[Variable, ...]:
                      f"(0 for the Jenkins element and without friction)"),
         ]
     out += _parameters(LATER_PARAMETER_FIELDS)
+    out += _post_step_outputs()
     return tuple(out)
+
+
+def _post_step_outputs() -> list[Variable]:
+    """Per axis, what the FMU reports about the step just taken
+    (``fmu_src/step_record.py``), appended after every older variable: they change
+    only in ``doStep`` (no input dependencies)."""
+    out = []
+    for axis in AXES:
+        out += [
+            Variable(f"slipped_{axis}", "Boolean", "output", "discrete", False, None,
+                     f"{axis}: whether the friction element slipped during the last "
+                     f"doStep (false before the first)", "exact"),
+            Variable(f"dE_fr_{axis}", "Real", "output", "discrete", 0.0, "J",
+                     f"{axis}: energy dissipated by the friction element during the "
+                     f"last doStep (0 before the first)", "exact"),
+            Variable(f"ks_{axis}", "Real", "output", "discrete", None, "N/m",
+                     f"{axis}: secant stiffness of the last doStep, (R_n - R_n-1) / "
+                     f"(u_n - u_n-1) with R = F_{axis} - {axis}_c v_{axis} (the first "
+                     f"step from the end of initialization); a step with u_n = u_n-1 "
+                     f"gives the tangent kt_{axis} it started from (before the first "
+                     f"step: that tangent)"),
+        ]
+    return out
 
 
 #: Every per-axis parameter field: (field, FMI type, unit, description).
@@ -243,7 +276,7 @@ def variable(name: str) -> Variable:
     except KeyError:
         raise KeyError(f"{MODEL_NAME} has no variable {name!r} (variables are "
                        f"<axis>_<parameter>, u_/v_/n_/F_/Ffr_/kt_/slip_/E_fr_/w_/N_/"
-                       f"N2_<axis> "
+                       f"N2_/slipped_/dE_fr_/ks_<axis> "
                        f"and E_fr; axes {', '.join(AXES)})") from None
 
 

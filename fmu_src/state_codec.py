@@ -19,6 +19,7 @@ import math
 
 from .fmi_state import INFINITE_ALLOWED, Mode
 from .mount_law import MAX_SLIDERS
+from .step_record import record_problem
 
 __all__ = ["MAGIC", "Corrupt", "encode", "decode", "state_problem"]
 
@@ -97,8 +98,9 @@ def state_problem(state, settable) -> str | None:
     if not isinstance(state, dict):
         return f"not a state of this FMU (a {type(state).__name__})"
     extra = {"_E_committed", "_n_set", "_w", "_mode", "_t_next", "_dt"}
+    optional = {"_step"}  # the records of the last step (step_record.py)
     missing = sorted(set(settable) - set(state)) + sorted(extra - set(state))
-    unknown = sorted(set(state) - set(settable) - extra)
+    unknown = sorted(set(state) - set(settable) - extra - optional)
     if missing or unknown:
         return f"not a state of this FMU (missing {missing[:5]}, unknown {unknown[:5]})"
     for name, var in settable.items():
@@ -118,4 +120,12 @@ def state_problem(state, settable) -> str | None:
     dt = state["_dt"]
     if not _real_ok("dt", dt) or dt < 0.0:
         return f"`_dt` = {dt!r:.60} is not a finite step size >= 0"
+    if "_step" in state:
+        steps = state["_step"]
+        if not (isinstance(steps, list) and len(steps) == 3):
+            return f"`_step` = {steps!r:.80} is not three records"
+        for rec in steps:
+            why = record_problem(rec)
+            if why is not None:
+                return why
     return None

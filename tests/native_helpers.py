@@ -215,3 +215,13 @@ def host_config(folder, md, instances, h: float) -> str:
                 types[name]]
             lines.append(f"{kind} {vr[name]} {float(value)!r}")
     return "\n".join(lines) + "\n"
+
+
+def all_builds(folder: Path) -> dict[str, Path]:
+    """The three builds in ``folder``: ``pythonfmu`` (FMI 2.0), ``native2``,
+    ``native3`` (skips without pythonfmu or gcc)."""
+    pytest.importorskip("pythonfmu", reason="the PythonFMU build needs pythonfmu")
+    from drymount.fmu_build import build_fmu
+
+    return {"pythonfmu": build_fmu(folder / "FrictionMount.fmu"),
+            "native2": build(folder, 2), "native3": build(folder, 3)}

@@ -417,6 +417,35 @@ static md_status energy_total(md_instance *m, const char *call, double *value)
 
 /* ------------------------------------------------------------------ modes */
 
+/* step_record.start_record: the record at the end of initialization. */
+static void start_record(md_data *d, int j, const ml_axis_result *r)
+{
+    d->post[j] = 0;
+    d->slipped[j] = 0;
+    d->step_kt[j] = r->tangent;
+    d->step_e[j] = 0.0;
+    d->ks[j] = r->tangent;
+    d->step_u[j] = d->u[j];
+    d->step_r[j] = r->force - d->p[j].c * d->v[j];
+}
+
+/* step_record.step_record: the record after a step committed with result r. */
+static void record_step(md_data *d, int j, const ml_axis_result *r)
+{
+    double force = r->force - d->p[j].c * d->v[j];
+    double du = d->u[j] - d->step_u[j];
+    double ks = du != 0.0 ? (force - d->step_r[j]) / du : d->step_kt[j];
+    if (!isfinite(ks))  /* a step below the resolution of the forces */
+        ks = d->step_kt[j];
+    d->post[j] = 1;
+    d->slipped[j] = r->slipping != 0;
+    d->step_kt[j] = r->tangent;
+    d->step_e[j] = r->dissipated;
+    d->ks[j] = ks;
+    d->step_u[j] = d->u[j];
+    d->step_r[j] = force;
+}
+
 md_status md_enter_initialization(md_instance *m, const char *call, double start,
                                   int start_defined)
 {
@@ -444,6 +473,8 @@ md_status md_exit_initialization(md_instance *m, const char *call)
     for (j = 0; j < 3; ++j)  /* the start outputs must exist too (lost contact) */
         if (evaluate(m, call, j) != MD_OK)
             return MD_ERROR;  /* still initializationMode, as for parameters */
+    for (j = 0; j < 3; ++j)  /* where the first step's secant starts */
+        start_record(&m->d, j, &m->res[j]);
     m->d.mode = MD_STEP;
     return MD_OK;
 }
@@ -502,6 +533,7 @@ md_status md_do_step(md_instance *m, const char *call, double t, double h)
     for (j = 0; j < 3; ++j) {
         memcpy(m->d.w[j], m->w_new[j], ml_state_size(&m->d.p[j]) * sizeof(double));
         m->d.e[j] += m->res[j].dissipated;
+        record_step(&m->d, j, &m->res[j]);
     }
     m->d.time = t + h;
     m->d.dt = h;
@@ -556,6 +588,26 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_LOCAL_W: *value = mean_state(&m->d, j); return MD_OK;
     case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
+    case MD_OUTPUT_SLIPPED: *value = m->d.slipped[j]; return MD_OK;
+    case MD_OUTPUT_DE_STEP: *value = m->d.step_e[j]; return MD_OK;
+    case MD_OUTPUT_KS:
+        if (m->d.mode > MD_INIT) {
+            *value = m->d.ks[j];
+            return MD_OK;
+        }
+        break;  /* before the first step: the tangent */
+    case MD_OUTPUT_KT:
+        if (m->d.post[j]) {  /* after doStep: the tangent the step ended with */
+            *value = m->d.step_kt[j];
+            return MD_OK;
+        }
+        break;
+    case MD_OUTPUT_SLIP:
+        if (m->d.post[j]) {  /* after doStep: whether the step slipped */
+            *value = m->d.slipped[j];
+            return MD_OK;
+        }
+        break;
     default: break;
     }
     status = evaluate(m, call, j);
@@ -566,7 +618,7 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     switch (var->role) {
     case MD_OUTPUT_F: *value = m->res[j].force; break;
     case MD_OUTPUT_FFR: *value = m->res[j].friction; break;
-    case MD_OUTPUT_KT: *value = m->res[j].tangent; break;
+    case MD_OUTPUT_KT: case MD_OUTPUT_KS: *value = m->res[j].tangent; break;
     case MD_OUTPUT_SLIP: *value = m->res[j].slipping; break;
     case MD_OUTPUT_N: case MD_OUTPUT_N2: {
         double n1, n2;
@@ -644,12 +696,31 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
             value = -1.0;  /* not a law code; reported by the parameter check */
         set_field(&m->d.p[j], var->field, value);
         m->params_ok = 0;
+        m->d.post[0] = m->d.post[1] = m->d.post[2] = 0;
         invalidate(m);
         return MD_OK;
-    case MD_INPUT_U: m->d.u[j] = value; break;
-    case MD_INPUT_V: m->d.v[j] = value; break;
-    case MD_INPUT_N: m->d.n[j] = value; m->d.n_set[j] = 1; break;
+    case MD_INPUT_U:
+        if (value != m->d.u[j])
+            m->d.post[j] = 0;
+        m->d.u[j] = value;
+        break;
+    case MD_INPUT_V:
+        if (value != m->d.v[j])
+            m->d.post[j] = 0;
+        m->d.v[j] = value;
+        break;
+    case MD_INPUT_N:
+        /* an importer writing the declared start before the end of initialization:
+         * n keeps following <axis>_n0 (FrictionMount._set_normal_force) */
+        if (!m->d.n_set[j] && value == var->start && m->d.mode <= MD_INIT)
+            return MD_OK;
+        if (value != normal_force(m, j))
+            m->d.post[j] = 0;
+        m->d.n[j] = value;
+        m->d.n_set[j] = 1;
+        break;
     default:  /* w_<axis>: FrictionMount._set_sliders */
+        m->d.post[j] = 0;
         if (m->params_ok)
             initial_state(&m->d, j, value);
         else
@@ -775,6 +846,12 @@ static int axis_problem(const md_data *d, int j, char *why, size_t size)
     if (!(isfinite(d->u[j]) && isfinite(d->v[j]) && isfinite(d->n[j])
           && isfinite(d->e[j]))) {
         snprintf(why, size, "an input or the energy of axis %s is not finite", a);
+        return 1;
+    }
+    if (!is_flag(d->post[j]) || !is_flag(d->slipped[j])
+            || !(isfinite(d->step_kt[j]) && isfinite(d->step_e[j]) && isfinite(d->ks[j])
+                 && isfinite(d->step_u[j]) && isfinite(d->step_r[j]))) {
+        snprintf(why, size, "the record of the last step of axis %s is out of range", a);
         return 1;
     }
     /* wkind: 0 (a plain sequence) or an element's tag, friction kind + 1 */

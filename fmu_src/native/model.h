@@ -40,7 +40,9 @@ typedef enum { MD_REAL = 0, MD_INTEGER = 1, MD_BOOLEAN = 2 } md_type;
 typedef enum {
     MD_PARAMETER = 0, MD_INPUT_U, MD_INPUT_V, MD_INPUT_N, MD_OUTPUT_F,
     MD_OUTPUT_FFR, MD_OUTPUT_KT, MD_OUTPUT_SLIP, MD_OUTPUT_E_AXIS, MD_OUTPUT_E_TOTAL,
-    MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2
+    MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2,
+    /* the record of the last step (fmu_src/step_record.py): slipped_, dE_fr_, ks_ */
+    MD_OUTPUT_SLIPPED, MD_OUTPUT_DE_STEP, MD_OUTPUT_KS
 } md_role;
 
 /* Fields of a parameter variable, in mount_law.AxisParameters' order. */
@@ -84,6 +86,13 @@ typedef struct {
                          rate-dependent elements integrate over */
     int started;      /* a step was done since initialization */
     md_me me;         /* Model Exchange: continuous states, modes (me_state.h) */
+    /* per axis, the record of the last step (fmu_src/step_record.py, the same
+     * operations): post: no input of the axis changed since the last doStep (kt_ and
+     * slip_ then read step_kt and slipped); the energy dissipated in it; its secant;
+     * the deflection and the force less the damper it committed (at the end of
+     * initialization before the first step) */
+    int post[3], slipped[3];
+    double step_kt[3], step_e[3], ks[3], step_u[3], step_r[3];
 } md_data;
 
 typedef struct {
