@@ -269,3 +269,44 @@ def hydraulic_notch_peak(params: HydraulicParameters) -> tuple[float, float]:
     wn2 = (p.kr * (c1 + c2) + ap2) / (inertia * c2 * (p.kr * c1 + ap2))
     return math.sqrt(wn2), math.sqrt(wp2)
 
+
+
+# --------------------------------------------------------------------------------------
+# Time domain: the exact step of a Maxwell branch
+# --------------------------------------------------------------------------------------
+
+#: Maxwell branches per mount axis in the FMU (fields ``maxwell_k1..3``,
+#: ``maxwell_c1..3``; a branch with ``k = 0`` or ``c = 0`` is absent).
+MAX_MAXWELL = 3
+
+
+def maxwell_step(k: float, c: float, uc: float, w0: float, u: float,
+                 dt: float) -> tuple[float, float, float]:
+    """One increment of a Maxwell branch, exact for the linear ODE.
+
+    The branch's damper stroke ``w`` obeys ``c dw/dt = k (u(t) - w)``; over the
+    increment of ``dt`` seconds the deflection moves linearly from the committed
+    ``uc`` to ``u`` (the FMU's inputs are the end-of-step values, the path between
+    two communication points a straight line, as the friction elements read it).
+    With ``tau = c / k``, ``x = dt / tau``, ``e = exp(-x)`` the exact solution is
+
+        w(dt) = u - (u - uc) (1 - e) / x + (w0 - uc) e
+
+    and the force ``F = k (u - w) = k ((uc - w0) e + (u - uc) (1 - e) / x)``, its
+    tangent ``dF/du = k (1 - e) / x`` (``1 - e`` by ``expm1``: exact also for
+    ``x`` near 0). ``dt = 0`` is a jump (the damper does not move: ``F = k (u -
+    w0)``, ``dF/du = k``). An absent branch (``k = 0`` or ``c = 0``) carries no force
+    and follows ``u``.
+
+    Returns ``(F, w, dF/du)``.
+    """
+    if k == 0.0 or c == 0.0:
+        return 0.0, u, 0.0
+    if dt <= 0.0:
+        return k * (u - w0), w0, k
+    x = dt * k / c
+    g = -math.expm1(-x)            # 1 - e
+    e = 1.0 - g
+    ratio = g / x                  # (1 - e) / x
+    f = k * ((uc - w0) * e + (u - uc) * ratio)
+    return f, u - f / k, k * ratio
