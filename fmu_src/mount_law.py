@@ -233,8 +233,9 @@ class _Axis:
         """The same axis with stiffnesses and damping times ``lam`` (thesis eq. 4.4)."""
         if not (_finite(lam) and lam > 0):
             raise ParameterError([f"`lambda` must be finite and > 0, got {lam!r}"])
+        mx = {name: getattr(self, name) * lam for name in MAXWELL_FIELDS}
         return replace(self, k1=self.k1 * lam, kc=self.kc * lam, k2=self.k2 * lam,
-                       c=self.c * lam)
+                       c=self.c * lam, **mx)
 
     def to_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
