@@ -127,6 +127,10 @@ CASES = (
     # Micro-slip (Iwan, 8 sliders) with non-symmetric friction (issue 14 item 3):
     # quick mode measured 0.061 % of peak (H = 7), 0.36 % with H = 1.
     Case("sdof_microslip", "sdof_microslip", 2.0, 14.0),
+    # Maxwell branches beside the friction element (issue 28): the HBM adds their
+    # complex stiffness per harmonic exactly, the co-simulation steps their strokes
+    # exactly for the step's linear path; the friction is marched as in sdof_halved.
+    Case("sdof_maxwell_friction", "sdof_maxwell", 2.0, 14.0),
     # The inclined element of Ch. 5 at 60 degrees (varying normal force), a friction
     # kind of the FrictionMount FMU's axis: HBM against co-simulation, both through the
     # general path (the element relaxed at the static working point under the weight).

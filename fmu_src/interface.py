@@ -28,13 +28,14 @@ from dataclasses import dataclass
 
 from .friction import FRICTION_ELEMENTS
 from .jenkins import MAX_SLIDERS
-from .mount_law import (AXES, LAWS, AxisParameters,
+from .mount_law import (AXES, LAWS, MAX_MAXWELL, AxisParameters,
                         friction_kind_code, law_code)
 
 __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
-           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds"]
+           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds",
+           "MAXWELL_PARAMETER_FIELDS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -214,6 +215,7 @@ def _variables() -> tuple[Variable, ...]:
                      f"(0 for the Jenkins element and without friction)"),
         ]
     out += _parameters(LATER_PARAMETER_FIELDS)
+    out += _parameters(MAXWELL_PARAMETER_FIELDS)
     out += _post_step_outputs()
     return tuple(out)
 
@@ -241,9 +243,22 @@ def _post_step_outputs() -> list[Variable]:
     return out
 
 
+#: (field, FMI type, unit, description) of the Maxwell branches (a spring in series
+#: with a damper, in parallel with the elastic law; fmu_src.linear_branches), up to
+#: MAX_MAXWELL per axis, appended after every element's fields.
+MAXWELL_PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = tuple(
+    row for i in range(1, MAX_MAXWELL + 1) for row in (
+        (f"maxwell_k{i}", "Real", "N/m",
+         f"Maxwell branch {i}: spring stiffness in series with its damper, >= 0 "
+         f"(0: no branch)"),
+        (f"maxwell_c{i}", "Real", "N.s/m",
+         f"Maxwell branch {i}: damping in series with its spring, >= 0 (0: no "
+         f"branch)")))
+
+
 #: Every per-axis parameter field: (field, FMI type, unit, description).
 ALL_PARAMETER_FIELDS = (PARAMETER_FIELDS + INCLINED_PARAMETER_FIELDS
-                        + LATER_PARAMETER_FIELDS)
+                        + LATER_PARAMETER_FIELDS + MAXWELL_PARAMETER_FIELDS)
 
 
 def declared_bounds(field: str, typ: str) -> dict[str, str]:

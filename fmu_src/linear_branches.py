@@ -106,7 +106,9 @@ from collections.abc import Iterable, Sequence
 from typing import NamedTuple
 
 __all__ = ["maxwell_complex_stiffness", "HydraulicParameters", "HYDRAULIC_FIELDS",
-           "check_hydraulic", "hydraulic_complex_stiffness", "hydraulic_notch_peak"]
+           "check_hydraulic", "hydraulic_complex_stiffness", "hydraulic_notch_peak",
+           "MAX_MAXWELL", "maxwell_step", "FLUID_STATE", "fluid_matrices",
+           "fluid_propagator", "fluid_relaxed", "fluid_step"]
 
 
 def _is_seq(x) -> bool:
@@ -269,3 +271,170 @@ def hydraulic_notch_peak(params: HydraulicParameters) -> tuple[float, float]:
     wn2 = (p.kr * (c1 + c2) + ap2) / (inertia * c2 * (p.kr * c1 + ap2))
     return math.sqrt(wn2), math.sqrt(wp2)
 
+
+
+# --------------------------------------------------------------------------------------
+# Time domain: the exact step of a Maxwell branch
+# --------------------------------------------------------------------------------------
+
+#: Maxwell branches per mount axis in the FMU (fields ``maxwell_k1..3``,
+#: ``maxwell_c1..3``; a branch with ``k = 0`` or ``c = 0`` is absent).
+MAX_MAXWELL = 3
+
+
+def maxwell_step(k: float, c: float, uc: float, w0: float, u: float,
+                 dt: float) -> tuple[float, float, float]:
+    """One increment of a Maxwell branch, exact for the linear ODE.
+
+    The branch's damper stroke ``w`` obeys ``c dw/dt = k (u(t) - w)``; over the
+    increment of ``dt`` seconds the deflection moves linearly from the committed
+    ``uc`` to ``u`` (the FMU's inputs are the end-of-step values, the path between
+    two communication points a straight line, as the friction elements read it).
+    With ``tau = c / k``, ``x = dt / tau``, ``e = exp(-x)`` the exact solution is
+
+        w(dt) = u - (u - uc) (1 - e) / x + (w0 - uc) e
+
+    and the force ``F = k (u - w) = k ((uc - w0) e + (u - uc) (1 - e) / x)``, its
+    tangent ``dF/du = k (1 - e) / x`` (``1 - e`` by ``expm1``: exact also for
+    ``x`` near 0). ``dt = 0`` is a jump (the damper does not move: ``F = k (u -
+    w0)``, ``dF/du = k``). An absent branch (``k = 0`` or ``c = 0``) carries no force
+    and follows ``u``.
+
+    Returns ``(F, w, dF/du)``.
+    """
+    if k == 0.0 or c == 0.0:
+        return 0.0, u, 0.0
+    if dt <= 0.0:
+        return k * (u - w0), w0, k
+    x = dt * k / c
+    g = -math.expm1(-x)            # 1 - e
+    e = 1.0 - g
+    ratio = g / x                  # (1 - e) / x
+    f = k * ((uc - w0) * e + (u - uc) * ratio)
+    return f, u - f / k, k * ratio
+
+
+# --------------------------------------------------------------------------------------
+# Time domain: the exact step of the hydraulic mount's fluid (law layer only: not yet
+# wired into the axis, the FMUs or the harness)
+# --------------------------------------------------------------------------------------
+
+#: Floats of the fluid state: ``x1 = C1 p1 - Ap u`` (m^3, the upper chamber's volume
+#: change less the piston's), ``p2`` (Pa), ``q_i``, ``q_d`` (m^3/s).
+FLUID_STATE = 4
+
+
+def fluid_matrices(p: HydraulicParameters):
+    """``(A, b)`` of the fluid states ``x = (x1, p2, q_i, q_d)`` (:data:`FLUID_STATE`),
+    ``dx/dt = A x + b u``: with ``p1 = (x1 + Ap u) / C1`` the module docstring's
+    equations read ``dx1/dt = -q_i - q_d``, ``dp2/dt = (q_i + q_d) / C2``,
+    ``I dq/dt = p1 - p2 - R q`` per passage (no decoupler, ``I_d = 0``: ``q_d``
+    stays 0)."""
+    a = [[0.0, 0.0, -1.0, -1.0],
+         [0.0, 0.0, 1.0 / p.C2, 1.0 / p.C2],
+         [1.0 / (p.C1 * p.I_i), -1.0 / p.I_i, -p.R_i / p.I_i, 0.0],
+         [0.0, 0.0, 0.0, 0.0]]
+    b = [0.0, 0.0, p.Ap / (p.C1 * p.I_i), 0.0]
+    if p.I_d > 0.0:
+        a[3] = [1.0 / (p.C1 * p.I_d), -1.0 / p.I_d, 0.0, -p.R_d / p.I_d]
+        b[3] = p.Ap / (p.C1 * p.I_d)
+    else:
+        a[0][3] = a[1][3] = 0.0
+    return a, b
+
+
+def _matmul(x, y):
+    n = len(x)
+    return [[math.fsum(x[i][k] * y[k][j] for k in range(n)) for j in range(n)]
+            for i in range(n)]
+
+
+def _expm(m):
+    """exp(m) of a small square matrix (lists): power-of-two balancing (exact), then
+    scaling and squaring of an 18-term Taylor series at norm <= 1/4 (truncation
+    below 1e-25 relative)."""
+    n = len(m)
+    d = [1.0] * n
+    a = [row[:] for row in m]
+    for _ in range(20):   # Parlett-Reinsch balancing with powers of two
+        done = True
+        for i in range(n):
+            c = math.fsum(abs(a[k][i]) for k in range(n) if k != i)
+            r = math.fsum(abs(a[i][k]) for k in range(n) if k != i)
+            if c == 0.0 or r == 0.0:
+                continue
+            f = 1.0
+            while c < r / 2.0:
+                c, r, f = c * 2.0, r / 2.0, f * 2.0
+            while c > r * 2.0:
+                c, r, f = c / 2.0, r * 2.0, f / 2.0
+            if f != 1.0:
+                done = False
+                d[i] *= f
+                for k in range(n):
+                    a[i][k] /= f
+                    a[k][i] *= f
+        if done:
+            break
+    norm = max(math.fsum(abs(x) for x in row) for row in a)
+    s = 0
+    while norm > 0.25:
+        norm /= 2.0
+        s += 1
+    scale = 2.0 ** -s
+    a = [[x * scale for x in row] for row in a]
+    out = [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
+    term = [row[:] for row in out]
+    for k in range(1, 19):
+        term = _matmul(term, a)
+        term = [[x / k for x in row] for row in term]
+        out = [[out[i][j] + term[i][j] for j in range(n)] for i in range(n)]
+    for _ in range(s):
+        out = _matmul(out, out)
+    # undo the balancing: exp(D^-1 M D) = D^-1 exp(M) D with a = D^-1 m D
+    return [[out[i][j] * d[i] / d[j] for j in range(n)] for i in range(n)]
+
+
+def fluid_propagator(p: HydraulicParameters, dt: float):
+    """``(Phi, g0, g1)`` of one step of ``dt`` seconds: with the deflection linear in
+    time from ``uc`` to ``u`` (rate ``r = (u - uc) / dt``) the fluid state goes to
+    ``x = Phi x0 + g0 uc + g1 r`` exactly (the exponential of the augmented system
+    ``d(x, u, r)/dt = (A x + b u, r, 0)``)."""
+    a, b = fluid_matrices(p)
+    n = FLUID_STATE
+    m = [[0.0] * (n + 2) for _ in range(n + 2)]
+    for i in range(n):
+        for j in range(n):
+            m[i][j] = a[i][j] * dt
+        m[i][n] = b[i] * dt
+    m[n][n + 1] = dt
+    e = _expm(m)
+    phi = [row[:n] for row in e[:n]]
+    g0 = [e[i][n] for i in range(n)]
+    g1 = [e[i][n + 1] for i in range(n)]   # the coefficient of the rate r
+    return phi, g0, g1
+
+
+def fluid_relaxed(p: HydraulicParameters, u: float) -> tuple[float, ...]:
+    """The fluid at rest at the deflection ``u``: no flow, both chambers at
+    ``p = Ap u / (C1 + C2)``, so ``x1 = C1 p - Ap u``."""
+    pr = p.Ap * u / (p.C1 + p.C2)
+    return (p.C1 * pr - p.Ap * u, pr, 0.0, 0.0)
+
+
+def fluid_step(p: HydraulicParameters, prop, x0, uc: float, u: float, dt: float):
+    """One increment of the fluid (``prop``: :func:`fluid_propagator` of ``dt``, None
+    at ``dt = 0``, a jump: the fluid does not move). Returns ``(F, x, dF/du)``: the
+    pressure force ``Ap p1 = Ap (x1 + Ap u) / C1`` on the piston, the new state, and
+    its tangent."""
+    ap, c1 = p.Ap, p.C1
+    if prop is None or dt <= 0.0:
+        x = tuple(x0)
+        return ap * (x[0] + ap * u) / c1, x, ap * ap / c1
+    phi, g0, g1 = prop
+    r = (u - uc) / dt
+    x = tuple(math.fsum((phi[i][0] * x0[0], phi[i][1] * x0[1], phi[i][2] * x0[2],
+                         phi[i][3] * x0[3], g0[i] * uc, g1[i] * r))
+              for i in range(FLUID_STATE))
+    f = ap * (x[0] + ap * u) / c1
+    return f, x, ap * (ap + g1[0] / dt) / c1

@@ -58,6 +58,7 @@ from .friction import (FRICTION_ELEMENTS, FRICTION_KINDS, ElementStep,
                        friction_kind_name)
 from .jenkins import (MAX_SLIDERS, SliderStep, iwan_update, jenkins_update,
                       slider_bank, slider_update)
+from .linear_branches import MAX_MAXWELL, maxwell_step
 
 __all__ = [
     "AXES",
@@ -91,6 +92,11 @@ __all__ = [
     "conform_state",
     "normal_forces",
     "static_force",
+    "MAX_MAXWELL",
+    "MAXWELL_FIELDS",
+    "MaxwellAxisState",
+    "flat_state",
+    "without_maxwell",
 ]
 
 #: Names of the three local axes of a mount, in the order used everywhere.
@@ -115,6 +121,11 @@ _LAW_FIELDS = (("law", "piecewise", None), ("k1", 91870.0, ">= 0"),
                ("delta", 0.01225, "> 0"), ("delta_neg", 0.01225, "> 0"),
                ("c", 150.0, ">= 0"))
 
+#: The Maxwell branches' axis fields (``maxwell_k<i>`` N/m, ``maxwell_c<i>`` N s/m,
+#: i = 1..MAX_MAXWELL), appended after every element's fields; default 0: absent.
+MAXWELL_FIELDS = tuple(f"maxwell_{q}{i}" for i in range(1, MAX_MAXWELL + 1)
+                       for q in ("k", "c"))
+
 
 class _Axis:
     """The methods of :class:`AxisParameters` (its fields come from the registries).
@@ -132,6 +143,12 @@ class _Axis:
                            (el.params(self) if el.params else self))
         # the element's step bound to these parameters (None without friction)
         object.__setattr__(self, "friction_step", None if el is None else el.bind(self))
+        # the Maxwell branches (k, c) in FMU order, and whether any is present
+        pairs = tuple((getattr(self, f"maxwell_k{i}"), getattr(self, f"maxwell_c{i}"))
+                      for i in range(1, MAX_MAXWELL + 1))
+        object.__setattr__(self, "maxwell", pairs)
+        object.__setattr__(self, "has_maxwell",
+                           any(k > 0.0 and c > 0.0 for k, c in pairs))
 
     def problems(self, prefix: str = "") -> list[str]:
         """Every problem of these parameters, each naming field, value and rule."""
@@ -159,6 +176,11 @@ class _Axis:
                        f"{', '.join(FRICTION_KINDS)}, got {kind!r}")
         elif on:
             out += el.field_problems(self, prefix)
+        for name in MAXWELL_FIELDS:
+            value = getattr(self, name, 0.0)
+            if not (_finite(value) and value >= 0):
+                out.append(f"`{prefix}{name}` must be finite and >= 0 (a Maxwell "
+                           f"branch; 0: absent), got {value!r}")
         return out
 
     @property
@@ -211,8 +233,9 @@ class _Axis:
         """The same axis with stiffnesses and damping times ``lam`` (thesis eq. 4.4)."""
         if not (_finite(lam) and lam > 0):
             raise ParameterError([f"`lambda` must be finite and > 0, got {lam!r}"])
+        mx = {name: getattr(self, name) * lam for name in MAXWELL_FIELDS}
         return replace(self, k1=self.k1 * lam, kc=self.kc * lam, k2=self.k2 * lam,
-                       c=self.c * lam)
+                       c=self.c * lam, **mx)
 
     def to_dict(self) -> dict:
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -239,6 +262,7 @@ def _axis_fields():
     out += [(f.name, type(f.default), _dc_field(default=f.default)) for f in first]
     out.append(("friction_kind", str, _dc_field(default=FRICTION_KINDS[0])))
     out += [(f.name, type(f.default), _dc_field(default=f.default)) for f in rest]
+    out += [(name, float, _dc_field(default=0.0)) for name in MAXWELL_FIELDS]
     return out
 
 
@@ -388,13 +412,20 @@ def static_force(u: float, p: AxisParameters) -> tuple[float, float]:
 def initial_sliders(p: AxisParameters, w: float = 0.0):
     """The friction state of axis ``p`` relaxed at deflection ``w`` (m): the
     element's ``start`` (a float for the macro-slip element, a tuple of ``sliders``
-    floats for the micro-slip one, ...); a float without friction."""
-    return p.element.start(p, w) if p.friction else float(w)
+    floats for the micro-slip one, ...); a float without friction. With Maxwell
+    branches (``p.has_maxwell``) a :class:`MaxwellAxisState`, every branch relaxed
+    at ``w`` too."""
+    inner = p.element.start(p, w) if p.friction else float(w)
+    if p.has_maxwell:
+        return _maxwell_state(inner, float(w), (float(w),) * MAX_MAXWELL)
+    return inner
 
 
 def slider_position(p: AxisParameters, w) -> float:
     """The one number (m) of the friction state ``w`` of axis ``p`` (the FMU's
     ``w_<axis>``; the element's ``position``)."""
+    if isinstance(w, MaxwellAxisState) and p.has_maxwell:
+        w = _split(p, w)[0]
     return p.element.position(w) if p.friction else mean_slider(w)
 
 
@@ -403,6 +434,8 @@ def conform_state(p: AxisParameters, w):
     its ``state_size`` floats is read as one: a restored FMU state), else the state
     of :func:`initial_sliders` at its :func:`mean_slider` (e.g. after the
     parameters changed)."""
+    if p.has_maxwell:
+        return _conform_maxwell(p, w)
     el = p.element
     if el is None:
         return mean_slider(w)
@@ -424,6 +457,8 @@ def normal_forces(p: AxisParameters, w, n: float | None = None
     (0, 0) without friction."""
     if not p.friction:
         return 0.0, 0.0
+    if isinstance(w, MaxwellAxisState) and p.has_maxwell:
+        w = _split(p, w)[0]
     return p.element.normal_forces(p, w, p.n0 if n is None else n)
 
 
@@ -449,8 +484,13 @@ def axis_force(u: float, v: float, w, p: AxisParameters, n: float | None = None,
     (:func:`initial_sliders`), ``p`` the axis; ``n`` the normal-force input (N,
     default ``p.n0``; negative: lost contact), ``dt`` the increment (s; read by
     rate-dependent elements only). Without a friction element (``p.friction``
-    false) the state is ignored.
+    false) the state is ignored. With Maxwell branches (``p.has_maxwell``) ``w`` is
+    a :class:`MaxwellAxisState` and their forces are part of ``force`` (not of
+    ``friction_force``; their dissipation is not in ``dissipated``, which is the
+    friction element's).
     """
+    if p.has_maxwell:
+        return _maxwell_axis_force(u, v, w, p, n, dt)
     f_el, k_el = p.elastic_force(u, p)
     step = p.friction_step
     if step is not None:
@@ -459,3 +499,98 @@ def axis_force(u: float, v: float, w, p: AxisParameters, n: float | None = None,
         return _new(AxisForce, (f_el + p.c * v + f_fr, f_fr, w_new, k_el + k_fr,
                                 slipping, diss))
     return _new(AxisForce, (f_el + p.c * v, 0.0, w, k_el, False, 0.0))
+
+
+# --------------------------------------------------------------------------------------
+# Maxwell branches in parallel with the elastic law (fmu_src.linear_branches)
+# --------------------------------------------------------------------------------------
+
+
+class MaxwellAxisState(tuple):
+    """The state of an axis with Maxwell branches: one flat tuple of floats, the
+    friction element's state (its ``state_size`` floats; one placeholder float
+    without friction), then the committed deflection ``uc`` (m) and the damper
+    strokes ``w_1 .. w_MAX_MAXWELL`` (m) of the branches (an absent branch's stroke
+    follows ``u``). Flat, so that the FMU serializes it as a list and reads it back
+    (:func:`conform_state`)."""
+
+    __slots__ = ()
+
+
+def _inner_size(p: AxisParameters) -> int:
+    return p.element.state_size(p) if p.friction else 1
+
+
+def _maxwell_state(inner, uc: float, branches) -> MaxwellAxisState:
+    flat = (inner,) if isinstance(inner, float) else tuple(inner)
+    return tuple.__new__(MaxwellAxisState, flat + (uc,) + tuple(branches))
+
+
+def _split(p: AxisParameters, w: MaxwellAxisState):
+    """``(friction state, uc, branch strokes)`` of ``w``."""
+    n = _inner_size(p)
+    if not p.friction:
+        inner = w[0]
+    elif n == 1:
+        inner = w[0]
+    else:
+        inner = p.element.from_flat(p, w[:n])
+    return inner, w[n], w[n + 1:n + 1 + MAX_MAXWELL]
+
+
+def _conform_maxwell(p: AxisParameters, w) -> MaxwellAxisState:
+    """:func:`conform_state` of an axis with Maxwell branches: a flat sequence of
+    the right length is read as a state (a restored FMU state); a state without
+    branches keeps its friction state, the branches relaxed at its position;
+    anything else is relaxed at its mean."""
+    n = _inner_size(p)
+    if isinstance(w, (tuple, list)) and not hasattr(w, "_fields") \
+            and len(w) == n + 1 + MAX_MAXWELL \
+            and all(isinstance(x, (int, float)) for x in w):
+        flat = tuple(float(x) for x in w)
+        inner = flat[0] if n == 1 else p.element.from_flat(p, flat[:n])
+        if inner is not None:
+            return tuple.__new__(MaxwellAxisState, flat)
+    if isinstance(w, MaxwellAxisState):
+        return initial_sliders(p, mean_slider(tuple(w)))
+    q = replace(p, **{name: 0.0 for name in MAXWELL_FIELDS})
+    inner = conform_state(q, w)
+    x = slider_position(q, inner)
+    return _maxwell_state(inner, x, (x,) * MAX_MAXWELL)
+
+
+def _maxwell_axis_force(u, v, w, p, n, dt) -> AxisForce:
+    if not isinstance(w, MaxwellAxisState):
+        w = _conform_maxwell(p, w)
+    inner, uc, strokes = _split(p, w)
+    f_el, k_el = p.elastic_force(u, p)
+    f_m = k_m = 0.0
+    new = []
+    for (k, c), w0 in zip(p.maxwell, strokes):
+        f, w1, kt = maxwell_step(k, c, uc, w0, u, dt)
+        f_m += f
+        k_m += kt
+        new.append(w1)
+    step = p.friction_step
+    if step is not None:
+        f_fr, inner, k_fr, _d, slipping, diss = step(inner, u, v, p.n0 if n is None
+                                                     else n, dt)
+    else:
+        f_fr, k_fr, slipping, diss = 0.0, 0.0, False, 0.0
+    return _new(AxisForce, (f_el + p.c * v + f_fr + f_m, f_fr,
+                            _maxwell_state(inner, u, new), k_el + k_fr + k_m,
+                            slipping, diss))
+
+
+def flat_state(w) -> float | list[float]:
+    """A committed axis state as the FMU serializes it: a float, or a flat list of
+    floats (:func:`conform_state` reads it back)."""
+    return list(w) if isinstance(w, tuple) else w
+
+
+def without_maxwell(p: AxisParameters) -> AxisParameters:
+    """Axis ``p`` without its Maxwell branches (the HBM and ``characterise`` add
+    them exactly in the frequency domain, :mod:`fmu_src.linear_branches`)."""
+    if not p.has_maxwell:
+        return p
+    return replace(p, **{name: 0.0 for name in MAXWELL_FIELDS})

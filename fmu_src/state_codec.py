@@ -18,7 +18,7 @@ import json
 import math
 
 from .fmi_state import INFINITE_ALLOWED, Mode
-from .mount_law import MAX_SLIDERS
+from .mount_law import MAX_MAXWELL, MAX_SLIDERS
 from .step_record import record_problem
 
 __all__ = ["MAGIC", "Corrupt", "encode", "decode", "state_problem"]
@@ -84,7 +84,9 @@ def _three(state: dict, key: str, check) -> str | None:
 
 def _slider_state(w) -> bool:
     if isinstance(w, list):
-        return 1 <= len(w) <= MAX_SLIDERS and all(_real_ok("w", x) for x in w)
+        # the element's state, plus uc and the strokes of the Maxwell branches
+        return 1 <= len(w) <= MAX_SLIDERS + 1 + MAX_MAXWELL \
+            and all(_real_ok("w", x) for x in w)
     return _real_ok("w", w)
 
 

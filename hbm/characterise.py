@@ -44,6 +44,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import brentq
 
+from drymount.fmu_src.linear_branches import maxwell_complex_stiffness
 from drymount.fmu_src.mount_law import AxisParameters, axis_force, initial_sliders
 from drymount.hbm.aft import FourierBasis, aft_forces
 from drymount.hbm.elements import NonlinearAxes, friction_columns
@@ -197,6 +198,10 @@ def dynamic_stiffness(axis: AxisParameters, freqs_hz, amplitudes, preloads=(0.0,
             else:
                 k_ri = rate_independent_stiffness(axis, X, U0[i, j], n_samples)
             K[i, j] = k_ri + 1j * omega * axis.c
+            if axis.has_maxwell:   # linear: their closed form (no static force)
+                K[i, j] += np.asarray(maxwell_complex_stiffness(
+                    [k for k, _ in axis.maxwell], [c for _, c in axis.maxwell],
+                    omega.tolist()))
             if progress is not None:
                 progress()
     return DynamicStiffnessMap(f, a, p, U0, K)

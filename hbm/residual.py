@@ -22,9 +22,11 @@ from typing import NamedTuple
 
 import numpy as np
 
+from drymount.fmu_src.linear_branches import maxwell_complex_stiffness
 from drymount.hbm.aft import FourierBasis, aft_forces, default_n_samples
 from drymount.hbm.closed_form import closed_form_forces
 from drymount.hbm.elements import nonlinear_axes
+from drymount.hbm.maxwell import maxwell_axes
 from drymount.hbm.static import working_point
 from drymount.hbm.system import System
 
@@ -110,6 +112,8 @@ class HarmonicBalance:
         self.closed_form = bool(closed_form)
         self.n_samples = int(n_samples)
         self.axes = ax
+        #: the axes with Maxwell branches (None: none), exact per harmonic
+        self.maxwell = maxwell_axes(system)
         self.basis = FourierBasis(H, self.n_samples)
         K0, C0 = system.linearized(stuck=False)
         Kb0, Cb0 = system.linearized_base(stuck=False)
@@ -145,6 +149,11 @@ class HarmonicBalance:
             e0[2] = Kb0 @ Y
             e1[1] = Cb0 @ Y
             self.Yax[2] = -(self.axes.G @ Y)
+        self.Ymx = None
+        if getattr(self, "maxwell", None) is not None:
+            self.Ymx = np.zeros((self.m, self.maxwell.n))
+            if exc.kind not in ("force", "unbalance"):
+                self.Ymx[2] = -(self.maxwell.G @ np.asarray(exc.amplitude))
         self.e0, self.e1, self.e2 = e0.ravel(), e1.ravel(), e2.ravel()
         #: the static load (not scaled by ``exc_scale``: load stepping raises the
         #: vibration about the loaded working point)
@@ -195,9 +204,15 @@ class HarmonicBalance:
         if self.axes.n:
             F, dF = self.nonlinear_forces(X, jacobian, omega)
             R += (F @ self.Bt).ravel()
+        mx = None
+        if self.maxwell is not None:
+            Um = (X.reshape(self.m, self.n) @ self.maxwell.B.T
+                  + self.exc_scale * self.Ymx)
+            mx = self.maxwell.terms(Um, omega, self.H, self.n, jacobian)
+            R += mx[0]
         if not jacobian:
             return Residual(R, None, None)
-        J = A
+        J = A if mx is None else A + mx[1]
         if self.axes.n:
             if self.n == 1:
                 J = J + (self.BB[:, 0, 0] @ dF.reshape(self.axes.n, -1)).reshape(
@@ -208,6 +223,8 @@ class HarmonicBalance:
                     0, 2, 1, 3).reshape(self.size, self.size)
         dR_dw = ((self.A1 + (2.0 * omega) * self.A2) @ X
                  - self.exc_scale * (self.e1 + 2.0 * omega * self.e2))
+        if mx is not None:
+            dR_dw = dR_dw + mx[2]
         return Residual(R, J, dR_dw)
 
     # ----------------------------------------------------------------------------------
@@ -278,6 +295,11 @@ class HarmonicBalance:
             # k1 u + c u', u' = omega (us cos - uc sin)
             fc = p.k1 * uc + p.c * omega * us
             fs = p.k1 * us - p.c * omega * uc
+            if p.has_maxwell:   # the branches' exact fundamental (hbm.maxwell)
+                km = maxwell_complex_stiffness([k for k, _ in p.maxwell],
+                                               [c for _, c in p.maxwell], omega)
+                fc += km.real * uc + km.imag * us
+                fs += km.real * us - km.imag * uc
             if (ie, j) in self.axes.index:
                 if Fnl is None:
                     Fnl = self.nonlinear_forces(X, False, omega)[0]

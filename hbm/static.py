@@ -44,7 +44,8 @@ import numpy as np
 
 from drymount.fmu_src.inclined import _solve as _regime_forces
 from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, axis_force,
-                                        initial_sliders, static_force)
+                                        initial_sliders, static_force,
+                                        without_maxwell)
 from drymount.hbm.system import System
 
 __all__ = ["StaticStatus", "StaticPoint", "gravity_load", "static_equilibrium",
@@ -229,7 +230,8 @@ def _committed_terms(system: System, q: np.ndarray, states: dict):
     new = {}
     for ie, e in enumerate(system.elements):
         for j in e.active_axes:
-            p = e.params.axes[j]
+            # a Maxwell branch carries no static force
+            p = without_maxwell(e.params.axes[j])
             u[ie, j] = float(e.B[j] @ q)
             if p.friction:
                 r = axis_force(u[ie, j], 0.0, states[(ie, j)], p)
@@ -281,7 +283,7 @@ def lowered_equilibrium(system: System, load, steps: int = LOWER_STEPS,
                          f"{f.tolist()}")
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
         raise ValueError(f"`steps` must be an integer >= 1, got {steps!r}")
-    states = {(ie, j): initial_sliders(e.params.axes[j], 0.0)
+    states = {(ie, j): initial_sliders(without_maxwell(e.params.axes[j]), 0.0)
               for ie, e in enumerate(system.elements) for j in e.active_axes
               if e.params.axes[j].friction}
     q = np.zeros(system.n_dof)

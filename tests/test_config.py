@@ -45,7 +45,7 @@ K1, K2, DELTA = 91870.0, 513800.0, 0.01225
 EXPECTED_PRESETS = {
     "sdof_original", "sdof_halved", "sdof_cubic", "sdof_linear", "sdof_microslip",
     "sdof_inclined", "quarter_car_original", "quarter_car_inclined",
-    "quarter_car_halved",
+    "quarter_car_halved", "sdof_maxwell",
     "six_dof_original", "six_dof_halved", "six_dof_lambda12", "six_dof_4mount",
 }
 

@@ -46,7 +46,9 @@ class Params(ctypes.Structure):
                 ("fs_ratio", ctypes.c_double), ("friction_kind", ctypes.c_int)] + [
         (name, ctypes.c_double)
         for name in ("theta_deg", "k", "kf2", "mu1", "mu2", "preload", "sigma1",
-                     "sigma2", "stribeck_ratio", "v_stribeck")]
+                     "sigma2", "stribeck_ratio", "v_stribeck", "maxwell_k1",
+                     "maxwell_c1", "maxwell_k2", "maxwell_c2", "maxwell_k3",
+                     "maxwell_c3")]
 
 
 @pytest.fixture(scope="module")

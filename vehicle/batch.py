@@ -92,7 +92,11 @@ VECTOR_FRICTION = ("symmetric_slider",)
 
 
 def _vectorised(p) -> bool:
-    """Whether :class:`VectorLaw` computes the friction of axis ``p`` itself."""
+    """Whether :class:`VectorLaw` computes the friction of axis ``p`` itself (an
+    axis with Maxwell branches is stepped by the scalar law, whose state holds
+    them)."""
+    if p.has_maxwell:
+        return False
     return not p.friction or p.fast_form in VECTOR_FRICTION
 
 

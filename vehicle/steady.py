@@ -40,6 +40,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from drymount.hbm.maxwell import maxwell_axes
+
 from .inputs import HarmonicInput
 from .master import DEFAULT_STEPS_PER_PERIOD, Master
 
@@ -199,6 +201,12 @@ def linear_start(system, freq_hz: float) -> State:
     else:
         rhs = np.asarray(exc.force_amplitude(omega), dtype=complex)
     A = K - omega ** 2 * system.M + 1j * omega * C
+    mx = maxwell_axes(system)
+    if mx is not None:   # the Maxwell branches' complex stiffness (hbm.maxwell)
+        Km = mx.stiffness(omega)
+        A = A + mx.B.T @ (Km[:, None] * mx.B)
+        if exc.kind == "base":
+            rhs = rhs + mx.B.T @ (Km * (mx.G @ np.asarray(exc.amplitude, float)))
     try:
         X = np.linalg.solve(A, rhs)
     except np.linalg.LinAlgError:

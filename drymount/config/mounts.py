@@ -11,8 +11,8 @@ import numpy as np
 
 from drymount.fmu_src.friction import FRICTION_ELEMENTS, FRICTION_KINDS, element_fields
 from drymount.fmu_src.interface import parameter_unit
-from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, LAWS, AxisParameters,
-                                        MountParameters)
+from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, LAWS, MAX_MAXWELL,
+                                        AxisParameters, MountParameters)
 from drymount.config.checks import (
     _as_float,
     _Checker,
@@ -186,7 +186,8 @@ def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
             ck.add(f"`{_join(path, name)}` is missing: a number in {units[name]} is "
                    f"required{why}")
     fr = _friction(ck, data, path)
-    if len(ck.problems) > n_before or law is None or fr is None:
+    mx = _maxwell(ck, data, path)
+    if len(ck.problems) > n_before or law is None or fr is None or mx is None:
         return None
     # fields the law does not use get neutral values (kept for the FMU's parameters)
     kw.setdefault("kc", 0.0)
@@ -194,12 +195,58 @@ def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
     kw.setdefault("delta", AxisParameters.delta)
     kw.setdefault("delta_neg", kw["delta"])
     kw.update(fr)
+    kw.update(mx)
     axis = _unchecked_axis(law=law, **kw)
     problems = _law_problems(axis, path)
     if problems:
         ck.problems.extend(problems)
         return None
     return AxisParameters(**axis.to_dict())
+
+
+def _maxwell(ck: _Checker, data: dict, path: str) -> dict | None:
+    """The ``maxwell`` sub-table of an axis (``k = [...]`` N/m, ``c = [...]`` N s/m,
+    one entry per branch, at most MAX_MAXWELL) -> AxisParameters keywords
+    (``maxwell_k<i>``, ``maxwell_c<i>``); {} without it, None after a problem."""
+    if "maxwell" not in data:
+        return {}
+    p = _join(path, "maxwell")
+    mx = data["maxwell"]
+    if not isinstance(mx, dict):
+        ck.add(f"`{p}` must be a table with `k = [...]` (N/m) and `c = [...]` (N s/m), "
+               f"one entry per Maxwell branch, got {_type_name(mx)} {_show(mx)}")
+        return None
+    ck.keys(mx, p, ALLOWED_KEYS["mount.maxwell"], hints={
+        "stiffness": "the branches' stiffnesses are `k`",
+        "damping": "the branches' dampings are `c`"})
+    lists = {}
+    for key, unit in (("k", "N/m"), ("c", "N s/m")):
+        v = mx.get(key)
+        if key not in mx:
+            ck.add(f"`{p}.{key}` is missing: an array of 1 to {MAX_MAXWELL} numbers "
+                   f"in {unit} >= 0 is required (one per Maxwell branch)")
+            continue
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            v = [v]
+        if not isinstance(v, list) or not 1 <= len(v) <= MAX_MAXWELL:
+            ck.add(f"`{p}.{key}` must be an array of 1 to {MAX_MAXWELL} numbers in "
+                   f"{unit} >= 0 (one per Maxwell branch; the FMU holds at most "
+                   f"{MAX_MAXWELL}), got {_type_name(v)} {_show(v)}")
+            continue
+        got = ck.vector({key: v}, key, p, len(v), unit=unit, rule=">=0")
+        if got is not None:
+            lists[key] = got
+    if len(lists) < 2:
+        return None
+    if len(lists["k"]) != len(lists["c"]):
+        ck.add(f"`{p}`: `k` has {len(lists['k'])} entries and `c` has "
+               f"{len(lists['c'])}: one (k, c) pair per Maxwell branch")
+        return None
+    out = {}
+    for i in range(MAX_MAXWELL):
+        out[f"maxwell_k{i + 1}"] = lists["k"][i] if i < len(lists["k"]) else 0.0
+        out[f"maxwell_c{i + 1}"] = lists["c"][i] if i < len(lists["c"]) else 0.0
+    return out
 
 
 def _single_mount(ck: _Checker, data: dict) -> MountParameters | None:

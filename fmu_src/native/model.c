@@ -7,13 +7,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "maxwell.h"
 #include "model_variables.h"
 
 static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '4'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '5'};
 
 /* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
  * (tests/test_native_fmu.py checks that the numbers agree): the largest
@@ -116,6 +117,12 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_SIGMA2: p->sigma2 = value; break;
     case MD_P_STRIBECK_RATIO: p->stribeck_ratio = value; break;
     case MD_P_V_STRIBECK: p->v_stribeck = value; break;
+    case MD_P_MAXWELL_K1: p->maxwell_k1 = value; break;
+    case MD_P_MAXWELL_C1: p->maxwell_c1 = value; break;
+    case MD_P_MAXWELL_K2: p->maxwell_k2 = value; break;
+    case MD_P_MAXWELL_C2: p->maxwell_c2 = value; break;
+    case MD_P_MAXWELL_K3: p->maxwell_k3 = value; break;
+    case MD_P_MAXWELL_C3: p->maxwell_c3 = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -148,6 +155,12 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_SIGMA2: return p->sigma2;
     case MD_P_STRIBECK_RATIO: return p->stribeck_ratio;
     case MD_P_V_STRIBECK: return p->v_stribeck;
+    case MD_P_MAXWELL_K1: return p->maxwell_k1;
+    case MD_P_MAXWELL_C1: return p->maxwell_c1;
+    case MD_P_MAXWELL_K2: return p->maxwell_k2;
+    case MD_P_MAXWELL_C2: return p->maxwell_c2;
+    case MD_P_MAXWELL_K3: return p->maxwell_k3;
+    case MD_P_MAXWELL_C3: return p->maxwell_c3;
     case MD_P_NONE: break;
     }
     return 0.0;
@@ -174,7 +187,7 @@ static void initial_state(md_data *d, int j, double value)
 /* mount_law.slider_position / mean_slider of axis j's committed state. */
 static double mean_state(const md_data *d, int j)
 {
-    return ml_state_position(d->w[j], d->nw[j], d->wkind[j]);
+    return ml_state_position_p(&d->p[j], d->w[j], d->nw[j], d->wkind[j]);
 }
 
 /* mount_law.conform_state once the parameters are checked: the state of the axis's
@@ -829,7 +842,9 @@ static int axis_problem(const md_data *d, int j, char *why, size_t size)
     static const md_field reals[] = {MD_P_K1, MD_P_KC, MD_P_K2, MD_P_DELTA,
         MD_P_DELTA_NEG, MD_P_C, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SPREAD, MD_P_FS_RATIO,
         MD_P_THETA_DEG, MD_P_K, MD_P_KF2, MD_P_MU1, MD_P_MU2, MD_P_PRELOAD,
-        MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO, MD_P_V_STRIBECK};
+        MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO, MD_P_V_STRIBECK,
+        MD_P_MAXWELL_K1, MD_P_MAXWELL_C1, MD_P_MAXWELL_K2, MD_P_MAXWELL_C2,
+        MD_P_MAXWELL_K3, MD_P_MAXWELL_C3};
     size_t i;
     int k;
     for (i = 0; i < sizeof reals / sizeof reals[0]; ++i) {
@@ -856,9 +871,9 @@ static int axis_problem(const md_data *d, int j, char *why, size_t size)
     }
     /* wkind: 0 (a plain sequence) or an element's tag, friction kind + 1 */
     if (d->wkind[j] < 0 || d->wkind[j] > ml_friction_kinds() || d->nw[j] < 1
-            || d->nw[j] > ML_MAX_SLIDERS) {
+            || d->nw[j] > ML_MAX_STATE) {
         snprintf(why, size, "axis %s: slider count %d (kind %d) outside 1..%d", a,
-                 d->nw[j], d->wkind[j], ML_MAX_SLIDERS);
+                 d->nw[j], d->wkind[j], ML_MAX_STATE);
         return 1;
     }
     for (k = 0; k < d->nw[j]; ++k)

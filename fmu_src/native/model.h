@@ -51,7 +51,9 @@ typedef enum {
     MD_P_FRICTION, MD_P_KF, MD_P_MU, MD_P_N0, MD_P_SLIDERS, MD_P_SPREAD,
     MD_P_FS_RATIO, MD_P_NONE, MD_P_FRICTION_KIND, MD_P_THETA_DEG, MD_P_K, MD_P_KF2,
     MD_P_MU1, MD_P_MU2, MD_P_PRELOAD, MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO,
-    MD_P_V_STRIBECK
+    MD_P_V_STRIBECK,
+    MD_P_MAXWELL_K1, MD_P_MAXWELL_C1, MD_P_MAXWELL_K2, MD_P_MAXWELL_C2,
+    MD_P_MAXWELL_K3, MD_P_MAXWELL_C3
 } md_field;
 
 typedef struct {
@@ -78,7 +80,7 @@ typedef struct {
      * state_size); wkind[j] its tag (ml_state_tag): 0 for a plain sequence (the
      * Jenkins sliders, or one position set before the parameters were checked),
      * kind + 1 for an element with a named state (the inclined (w1, w2, uc): 2) */
-    double w[3][ML_MAX_SLIDERS];
+    double w[3][ML_MAX_STATE];   /* + uc and the Maxwell strokes (maxwell.h) */
     int nw[3], wkind[3];
     double e[3];
     double time;      /* end of the last step (= start time before the first) */
@@ -107,7 +109,7 @@ typedef struct {
     int params_ok;         /* parameters checked since the last parameter change */
     int valid[3];          /* cached trial results per axis */
     ml_axis_result res[3];
-    double w_new[3][ML_MAX_SLIDERS];  /* slider positions of the cached results */
+    double w_new[3][ML_MAX_STATE];  /* slider positions of the cached results */
     char lost[512];                   /* message of the inclined element's ContactLost */
     double start_time;     /* from fmi2SetupExperiment / fmi3EnterInitializationMode */
     double last_time_ok;   /* last successful communication point */

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "friction_table.h"  /* generated from fmu_src/friction_elements.py */
+#include "maxwell.h"
 #include "messages.h"
 
 static const char *const LAW_NAMES[ML_N_LAWS] = {
@@ -41,6 +42,9 @@ ml_axis_params ml_default_params(void)
     p.sigma2 = 0.0;
     p.stribeck_ratio = 1.0;
     p.v_stribeck = 0.01;
+    p.maxwell_k1 = p.maxwell_c1 = 0.0;  /* no Maxwell branches */
+    p.maxwell_k2 = p.maxwell_c2 = 0.0;
+    p.maxwell_k3 = p.maxwell_c3 = 0.0;
     return p;
 }
 
@@ -87,16 +91,20 @@ static const ml_element *element_of(const ml_axis_params *p)
 int ml_state_size(const ml_axis_params *p)
 {
     const ml_element *el = element_of(p);
-    return el ? el->state_size(p) : 1;
+    return (el ? el->state_size(p) : 1) + (ml_has_maxwell(p) ? 1 + ML_MAX_MAXWELL : 0);
 }
 
 void ml_state_start(const ml_axis_params *p, double w, double *state)
 {
     const ml_element *el = element_of(p);
+    int i, n = el ? el->state_size(p) : 1;
     if (el)
         el->start(p, w, state);
     else
         state[0] = w;
+    if (ml_has_maxwell(p))   /* uc and every stroke relaxed at w */
+        for (i = 0; i <= ML_MAX_MAXWELL; ++i)
+            state[n + i] = w;
 }
 
 int ml_friction_kinds(void)
@@ -133,6 +141,42 @@ int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p
     return ml_axis_force_dt(u, v, 0.0, w, p, fs, w_new, r, msg, size);
 }
 
+/* mount_law._maxwell_axis_force: the element (if any) on the first entries of the
+ * state, the branches on uc and the strokes after them; the sums in the Python
+ * order (f_el + c v + friction + branches). */
+static int maxwell_axis_force(double u, double v, double dt, const double *w,
+                              const ml_axis_params *p, double fs, double *w_new,
+                              ml_axis_result *r, char *msg, size_t size,
+                              const ml_element *el, double f_el, double k_el)
+{
+    ml_axis_result out;
+    ml_friction_step st;
+    double f_m, k_m;
+    int n = el ? el->state_size(p) : 1;
+    ml_maxwell_forces(p, w[n], w + n + 1, u, dt, w_new + n + 1, &f_m, &k_m);
+    w_new[n] = u;
+    if (el == NULL) {
+        out.friction = 0.0;
+        out.w_new = w_new[0] = w[0];
+        out.slipping = 0;
+        out.dissipated = 0.0;
+        out.force = f_el + p->c * v + 0.0 + f_m;
+        out.tangent = k_el + 0.0 + k_m;
+        *r = out;
+        return 0;
+    }
+    if (el->step(u, v, w, p, fs, dt, w_new, &st, msg, size))
+        return 1;
+    out.friction = st.force;
+    out.w_new = el->named_state ? el->position(w_new, n) : w_new[0];
+    out.slipping = st.slipping;
+    out.dissipated = st.dissipated;
+    out.force = f_el + p->c * v + st.force + f_m;
+    out.tangent = k_el + st.tangent + k_m;
+    *r = out;
+    return 0;
+}
+
 int ml_axis_force_dt(double u, double v, double dt, const double *w,
                      const ml_axis_params *p, double fs, double *w_new,
                      ml_axis_result *r, char *msg, size_t size)
@@ -143,6 +187,9 @@ int ml_axis_force_dt(double u, double v, double dt, const double *w,
     const ml_element *el = element_of(p);
     ml_elastic_force(u, p->law, p->k1, p->kc, p->k2, p->delta, p->delta_neg, &f_el,
                      &k_el);
+    if (ml_has_maxwell(p))
+        return maxwell_axis_force(u, v, dt, w, p, fs, w_new, r, msg, size, el, f_el,
+                                  k_el);
     if (el == NULL) {
         out.force = f_el + p->c * v;
         out.friction = 0.0;
@@ -274,5 +321,6 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
     finite_problem("fs_ratio", p->fs_ratio, 0, prefix, buf, size, &count);
     if (kind_ok && p->friction && ML_ELEMENTS[p->friction_kind]->problems)
         count += ML_ELEMENTS[p->friction_kind]->problems(p, prefix, buf, size, count);
+    count += ml_maxwell_problems(p, prefix, buf, size, count);
     return count;
 }

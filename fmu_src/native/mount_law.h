@@ -24,6 +24,11 @@ enum ml_law { ML_LINEAR = 0, ML_CUBIC = 1, ML_PIECEWISE = 2, ML_PIECEWISE_ASYM =
 #define ML_N_LAWS 4
 /* mount_law.MAX_SLIDERS */
 #define ML_MAX_SLIDERS 64
+/* linear_branches.MAX_MAXWELL: Maxwell branches per axis */
+#define ML_MAX_MAXWELL 3
+/* The largest axis state: the element's, then uc and the Maxwell strokes
+ * (mount_law.MaxwellAxisState). */
+#define ML_MAX_STATE (ML_MAX_SLIDERS + 1 + ML_MAX_MAXWELL)
 
 /* Parameters of one local axis (mount_law.AxisParameters), SI units. */
 typedef struct {
@@ -38,6 +43,8 @@ typedef struct {
     double theta_deg, k, kf2, mu1, mu2, preload;
     /* the LuGre element (its bristle stiffness sigma0 is kf) */
     double sigma1, sigma2, stribeck_ratio, v_stribeck;
+    /* the Maxwell branches (k 0 or c 0: absent), maxwell.h */
+    double maxwell_k1, maxwell_c1, maxwell_k2, maxwell_c2, maxwell_k3, maxwell_c3;
 } ml_axis_params;
 
 /* Result of mount_law.axis_force. */
