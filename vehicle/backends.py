@@ -298,8 +298,7 @@ class InProcessBackend(_Backend):
                       for k in range(rec.shape[0] - 1)]
 
     def run(self, k0: int, k1: int, times) -> None:
-        dot = np.dot
-        W, ins, nexts = self._W, self._ins, self._nexts
+        Wdot, ins, nexts = self._W.dot, self._ins, self._nexts
         uvs, outs, axes, w = self._uvs, self._outs, self._axes, self._w
         E, E_axis, e_pos = self._E, self._E_axis, self._e_pos
         template = [0.0] * self.layout.n_out
@@ -329,7 +328,7 @@ class InProcessBackend(_Backend):
             for e, pos in e_pos:
                 out[pos] = E[e]
             outs[k][:] = out
-            dot(W, ins[k], out=nexts[k])
+            Wdot(ins[k], nexts[k])  # np.dot(W, x, out=y) without keyword parsing
         self.steps += k1 - k0
 
     def sliders(self) -> np.ndarray:
