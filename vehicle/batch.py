@@ -291,9 +291,10 @@ class _Batch:
         wh[0] = w0
         nxt = np.empty((B, nn, 1))
         t0 = _time.perf_counter()
-        if L.m and not gen:
+        fast = bool(L.m) and not gen   # the inlined loop (same numbers)
+        if fast:
             self._fast_rows(rows, wh)
-        for k in range(rows if not (L.m and not gen) else 0):
+        for k in range(0 if fast else rows):
             row = rec[:, k]
             if L.m:
                 u, v = row[:, cu], row[:, cv]
