@@ -258,10 +258,10 @@ _HBM_CONTROLS = ("tol", "max_harmonics", "ds_initial", "ds_min", "ds_max", "max_
 
 
 def cmd_hbm(args) -> int:
+    cfg = _load(args.config, args.overrides)  # a bad --set: told before drymount.api
     from drymount.api import Model, hbm
     from drymount.hbm.options import CountError, OptionsError
 
-    cfg = _load(args.config, args.overrides)
     fmin, fmax = _band(args, cfg)
     out = outputs(args, cfg, "hbm")
     events = events_sibling(out)
@@ -303,10 +303,10 @@ def cmd_hbm(args) -> int:
 
 
 def cmd_cosim(args) -> int:
+    cfg = _load(args.config, args.overrides)  # a bad --set: told before drymount.api
     from drymount.api import Model, cosim
     from drymount.measured import MeasuredInputError, configured_inputs
 
-    cfg = _load(args.config, args.overrides)
     conf = configured_inputs(cfg)
     measured = any(p is not None for p in (args.road, args.engine, conf.road,
                                            conf.engine))
@@ -673,6 +673,25 @@ def _show_future_warning(message, category, filename, lineno, file=None, line=No
     _showwarning(message, category, filename, lineno, file, line)
 
 
+#: Commands whose ``--out`` (and ``--plot``) name files: checked before the
+#: configuration loads (NumPy and the model), so that a usage error such as ``--out``
+#: naming a folder costs no more than ``--help`` (issue 27 item 1).
+_FILE_OUTPUT_COMMANDS = ("hbm", "cosim", "sweep", "modes")
+
+
+def _check_file_outputs(args) -> None:
+    """``--out`` and ``--plot`` of a :data:`_FILE_OUTPUT_COMMANDS` command, as the
+    command itself checks them later (``cli_guard.outputs``); UsageError."""
+    if getattr(args, "command", None) not in _FILE_OUTPUT_COMMANDS:
+        return
+    if getattr(args, "out", None) is not None:
+        _check_out(args.out, "--out")
+    if getattr(args, "plot", None) is not None:
+        from drymount.cli_guard import _check_plot
+
+        _check_plot(args.plot)
+
+
 def _run(argv) -> int:
     from drymount.threads import limit_threads
 
@@ -693,6 +712,7 @@ def _run(argv) -> int:
             from drymount.config.catalog import check_spec
 
             check_spec(args.config)  # a typo in CONFIG is told before NumPy loads
+        _check_file_outputs(args)  # a bad --out too (before the configuration loads)
         _renamed_backend(args)
         with warnings.catch_warnings():
             # a deprecated name the user passed: told in one line, not an error

@@ -85,11 +85,11 @@ def _summary(res) -> list[str]:
 
 def cmd_modes(args, load, usage_error) -> int:
     """Run ``drymount modes`` (``load``: the CLI's configuration loader)."""
+    cfg = load(args.config, args.overrides)  # a bad --set: told before the solver
     from drymount.cli_guard import outputs, partial_on_stop, write_with
     from drymount.hbm.modes import nonlinear_modes, select_modes
     from drymount.hbm.options import CountError, check_samples
 
-    cfg = load(args.config, args.overrides)
     H = args.harmonics if args.harmonics is not None else cfg.hbm.harmonics
     N = args.n_samples if args.n_samples is not None else cfg.hbm.n_samples
     if N is not None:

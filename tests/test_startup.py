@@ -110,3 +110,43 @@ def test_version_still_printed(capsys):
 
     assert cli.main(["--version"]) == 0
     assert capsys.readouterr().out == f"drymount {version('drymount')}\n"
+
+
+@pytest.mark.parametrize("args", [
+    ["sweep", "sdof_halved", "--out", "."],
+    ["hbm", "sdof_halved", "--out", "."],
+    ["cosim", "sdof_halved", "--out", "."],
+    ["modes", "sdof_halved", "--out", "."],
+    ["hbm", "sdof_halved", "--plot", "curve.bogus"],
+])
+def test_bad_output_path_is_told_before_the_configuration_loads(tmp_path, args):
+    """``--out`` naming a folder (or ``--plot`` naming no format) is checked before
+    the configuration loads: nothing heavy, NumPy included."""
+    code, err, modules = _run(args, tmp_path)
+    assert code == 2, err
+    option = args[-2]
+    assert f"drymount: error: {option}: " in err, err
+    assert ("is a directory" in err) if option == "--out" else ("bogus" in err)
+    assert "Traceback" not in err
+    assert not _heavy(modules), _heavy(modules)
+    assert "drymount.config.loading" not in modules
+
+
+#: What a bad --set value may load: the configuration check needs the law's own
+#: checks (fmu_src.mount_law, hence NumPy), nothing of the solvers, plots or FMI.
+SET_HEAVY = tuple(h for h in HEAVY if h != "numpy")
+
+
+@pytest.mark.parametrize("command", ["hbm", "cosim", "sweep", "modes"])
+def test_bad_set_value_loads_no_solver(tmp_path, command):
+    code, err, modules = _run([command, "sdof_halved", "--set", "mount.k1=-1"],
+                              tmp_path)
+    assert code == 2, err
+    assert "`mount.k1` must be finite and >= 0, got -1.0" in err, err
+    assert "Traceback" not in err
+    heavy = sorted(m for m in modules if m.split(".")[0] in SET_HEAVY)
+    assert not heavy, heavy
+    solvers = sorted(m for m in modules if m in (
+        "drymount.api", "drymount.hbm.analysis", "drymount.hbm.continuation",
+        "drymount.hbm.folds", "drymount.vehicle.master", "drymount.vehicle.sweep"))
+    assert not solvers, solvers

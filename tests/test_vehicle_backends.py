@@ -66,6 +66,24 @@ def fmi_counter(monkeypatch):
             counts[_name] += 1
             return _orig(self, *a, **kw)
         monkeypatch.setattr(FMU2Slave, name, wrapper)
+    # the stepping loop calls the FMU's functions directly (backends.raw_fmi_calls),
+    # not through FMU2Slave's methods: count those calls under the same names
+    import drymount.vehicle.backends as backends
+
+    orig_raw = backends.raw_fmi_calls
+
+    def counted_raw(fmu, h, t_arg):
+        r = orig_raw(fmu, h, t_arg)
+        for attr, name in (("set_real", "fmi2SetReal"), ("get_real", "fmi2GetReal"),
+                           ("do_step", "fmi2DoStep")):
+            fn = getattr(r, attr)
+
+            def call(*a, _f=fn, _name=name):
+                counts[_name] += 1
+                return _f(*a)
+            setattr(r, attr, call)
+        return r
+    monkeypatch.setattr(backends, "raw_fmi_calls", counted_raw)
     return counts
 
 

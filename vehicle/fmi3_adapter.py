@@ -105,3 +105,23 @@ class FMU3Adapter:
         return self._step(c, t, h, bool(no_set_prior), ctypes.byref(flags[0]),
                           ctypes.byref(flags[1]), ctypes.byref(flags[2]),
                           ctypes.byref(self._last))
+
+    def raw_fmi_calls(self, h: float, t_arg):
+        """The stepping loop's direct calls (:class:`vehicle.backends.RawFMICalls`):
+        ``fmi3SetFloat64`` / ``fmi3GetFloat64`` with their value counts and
+        ``fmi3DoStep(instance, t_arg, h, fmi3True, ...)`` with this adapter's flags,
+        the FMU's functions without the Python frames of :meth:`fmi2SetReal` & co."""
+        from drymount.vehicle.backends import RawFMICalls
+
+        size = ctypes.c_size_t
+
+        def args(c, vr, n, values):
+            return (c, vr, size(n), values, size(n))
+
+        r = RawFMICalls(self._fmu.dll, ("fmi3SetFloat64", "fmi3GetFloat64",
+                                        "fmi3DoStep"), self.component, args, args, ())
+        flags = self._flags
+        r.step_args = (r.component, t_arg, ctypes.c_double(h), ctypes.c_bool(True),
+                       ctypes.byref(flags[0]), ctypes.byref(flags[1]),
+                       ctypes.byref(flags[2]), ctypes.byref(self._last))
+        return r

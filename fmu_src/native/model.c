@@ -506,6 +506,11 @@ static int step_refused(md_instance *m, const char *call, double t, double h)
 {
     double expected = m->d.time;  /* NAN: no start time, the first step starts anywhere */
     char st[40], sh[40], se[40];
+    int refused = 1;
+    if (isfinite(h) && h > 0.0 && h <= MD_MAX_STEP_SIZE && isfinite(t) && t + h > t
+            && !(!isnan(expected) && fabs(t - expected)
+                 > MD_TIME_RTOL * fmax(1.0, fmax(fabs(expected), h))))
+        return 0;  /* accepted: nothing formatted (three reprs cost ~6 us a step) */
     ml_repr_double(t, st, sizeof st);
     ml_repr_double(h, sh, sizeof sh);
     ml_repr_double(expected, se, sizeof se);
@@ -526,8 +531,8 @@ static int step_refused(md_instance *m, const char *call, double t, double h)
         md_log(m, MD_ERROR, "%s: currentCommunicationPoint must continue from the end "
                "of the last step, %s, got %s", call, se, st);
     else
-        return 0;
-    return 1;
+        refused = 0;  /* not reached: the test above accepted the same cases */
+    return refused;
 }
 
 md_status md_do_step(md_instance *m, const char *call, double t, double h)
