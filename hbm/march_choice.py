@@ -47,8 +47,16 @@ START_RATIO = 1.5
 MAX_START_S = 5.0
 #: NumPy march time (s) after which a cold cache is compiled in the background.
 WARMUP_AFTER_S = 0.25
+#: A march of at least this many samples x columns (x batch) takes the compiled path
+#: at once when the cache is warm (and starts the background compile when it is
+#: not): at that size a NumPy march costs 8-10x the compiled one (6-DOF, N = 1024:
+#: 200-250 us against 24 us), the compiled AFT also saves the elastic remainders and
+#: the slip memory (0.3 ms per residual in all), and numba's start (0.5 s CPU with a
+#: warm cache) is repaid within 1500-2500 residuals, a fraction of any curve of
+#: such a problem (4100 on the 6-DOF curve at H = 7; issue 27, item 3).
+BIG_MARCH = 2048
 #: The compiled entry points whose cache indices make a warm cache.
-KERNELS = ("_march", "_samples", "_march_samples")
+KERNELS = ("_march", "_samples", "_march_samples", "_aft_samples", "_slip_memory")
 _SOURCE = Path(__file__).resolve().parent / "friction_march_numba.py"
 _MODULE = "drymount.hbm.friction_march_numba"
 
@@ -101,13 +109,25 @@ class AutoMarch:
         self.compiled = False
         self.warming: subprocess.Popen | None = None
         self._next_check = warm_start_s
+        #: whether big marches go compiled at once (None: not asked yet)
+        self.big: bool | None = None
 
-    def choose(self) -> str:
-        """``"numba"`` once it pays (or is loaded already), else ``"numpy"``."""
+    def choose(self, size: int = 0) -> str:
+        """``"numba"`` once it pays (or is loaded already, or the march of ``size``
+        samples x columns is at least :data:`BIG_MARCH` and the cache warm), else
+        ``"numpy"``."""
         if self.compiled:
             return "numba"
         if not self.have_numba:
             return "numpy"
+        if size >= BIG_MARCH and self.big is not False:
+            if self.big is None:   # decided once: the cache's state at the first one
+                self.big = cache_is_warm()
+                if not self.big and self.warmup and self.warming is None:
+                    self.warming = start_warmup() or False
+            if self.big:
+                self.compiled = True
+                return "numba"
         if self.scaled is None:  # the first march: scale by the start-up's cost
             self.scaled = True
             start = min(START_RATIO * self.clock(), MAX_START_S)
