@@ -111,6 +111,8 @@ class AutoMarch:
         self._next_check = warm_start_s
         #: whether big marches go compiled at once (None: not asked yet)
         self.big: bool | None = None
+        #: the cache was found warm (no warm-up to start)
+        self.found_warm = False
 
     def choose(self, size: int = 0) -> str:
         """``"numba"`` once it pays (or is loaded already, or the march of ``size``
@@ -147,8 +149,13 @@ class AutoMarch:
         """Add the time of one NumPy march; start the warm-up when it is due."""
         self.spent_s += seconds
         if (self.warmup and self.warming is None and self.have_numba
-                and self.spent_s >= self.warmup_after_s and not self.compiled):
-            if not cache_is_warm():
+                and self.spent_s >= self.warmup_after_s and not self.compiled
+                and not self.found_warm):
+            # asked once: a warm cache was globbed for at every later march
+            # (8000 times, 2-4 s CPU of a default 6-DOF curve)
+            if cache_is_warm():
+                self.found_warm = True
+            else:
                 self.warming = start_warmup() or False
 
     def _warm(self) -> bool:
