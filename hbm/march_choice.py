@@ -15,6 +15,9 @@ ski-rental problem:
   numba, so the ``fast`` extra never makes it slower
   (``bench/bench_numba_start.py``), and a long one pays at most about twice the best
   choice;
+- a big march (:data:`BIG_MARCH` samples x columns or more: a 6-DOF problem at
+  N = 1024) goes compiled at once when the cache is warm; such a problem's curve
+  repays numba's start many times over (issue 27, item 3);
 - a cold cache (no compiled kernels beside :mod:`hbm.friction_march_numba`, or under
   ``$NUMBA_CACHE_DIR``) is warmed in the background: once ``spent_s`` reaches
   :data:`WARMUP_AFTER_S`, one detached low-priority process compiles the kernels into
