@@ -21,7 +21,13 @@ run (before and after the curves; the median of those timings):
    compiled (else vectorised) Jenkins march of the sampled motion plus one dense solve
    of the bordered (n + 1) system (target: within 5x).
 
-Run: ``python bench/bench_hbm_six_dof.py [--skip-default] [--repeat 3]``
+With ``--baseline TREE`` (another checkout, e.g. ``git archive main | tar -x -C
+/tmp/main_tree``) the default curve is also run from that tree
+(:mod:`bench.tree_import`, its numba cache warmed first) in the same run, and the
+ratio of the two CPU times is printed.
+
+Run: ``python bench/bench_hbm_six_dof.py [--skip-default] [--repeat 3]
+[--baseline TREE]``
 """
 
 from __future__ import annotations
@@ -65,12 +71,17 @@ def _child_cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def _run_curve(args: list[str]) -> tuple[float, float, int]:
-    """Wall time, CPU time and CSV rows of ``drymount hbm ARGS`` in a child."""
+def _run_curve(args: list[str], tree: str | None = None) -> tuple[float, float, int]:
+    """Wall time, CPU time and CSV rows of ``drymount hbm ARGS`` in a child (from the
+    checkout ``tree`` if given)."""
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "curve.csv"
-        cmd = [sys.executable, "-c", "import sys; from drymount.cli import main; "
-               "sys.exit(main())", "hbm", *args, "--quiet", "--out", str(out)]
+        if tree is None:
+            cmd = [sys.executable, "-c", "import sys; from drymount.cli import main; "
+                   "sys.exit(main())"]
+        else:
+            cmd = [sys.executable, str(Path(__file__).parent / "tree_import.py"), tree]
+        cmd += ["hbm", *args, "--quiet", "--out", str(out)]
         c0, w0 = _child_cpu(), time.perf_counter()
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
         wall, cpu = time.perf_counter() - w0, _child_cpu() - c0
@@ -131,13 +142,22 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=3, help="yardstick timings")
     ap.add_argument("--skip-default", action="store_true",
                     help="skip the default curve (minutes on a loaded machine)")
+    ap.add_argument("--baseline", metavar="TREE",
+                    help="also run the default curve from this checkout (e.g. main)")
     args = ap.parse_args(argv)
+    if args.baseline:   # its numba kernels compiled beside its sources first
+        subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, "
+                        f"{str(Path(__file__).parent)!r}); import tree_import; "
+                        f"tree_import.use_tree({args.baseline!r}); import "
+                        "drymount.hbm.friction_march_numba as m; m.warm()"], check=True)
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     wall_y, cpu_y = _yardstick_times(args.repeat)
     t_newton, t_floor = newton_vs_floor()
     w7, c7, rows7 = _run_curve(["six_dof_halved", "--harmonics", "7",
                                 "--n-samples", "1024"])
     default = None if args.skip_default else _run_curve(["six_dof_halved"])
+    base = None if args.skip_default or not args.baseline else \
+        _run_curve(["six_dof_halved"], args.baseline)
     w2, c2 = _yardstick_times(args.repeat)
     ys_wall, ys_cpu = float(np.median(wall_y + w2)), float(np.median(cpu_y + c2))
     print(f"yardstick: {ys_wall:.3f} s wall, {ys_cpu:.3f} s CPU "
@@ -152,6 +172,13 @@ def main(argv: list[str] | None = None) -> int:
               f"{wd / ys_wall:.1f} yardsticks wall, {cd / ys_cpu:.1f} CPU; before the "
               f"change {BEFORE_DEFAULT_CPU:.1f} CPU: {ratio:.2f}x cheaper (target "
               f">= {TARGET_SPEEDUP}x)")
+        if base is not None:
+            wb, cb, rowsb = base
+            print(f"   baseline {args.baseline}: {rowsb} rows, {wb:.1f} s wall, "
+                  f"{cb:.1f} s CPU = {cb / ys_cpu:.1f} yardsticks CPU; this tree "
+                  f"{cb / cd:.2f}x cheaper in CPU ({wb / wd:.2f}x in wall); against "
+                  f"the original: baseline {BEFORE_DEFAULT_CPU / (cb / ys_cpu):.2f}x, "
+                  f"this tree {ratio:.2f}x")
     print(f"3. Newton iteration (H = 7, N = 1024, 90 unknowns): "
           f"{1e6 * t_newton:.0f} us, floor (march + dense solve) {1e6 * t_floor:.0f} "
           f"us: {t_newton / t_floor:.1f}x the floor (target <= {TARGET_NEWTON}x)")

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drymount.hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
-from drymount.hbm.friction_march import jenkins_aft, jenkins_march
+from drymount.hbm.friction_march import _chosen, jenkins_aft, jenkins_march
 from drymount.hbm.generic_march import generic_aft
 from drymount.hbm.inclined import inclined_aft
 
@@ -172,9 +172,38 @@ class _Plan:
     fs: np.ndarray
     w_start: np.ndarray
     elastic: bool  # some axis has a nonlinear elastic remainder
+    #: the compiled path's law code and parameters per axis (:func:`_law_codes`);
+    #: None where a law has no compiled form
+    codes: tuple | None = None
+    friction_i8: np.ndarray | None = None  # ``friction`` as int64 (compiled path)
 
 
 _PLANS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+#: laws the compiled AFT samples (hbm.friction_march_numba.aft_samples) evaluate:
+#: name -> (code, parameters): 1 the gap law (dk, delta, delta_neg), 2 cubic (kc)
+_COMPILED_LAWS = {
+    "linear": (0, lambda ax: (0.0, 0.0, 0.0)),
+    "piecewise": (1, lambda ax: (ax.k2 - ax.k1, ax.delta, ax.delta)),
+    "piecewise_asym": (1, lambda ax: (ax.k2 - ax.k1, ax.delta, ax.delta_neg)),
+    "cubic": (2, lambda ax: (ax.kc, 0.0, 0.0)),
+}
+
+
+def _law_codes(ax: NonlinearAxes) -> tuple | None:
+    """``(code, p1, p2, p3)`` arrays per axis for the compiled samples, or None."""
+    if any(name not in _COMPILED_LAWS for name in ax.law):
+        return None
+    n = ax.n
+    code = np.zeros(n, dtype=np.int64)
+    p = np.zeros((3, n))
+    for name in dict.fromkeys(ax.law):
+        mask = np.array([law == name for law in ax.law])
+        c, params = _COMPILED_LAWS[name]
+        code[mask] = c
+        for i, v in enumerate(params(ax)):
+            p[i, mask] = np.broadcast_to(v, (n,))[mask]
+    return (code, p[0].copy(), p[1].copy(), p[2].copy())
 
 
 def _plan(ax: NonlinearAxes) -> _Plan:
@@ -185,7 +214,8 @@ def _plan(ax: NonlinearAxes) -> _Plan:
                      np.ascontiguousarray(ax.kf[fr]), np.ascontiguousarray(ax.fs[fr]),
                      np.ascontiguousarray(ax.w_start[fr], dtype=float),
                      any(law.remainder is not None and bool(np.any(mask))
-                         for law, mask in ax.groups))
+                         for law, mask in ax.groups), _law_codes(ax),
+                     fr.astype(np.int64))
         _PLANS[ax] = plan
     return plan
 
@@ -263,6 +293,10 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     (:meth:`FourierBasis.gram`), minus the slip memory of the Jenkins elements
     (:func:`_subtract_slip_memory`). Equal to the dense products to round-off."""
     P = basis.P
+    plan = _plan(ax)
+    if plan.codes is not None and plan.friction.size and \
+            _chosen(None, U.size // U.shape[-2] * basis.N) == "numba":
+        return _aft_harmonic_compiled(U, plan, basis)
     plan, u, f, kt = _samples(U, ax, basis)
     if f is None:
         f = np.zeros_like(u)
@@ -282,6 +316,26 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     dF = basis.gram(kt)
     if march is not None:
         _subtract_slip_memory(dF, march, plan, basis)
+    return F, dF
+
+
+def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis
+                           ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_aft_harmonic` with the samples (elastic remainders, Jenkins march, the
+    tangent's sums) and the slip memory compiled
+    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``): the same
+    operations in the same order, the same numbers."""
+    import drymount.hbm.friction_march_numba as nb
+
+    u = basis.E @ U
+    u3 = u.reshape(-1, *u.shape[-2:])
+    code, p1, p2, p3 = plan.codes
+    f, kt, stuck, last = nb.aft_samples(u3, code, p1, p2, p3, plan.friction_i8,
+                                        plan.kf, plan.fs, plan.w_start)
+    F = basis.P @ f.reshape(u.shape)
+    dF = basis.gram(kt.reshape(u.shape))
+    nb.slip_memory(dF.reshape(-1, *dF.shape[-3:]), stuck, last, plan.friction_i8,
+                   plan.kf, basis.cumulative_projection(), basis.E)
     return F, dF
 
 

@@ -91,9 +91,10 @@ _DEFAULT = resolve_backend()
 AUTO = AutoMarch(_HAVE_NUMBA)
 
 
-def _chosen(backend: str | None) -> str:
+def _chosen(backend: str | None, size: int = 0) -> str:
+    """The backend of a march of ``size`` samples x columns (x batch)."""
     backend = _DEFAULT if backend is None else resolve_backend(backend)
-    return AUTO.choose() if backend == "auto" else backend
+    return AUTO.choose(size) if backend == "auto" else backend
 
 
 @dataclass(frozen=True)
@@ -182,6 +183,11 @@ def _march(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarray):
     from ``i_max`` on constant), and the samples before ``i_max`` continue from the
     last one. Any other column is marched twice from ``w_start``.
     """
+    # C order: the flat writes below (``reshape(-1)[at_max]``) must land in the
+    # arrays themselves, and ``u + ...`` and ``empty_like`` keep u's layout (the AFT's
+    # ``u[..., fr]`` is not C-ordered; the writes went into copies and the march
+    # differed from the scalar one where a column starts stuck at its maximum)
+    u = np.ascontiguousarray(u)
     nb, N, C = u.shape
     eps = fs / kf
     # flat index of each column's first maximum (the scalar's max())
@@ -273,8 +279,8 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
     -------
     JenkinsMarch
     """
-    backend = _chosen(backend)
     u = np.asarray(u, dtype=float)
+    backend = _chosen(backend, u.size)
     if u.ndim < 2:
         raise ValueError(f"`u` must have shape (..., N, C), got {u.shape}")
     shape = u.shape
@@ -365,7 +371,7 @@ def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarr
     dF : ndarray, shape (..., C, m, m) or None
         As :func:`jenkins_jacobian`.
     """
-    backend = _chosen(backend)
+    backend = _chosen(backend, u.size)
     shape = u.shape
     u3 = u.reshape(-1, *shape[-2:])
     if backend == "numba":

@@ -15,6 +15,9 @@ ski-rental problem:
   numba, so the ``fast`` extra never makes it slower
   (``bench/bench_numba_start.py``), and a long one pays at most about twice the best
   choice;
+- a big march (:data:`BIG_MARCH` samples x columns or more: a 6-DOF problem at
+  N = 1024) goes compiled at once when the cache is warm; such a problem's curve
+  repays numba's start many times over (issue 27, item 3);
 - a cold cache (no compiled kernels beside :mod:`hbm.friction_march_numba`, or under
   ``$NUMBA_CACHE_DIR``) is warmed in the background: once ``spent_s`` reaches
   :data:`WARMUP_AFTER_S`, one detached low-priority process compiles the kernels into
@@ -47,8 +50,16 @@ START_RATIO = 1.5
 MAX_START_S = 5.0
 #: NumPy march time (s) after which a cold cache is compiled in the background.
 WARMUP_AFTER_S = 0.25
+#: A march of at least this many samples x columns (x batch) takes the compiled path
+#: at once when the cache is warm (and starts the background compile when it is
+#: not): at that size a NumPy march costs 8-10x the compiled one (6-DOF, N = 1024:
+#: 200-250 us against 24 us), the compiled AFT also saves the elastic remainders and
+#: the slip memory (0.3 ms per residual in all), and numba's start (0.5 s CPU with a
+#: warm cache) is repaid within 1500-2500 residuals, a fraction of any curve of
+#: such a problem (4100 on the 6-DOF curve at H = 7; issue 27, item 3).
+BIG_MARCH = 2048
 #: The compiled entry points whose cache indices make a warm cache.
-KERNELS = ("_march", "_samples", "_march_samples")
+KERNELS = ("_march", "_samples", "_march_samples", "_aft_samples", "_slip_memory")
 _SOURCE = Path(__file__).resolve().parent / "friction_march_numba.py"
 _MODULE = "drymount.hbm.friction_march_numba"
 
@@ -101,13 +112,27 @@ class AutoMarch:
         self.compiled = False
         self.warming: subprocess.Popen | None = None
         self._next_check = warm_start_s
+        #: whether big marches go compiled at once (None: not asked yet)
+        self.big: bool | None = None
+        #: the cache was found warm (no warm-up to start)
+        self.found_warm = False
 
-    def choose(self) -> str:
-        """``"numba"`` once it pays (or is loaded already), else ``"numpy"``."""
+    def choose(self, size: int = 0) -> str:
+        """``"numba"`` once it pays (or is loaded already, or the march of ``size``
+        samples x columns is at least :data:`BIG_MARCH` and the cache warm), else
+        ``"numpy"``."""
         if self.compiled:
             return "numba"
         if not self.have_numba:
             return "numpy"
+        if size >= BIG_MARCH and self.big is not False:
+            if self.big is None:   # decided once: the cache's state at the first one
+                self.big = cache_is_warm()
+                if not self.big and self.warmup and self.warming is None:
+                    self.warming = start_warmup() or False
+            if self.big:
+                self.compiled = True
+                return "numba"
         if self.scaled is None:  # the first march: scale by the start-up's cost
             self.scaled = True
             start = min(START_RATIO * self.clock(), MAX_START_S)
@@ -127,8 +152,13 @@ class AutoMarch:
         """Add the time of one NumPy march; start the warm-up when it is due."""
         self.spent_s += seconds
         if (self.warmup and self.warming is None and self.have_numba
-                and self.spent_s >= self.warmup_after_s and not self.compiled):
-            if not cache_is_warm():
+                and self.spent_s >= self.warmup_after_s and not self.compiled
+                and not self.found_warm):
+            # asked once: a warm cache was globbed for at every later march
+            # (8000 times, 2-4 s CPU of a default 6-DOF curve)
+            if cache_is_warm():
+                self.found_warm = True
+            else:
                 self.warming = start_warmup() or False
 
     def _warm(self) -> bool:

@@ -64,6 +64,7 @@ class _Problem:
                  np.linalg.norm(hb.excitation(2 * np.pi * fmax_hz)))
         self.rs = rs if rs > 0 else 1.0
         self.n_eval = 0
+        self._last = None  # (y, exc_scale, R, J) of the last evaluation
         self.f_ends = (float(fmin_hz), float(fmax_hz))
 
     def x_of(self, y):
@@ -73,6 +74,18 @@ class _Problem:
         return np.append(X / self.xs, omega / self.ws)
 
     def __call__(self, y):
+        # the continuation and the fold location ask again for the point the corrector
+        # has just evaluated (its tangent): 20 % of the calls on a 6-DOF curve. The
+        # last evaluation is kept and handed out again (copies: callers keep J)
+        last = self._last
+        if last is not None and last[1] == self.hb.exc_scale and \
+                np.array_equal(last[0], y):
+            return last[2].copy(), last[3].copy()
+        R, Jy = self._evaluate(y)
+        self._last = (np.array(y, dtype=float), self.hb.exc_scale, R, Jy)
+        return R.copy(), Jy.copy()
+
+    def _evaluate(self, y):
         self.n_eval += 1
         X, w = self.x_of(y)
         R, J, Jw = self.hb.residual(X, w)
