@@ -14,7 +14,9 @@ axes) and the locals ``w_<axis>`` (committed slider positions); then, appended s
 the earlier value references stay, ``<axis>_friction_kind`` with the fields of the
 second registered friction element (:data:`INCLINED_PARAMETER_FIELDS`) and the
 outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts); then the
-new fields of every later element (:data:`LATER_PARAMETER_FIELDS`). The friction
+new fields of every later element (:data:`LATER_PARAMETER_FIELDS`); then the locals
+``w1_<axis>``, ``w2_<axis>`` (:data:`SLIDER_SLOTS` slider positions of the element,
+which start it with these sliders: a state that is not relaxed). The friction
 fields' rows are generated from the element declarations
 (:class:`fmu_src.friction.Field`).
 """
@@ -32,7 +34,8 @@ from .mount_law import (AXES, LAWS, AxisParameters,
 __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
-           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds"]
+           "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds",
+           "SLIDER_SLOTS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -94,6 +97,11 @@ CAPABILITIES: dict[str, bool] = {
 
 DEFAULT_EXPERIMENT: dict[str, float] = {
     "startTime": 0.0, "stopTime": 1.0, "stepSize": 1e-4, "tolerance": 1e-6}
+
+#: Slider positions of a friction element the FMU shows and sets as the locals
+#: ``w1_<axis>`` .. ``w<SLIDER_SLOTS>_<axis>`` (``FrictionElement.slider_slots``).
+SLIDER_SLOTS = 2
+_SLOT_TEXT = ("the inclined surface's slider w1", "the flat surface's slider w2")
 
 _LAW_TEXT = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
 
@@ -205,6 +213,16 @@ def _variables() -> tuple[Variable, ...]:
                      f"(0 for the Jenkins element and without friction)"),
         ]
     out += _parameters(LATER_PARAMETER_FIELDS)
+    for axis in AXES:   # appended: the earlier value references stay
+        for k in range(1, SLIDER_SLOTS + 1):
+            out.append(Variable(
+                f"w{k}_{axis}", "Real", "local", "continuous", 0.0, "m",
+                f"{axis}: position of slider {k} of the friction element, its own "
+                f"coordinates (inclined element: {_SLOT_TEXT[k - 1]}; Jenkins: "
+                f"slider {k} of its bank; 0 where the element has none); setting "
+                f"it after w_{axis} starts the element with this slider there (a "
+                f"state that is not relaxed, e.g. the engine lowered onto the "
+                f"mount)", "exact"))
     return tuple(out)
 
 
@@ -243,7 +261,7 @@ def variable(name: str) -> Variable:
     except KeyError:
         raise KeyError(f"{MODEL_NAME} has no variable {name!r} (variables are "
                        f"<axis>_<parameter>, u_/v_/n_/F_/Ffr_/kt_/slip_/E_fr_/w_/N_/"
-                       f"N2_<axis> "
+                       f"N2_/w1_/w2_<axis> "
                        f"and E_fr; axes {', '.join(AXES)})") from None
 
 

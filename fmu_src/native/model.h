@@ -39,7 +39,8 @@ typedef enum { MD_REAL = 0, MD_INTEGER = 1, MD_BOOLEAN = 2 } md_type;
 typedef enum {
     MD_PARAMETER = 0, MD_INPUT_U, MD_INPUT_V, MD_INPUT_N, MD_OUTPUT_F,
     MD_OUTPUT_FFR, MD_OUTPUT_KT, MD_OUTPUT_SLIP, MD_OUTPUT_E_AXIS, MD_OUTPUT_E_TOTAL,
-    MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2
+    MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2,
+    MD_LOCAL_W1, MD_LOCAL_W2  /* w1_/w2_<axis>: one slider of the element */
 } md_role;
 
 /* Fields of a parameter variable, in mount_law.AxisParameters' order. */
