@@ -31,7 +31,8 @@ import numpy as np
 
 from drymount.fmu_src.mount_law import AXES, MountParameters
 
-__all__ = ["MountElement", "Excitation", "Transmissibility", "System", "STATIC_READINGS"]
+__all__ = ["MountElement", "Excitation", "Transmissibility", "System",
+           "STATIC_READINGS"]
 
 EXCITATION_KINDS = ("force", "unbalance", "base")
 TRANSMISSIBILITY_KINDS = ("force", "displacement")

@@ -218,6 +218,7 @@ def test_bonded_surface_mu_inf_through_both_fmus(build, tmp_path):
         fmu = build_native(tmp_path, 2)
     th = simulate(s, 8.0, 0.3, backend="fmu", fmu_path=fmu)
     # from the engine lowered onto the mount (w1_/w2_axial set through FMI)
-    ref = _hand_march(th.deflections[:, 0], bonded, start=working_point(s).states[(0, 0)])
+    start = working_point(s).states[(0, 0)]
+    ref = _hand_march(th.deflections[:, 0], bonded, start=start)
     assert np.abs(th.friction_forces[:, 0] - ref).max() <= HAND_TOL
     assert np.ptp(th.friction_forces[:, 0]) > 100.0
