@@ -54,7 +54,8 @@ def _loads(specs, dof_names) -> np.ndarray:
 
 def _print_inclined_readings(system, load, relaxed) -> None:
     """With inclined elements: both readings of the working point (relaxed, the
-    one written and run about, and lowered onto the assembled mount) and the
+    one written to the CSV, and lowered onto the assembled mount, the one the runs
+    start from unless ``[static] reading = "relaxed"``) and the
     admissible range of each inclined axis (hbm.static; docs/physics.md)."""
     from drymount.fmu_src.inclined import axis_normal_forces, relaxed_state
     from drymount.hbm.static import admissible_range, lowered_equilibrium
@@ -64,8 +65,9 @@ def _print_inclined_readings(system, load, relaxed) -> None:
         return
     lowered = lowered_equilibrium(system, load)
     print(f"  inclined element: two readings of the working point (the HBM and "
-          f"co-simulation run about the relaxed one); lowered "
-          f"{lowered.status.value} in {lowered.iterations} Newton steps")
+          f"co-simulation start from the {system.static_reading} one, [static] "
+          f"reading); lowered {lowered.status.value} in {lowered.iterations} "
+          f"Newton steps")
     for r in ranges:
         e = system.elements[r.element]
         p = e.params.axes[r.axis]

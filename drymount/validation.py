@@ -488,7 +488,7 @@ def _family_lines(res: CaseResult) -> list[str]:
              f"{100 * TOL_FAMILY_ORBIT:g} % of peak); started at rest it settles on "
              f"the member its history selects, {100 * res.max_err_rest:.2f} % of "
              "peak away at most (reported, not judged). In-process backend (the "
-             "FMU's law: the FMU cannot take the element's sliders).", "",
+             "FMU's law), from rest at the engine lowered onto the mount.", "",
              "| f [Hz] | DOF | stuck | A HBM | A from orbit | error | A from rest | "
              "spread | mean HBM | mean from orbit | mean from rest |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]

@@ -135,7 +135,8 @@ _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",
                "w": "MD_LOCAL_W", "N": "MD_OUTPUT_N", "N2": "MD_OUTPUT_N2",
                "slipped": "MD_OUTPUT_SLIPPED", "dE_fr": "MD_OUTPUT_DE_STEP",
-               "ks": "MD_OUTPUT_KS"}
+               "ks": "MD_OUTPUT_KS",
+               "w1": "MD_LOCAL_W1", "w2": "MD_LOCAL_W2"}
 #: Inputs each output depends on (per axis; E_fr on those of every axis): a
 #: rate-dependent friction element reads v in Ffr, kt and E_fr.
 _DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),

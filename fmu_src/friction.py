@@ -40,7 +40,7 @@ from typing import Any, NamedTuple
 
 __all__ = ["Field", "ElementStep", "FrictionElement", "FRICTION_ELEMENTS",
            "FRICTION_KINDS", "register_element", "friction_kind_code",
-           "friction_kind_name", "element_fields", "finite_rule"]
+           "friction_kind_name", "element_fields", "finite_rule", "flat_state"]
 
 
 def _finite(x) -> bool:
@@ -149,6 +149,16 @@ def _no_static_force(u: float, p) -> tuple[float, float]:
     return 0.0, 0.0
 
 
+def _no_slots(p) -> tuple[int, ...]:
+    return ()
+
+
+def flat_state(state) -> tuple[float, ...]:
+    """The floats of a friction state (a float or a tuple of floats), in order."""
+    return (float(state),) if isinstance(state, (int, float)) else tuple(
+        float(x) for x in state)
+
+
 @dataclass(frozen=True)
 class FrictionElement:
     """One friction element of a mount axis (see the module docstring).
@@ -194,6 +204,11 @@ class FrictionElement:
     c_port : str or None
         The name of its ``const ml_element`` in ``fmu_src/native/`` (the C port the
         native FMU is built with; None: none, the native build refuses the element).
+    slider_slots : callable
+        ``slider_slots(p) -> tuple of int``: the indices in the flat state (the
+        ``state_size(p)`` floats) of the sliders a master may set to start from
+        (:meth:`with_sliders`; the FMU's ``w1_<axis>``, ``w2_<axis>`` are the first
+        two; the C port's ``slider_index``); default: none.
     params : callable or None
         ``params(p)``: the element's own parameter object, built once per checked
         axis and kept as ``p.element_params`` (None: the axis itself).
@@ -215,6 +230,35 @@ class FrictionElement:
     params: Callable | None = None
     fast_form: Callable = _no_fast_form
     c_port: str | None = None
+    slider_slots: Callable = _no_slots
+
+    def slider_values(self, p, state) -> tuple[float, ...]:
+        """The positions (m, the element's own coordinates) of the settable sliders
+        of ``state`` (:attr:`slider_slots`), in slot order."""
+        flat = flat_state(state)
+        return tuple(flat[i] for i in self.slider_slots(p))
+
+    def with_sliders(self, p, state, values) -> Any:
+        """``state`` with its sliders started at ``values`` (``{slot: position}``,
+        m; slot 0 is the first of :attr:`slider_slots`): the general "start with
+        these slider positions" of every element. ValueError naming the slot and
+        the settable ones if the element has no such slider."""
+        slots = self.slider_slots(p)
+        flat = list(flat_state(state))
+        for slot, value in dict(values).items():
+            if isinstance(slot, bool) or not isinstance(slot, int) \
+                    or not 0 <= slot < len(slots):
+                raise ValueError(f"slider {slot!r}: the {self.name} element has "
+                                 f"{len(slots)} settable slider(s) (slots 0.."
+                                 f"{len(slots) - 1})" if slots else
+                                 f"slider {slot!r}: the {self.name} element has no "
+                                 f"settable slider")
+            if not _finite(value):
+                raise ValueError(f"slider {slot}: the position must be finite, got "
+                                 f"{value!r}")
+            flat[slots[slot]] = float(value)
+        out = self.from_flat(p, flat)
+        return out
 
     def field_problems(self, p, prefix: str = "") -> list[str]:
         """Every rule broken by the element's fields of ``p`` that are not checked

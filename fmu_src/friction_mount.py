@@ -57,6 +57,7 @@ from .interface import (
     CAPABILITIES,
     DEFAULT_EXPERIMENT,
     MODEL_NAME,
+    SLIDER_SLOTS,
     VARIABLES,
     declared_bounds,
 )
@@ -77,6 +78,8 @@ _CAUSALITY = {c.name: c for c in Fmi2Causality}
 _VARIABILITY = {v.name: v for v in Fmi2Variability}
 _INITIAL = {i.name: i for i in Fmi2Initial}
 _PARAMETER_NAMES = tuple(name for name, *_ in ALL_PARAMETER_FIELDS)
+#: the quantities of the slider locals w1_<axis>, w2_<axis> (interface.SLIDER_SLOTS)
+_SLOT_NAMES = tuple(f"w{k}" for k in range(1, SLIDER_SLOTS + 1))
 
 # Declared ranges of the parameters (strict bounds such as delta > 0 and the rule for
 # kf are in the descriptions and checked at initialization).
@@ -264,6 +267,10 @@ class FrictionMount(Fmi2Slave):
         if quantity == "w":
             return ((lambda: self._position(j)),
                     (lambda value: self._set_sliders(j, value)))
+        if quantity in _SLOT_NAMES:   # w1_, w2_: one slider of the element
+            slot = _SLOT_NAMES.index(quantity)
+            return ((lambda: self._slider(j, slot)),
+                    (lambda value: self._set_slider(j, slot, value)))
         inputs = {"u": self._u, "v": self._v}
         if quantity in inputs:
             store = inputs[quantity]
@@ -335,6 +342,48 @@ class FrictionMount(Fmi2Slave):
         self._rec[j].post = False
         if self._axes is not None:  # checked parameters: the state of the axis's kind
             self._w[j] = initial_sliders(self._axes[j], value)
+        self._res[j] = None
+
+    def _slot_problem(self, name: str, value) -> str | None:
+        """Why ``w<k>_<axis>`` = ``value`` is refused (checked before any value of
+        a call is set): the parameters must be valid (set them in an earlier call)
+        and the axis's element must have slider k."""
+        quantity, _, axis = name.rpartition("_")
+        j, slot = AXES.index(axis), _SLOT_NAMES.index(quantity)
+        if self._axes is None:
+            try:
+                self._prepare()
+            except _Rejected as exc:
+                return (f"`{name}` = {value!r} sets a slider of the axis's friction "
+                        f"element, which needs valid parameters first ({exc})")
+        p = self._axes[j]
+        slots = p.element.slider_slots(p) if p.friction else ()
+        if slot >= len(slots):
+            what = (f"the {p.friction_kind} element of axis {axis} has "
+                    f"{len(slots)} settable slider(s)" if p.friction else
+                    f"axis {axis} has no friction element")
+            return f"`{name}` = {value!r}: {what}; no slider {slot + 1} to set"
+        return None
+
+    def _slider(self, j: int, slot: int) -> float:
+        """``w<slot+1>_<axis>``: that slider of the committed state (0 where the
+        element has none, or while the parameters are invalid)."""
+        if self._axes is None:
+            try:
+                self._prepare()
+            except _Rejected:
+                return 0.0
+        p = self._axes[j]
+        values = p.element.slider_values(p, self._w[j]) if p.friction else ()
+        return values[slot] if slot < len(values) else 0.0
+
+    def _set_slider(self, j: int, slot: int, value: float) -> None:
+        """``w<slot+1>_<axis>`` = value (checked by :meth:`_slot_problem`): the
+        element's state with that slider there (``FrictionElement.with_sliders``),
+        the rest of the state kept."""
+        p = self._axes[j]
+        self._w[j] = p.element.with_sliders(p, self._w[j], {slot: float(value)})
+        self._rec[j].post = False
         self._res[j] = None
 
     def _position(self, j: int) -> float:
@@ -560,7 +609,9 @@ class FrictionMount(Fmi2Slave):
     def _apply_state(self, state: dict) -> None:
         by_name = {var.name: var for var in self.vars.values()}
         for name, value in state.items():
-            if name in by_name and by_name[name].setter is not None:
+            # the sliders w1_/w2_ are part of the restored friction state `_w`
+            if name in by_name and by_name[name].setter is not None \
+                    and name.partition("_")[0] not in _SLOT_NAMES:
                 by_name[name].setter(value)
         self._e = [float(x) for x in state["_E_committed"]]
         self._n_set = [bool(x) for x in state["_n_set"]]
@@ -641,6 +692,8 @@ class FrictionMount(Fmi2Slave):
                                 f"{var.type}; use fmi2Set{var.type}")
             why = set_error(call, var.name, var.causality, var.variability,
                             self._mode, value)
+            if why is None and var.name.partition("_")[0] in _SLOT_NAMES:
+                why = self._slot_problem(var.name, value)
             if why is not None:
                 raise _Rejected(why)
             setters.append((self.vars[vr].setter, value))

@@ -104,4 +104,7 @@ INCLINED = FrictionElement(
     params=inclined_parameters,
     fast_form=lambda p: "inclined",
     c_port="ml_inclined",
+    # the sliders of the inclined surface (w1) and of the flat one (w2), element
+    # coordinates: a state that is not relaxed (the engine lowered onto the mount)
+    slider_slots=lambda p: (0, 1),
 )

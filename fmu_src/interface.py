@@ -16,7 +16,9 @@ second registered friction element (:data:`INCLINED_PARAMETER_FIELDS`) and the
 outputs ``N_<axis>``, ``N2_<axis>`` (normal forces of the friction contacts); then the
 new fields of every later element (:data:`LATER_PARAMETER_FIELDS`); then the outputs
 about the last step ``slipped_``, ``dE_fr_``, ``ks_<axis>``
-(``fmu_src/step_record.py``). The friction
+(``fmu_src/step_record.py``); then the locals
+``w1_<axis>``, ``w2_<axis>`` (:data:`SLIDER_SLOTS` slider positions of the element,
+which start it with these sliders: a state that is not relaxed). The friction
 fields' rows are generated from the element declarations
 (:class:`fmu_src.friction.Field`).
 """
@@ -35,7 +37,7 @@ __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
            "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds",
-           "MAXWELL_PARAMETER_FIELDS"]
+           "MAXWELL_PARAMETER_FIELDS", "SLIDER_SLOTS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -97,6 +99,11 @@ CAPABILITIES: dict[str, bool] = {
 
 DEFAULT_EXPERIMENT: dict[str, float] = {
     "startTime": 0.0, "stopTime": 1.0, "stepSize": 1e-4, "tolerance": 1e-6}
+
+#: Slider positions of a friction element the FMU shows and sets as the locals
+#: ``w1_<axis>`` .. ``w<SLIDER_SLOTS>_<axis>`` (``FrictionElement.slider_slots``).
+SLIDER_SLOTS = 2
+_SLOT_TEXT = ("the inclined surface's slider w1", "the flat surface's slider w2")
 
 _LAW_TEXT = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
 
@@ -217,6 +224,16 @@ def _variables() -> tuple[Variable, ...]:
     out += _parameters(LATER_PARAMETER_FIELDS)
     out += _parameters(MAXWELL_PARAMETER_FIELDS)
     out += _post_step_outputs()
+    for axis in AXES:   # appended: the earlier value references stay
+        for k in range(1, SLIDER_SLOTS + 1):
+            out.append(Variable(
+                f"w{k}_{axis}", "Real", "local", "continuous", 0.0, "m",
+                f"{axis}: position of slider {k} of the friction element, its own "
+                f"coordinates (inclined element: {_SLOT_TEXT[k - 1]}; Jenkins: "
+                f"slider {k} of its bank; 0 where the element has none); setting "
+                f"it after w_{axis} starts the element with this slider there (a "
+                f"state that is not relaxed, e.g. the engine lowered onto the "
+                f"mount)", "exact"))
     return tuple(out)
 
 
@@ -291,7 +308,7 @@ def variable(name: str) -> Variable:
     except KeyError:
         raise KeyError(f"{MODEL_NAME} has no variable {name!r} (variables are "
                        f"<axis>_<parameter>, u_/v_/n_/F_/Ffr_/kt_/slip_/E_fr_/w_/N_/"
-                       f"N2_/slipped_/dE_fr_/ks_<axis> "
+                       f"N2_/slipped_/dE_fr_/ks_/w1_/w2_<axis> "
                        f"and E_fr; axes {', '.join(AXES)})") from None
 
 

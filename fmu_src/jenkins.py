@@ -257,4 +257,6 @@ JENKINS = FrictionElement(
     fast_form=lambda p: "symmetric_slider" if p.sliders == 1 and p.fs_ratio == 1.0
     else "slider_bank",
     c_port="ml_jenkins",
+    # every slider of the state may be set (the micro-slip bank's in slider order)
+    slider_slots=lambda p: tuple(range(p.sliders)),
 )

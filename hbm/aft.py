@@ -257,7 +257,7 @@ def aft_forces(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         for a, p in ax.generic:
             for b in range(flat.shape[0]):
                 Fa, dFa = generic_aft(flat[b, :, a], p, float(ax.w_start[a]), basis,
-                                      omega, jacobian)
+                                      omega, jacobian, ax.start_state(a))
                 Fb[b, :, a] += Fa
                 if jacobian:
                     dFb[b, a] += dFa
@@ -437,9 +437,13 @@ def _aft_banks(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     corr = []
     for a in fr:
         # each slider of the axis's bank (one for macro-slip, several for micro-slip)
-        for k, fs_pos, fs_neg in ax.banks[a]:
-            ff, stuck, last = jenkins_periodic(u[:, a], k, fs_pos, ax.w_start[a],
-                                                fs_neg)
+        start = ax.start_floats(a)
+        for i, (k, fs_pos, fs_neg) in enumerate(ax.banks[a]):
+            # slider i from its own start (a state not relaxed: hbm.static's lowered
+            # reading), else from the common w_start
+            w0 = start[i] if start is not None and len(start) == len(ax.banks[a]) \
+                else ax.w_start[a]
+            ff, stuck, last = jenkins_periodic(u[:, a], k, fs_pos, w0, fs_neg)
             f[:, a] += ff
             if jacobian:
                 kt[:, a] += np.where(stuck, k, 0.0)

@@ -68,6 +68,11 @@ class NonlinearAxes:
     generic : tuple of (int, AxisParameters)
         The axes (row index) whose friction element has no fast form in the HBM
         (:mod:`hbm.generic_march` marches its own step; ``kf`` and ``fs`` here are 0).
+    start_states : tuple, length n_ax, or None
+        Per axis, the friction element's own state the march starts from (None
+        entries, or None: relaxed at ``w_start``), e.g. the lowered static working
+        point's (:func:`hbm.static.lowered_equilibrium`), which the one number
+        ``w_start`` does not give for the inclined element or a slider bank.
     """
 
     labels: tuple[str, ...]
@@ -86,6 +91,18 @@ class NonlinearAxes:
     banks: tuple | None = None
     inclined: tuple = ()
     generic: tuple = ()
+    start_states: tuple | None = None
+
+    def start_state(self, a: int):
+        """The state axis row ``a``'s march starts from (None: relaxed at
+        ``w_start[a]``)."""
+        return None if self.start_states is None else self.start_states[a]
+
+    def start_floats(self, a: int) -> tuple | None:
+        """:meth:`start_state` as its floats (None: relaxed at ``w_start[a]``)."""
+        s = self.start_state(a)
+        return None if s is None else ((float(s),) if isinstance(s, (int, float))
+                                       else tuple(float(x) for x in s))
 
     def __post_init__(self):
         if self.w_start is None:
@@ -127,13 +144,15 @@ class NonlinearAxes:
                         if b))
 
 
-def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
+def nonlinear_axes(system: System, sliders=None, states=None) -> NonlinearAxes:
     """Collect the active axes of ``system`` whose law is not purely linear.
 
     An axis is nonlinear if it carries a friction element, a cubic law with
     ``kc != 0`` or a piecewise law with ``k2 != k1``. ``sliders`` (array_like, shape
     (n_elements, 3), m) gives the slider positions the AFT march starts from, e.g.
-    those a time simulation ended with (default: all zero).
+    those a time simulation ended with (default: all zero); ``states``
+    (``{(element index, axis index): state}``) whole element states to start from
+    instead (``NonlinearAxes.start_states``).
     """
     if sliders is not None:
         sliders = np.asarray(sliders, dtype=float)
@@ -162,6 +181,8 @@ def nonlinear_axes(system: System, sliders=None) -> NonlinearAxes:
         delta_neg=np.array([p.delta_neg for *_, p in rows], dtype=float),
         w_start=np.array([sliders[ie, j] if sliders is not None else 0.0
                           for ie, j, _, _ in rows], dtype=float),
+        start_states=None if not states else tuple(
+            states.get((ie, j)) for ie, j, _, _ in rows),
         **friction_columns([p for *_, p in rows]),
     )
 

@@ -40,13 +40,15 @@ REPEAT_TOL = 1e-13
 FD_STEP = 1e-7
 
 
-def generic_periodic(u, v, p, w_start: float, dt: float) -> np.ndarray:
+def generic_periodic(u, v, p, w_start: float, dt: float, start_state=None
+                     ) -> np.ndarray:
     """The periodic friction force (N) at the samples ``u`` (m), ``v`` (m/s) of the
-    element of axis ``p``, marched from its state relaxed at ``w_start`` (m)."""
+    element of axis ``p``, marched from its state relaxed at ``w_start`` (m), or
+    from ``start_state`` (the element's own state) if given."""
     step, n = p.friction_step, p.n0
     el = p.element
     us, vs = [float(x) for x in u], [float(x) for x in v]
-    state = el.start(p, w_start)
+    state = el.start(p, w_start) if start_state is None else start_state
     out = [0.0] * len(us)
     scale = REPEAT_TOL * (max(abs(x) for x in us) + 1e-12)
     for passes in range(1, MAX_PASSES + 1):
@@ -66,10 +68,13 @@ def _floats(state) -> tuple:
     return (state,) if isinstance(state, float) else tuple(state)
 
 
-def generic_aft(U: np.ndarray, p, w_start: float, basis, omega, jacobian: bool):
+def generic_aft(U: np.ndarray, p, w_start: float, basis, omega, jacobian: bool,
+                start_state=None):
     """Force coefficients ``(2H+1,)`` of the element of axis ``p`` for the deflection
     coefficients ``U`` (2H+1,), m, and their Jacobian ``(2H+1, 2H+1)`` (None
-    without ``jacobian``). ``omega`` (rad/s) is needed by rate-dependent elements."""
+    without ``jacobian``). ``omega`` (rad/s) is needed by rate-dependent elements;
+    ``start_state`` (the element's own state) replaces the relaxed start at
+    ``w_start``."""
     if p.element.rate_dependent and omega is None:
         raise ValueError(f"the friction element {p.friction_kind!r} is rate-dependent: "
                          f"its AFT needs the frequency omega")
@@ -79,7 +84,7 @@ def generic_aft(U: np.ndarray, p, w_start: float, basis, omega, jacobian: bool):
     def force(Uc):
         u = basis.E @ Uc
         v = w * (basis.E @ (basis.D @ Uc))
-        return basis.P @ generic_periodic(u, v, p, w_start, dt)
+        return basis.P @ generic_periodic(u, v, p, w_start, dt, start_state)
 
     F = force(U)
     if not jacobian:

@@ -12,9 +12,11 @@ general :func:`hbm.frequency_response` (continuation, stability, folds, the erro
 estimate).
 
 Convention (as the Jenkins element's, PHYSICS.md section 1): the element starts
-relaxed at the axis deflection ``w_start`` (the static working point's deflection,
-:func:`fmu_src.inclined.relaxed_state`), moves to the first sample in one increment
-and passes over the period follow until both sliders repeat.
+from the static working point's state (``NonlinearAxes.start_states``: by default
+the engine lowered onto the assembled mount, ``hbm.static.lowered_equilibrium``), or
+relaxed at the axis deflection ``w_start`` (:func:`fmu_src.inclined.relaxed_state`)
+without one, moves to the first sample in one increment and passes over the period
+follow until both sliders repeat.
 
 Jacobian: exact, by forward differentiation of the march. In one increment the end
 forces are affine in the end deflection and the stuck surfaces' sliders
@@ -91,8 +93,11 @@ class PeriodicElement:
 
 
 def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0,
-                      E: np.ndarray | None = None) -> PeriodicElement:
+                      E: np.ndarray | None = None, start_state=None) -> PeriodicElement:
     """March the element over the axis deflections ``u`` (m) until the period repeats.
+
+    It starts relaxed at ``w_start``, or from ``start_state`` (an
+    :class:`InclinedState`, e.g. the engine lowered onto the mount: ``hbm.static``).
 
     ``E`` (N, 2H+1): the Fourier basis of ``u = E U``; given, the derivative of the
     force at every sample with respect to ``U`` is carried along (``dforce``).
@@ -103,7 +108,7 @@ def inclined_periodic(u: np.ndarray, p: InclinedParameters, w_start: float = 0.0
     n = len(us)
     jac = E is not None
     m = E.shape[1] if jac else 0
-    st0 = relaxed_state(p, w_start)
+    st0 = relaxed_state(p, w_start) if start_state is None else start_state
     w1, w2, x_old = st0.w1, st0.w2, -st0.uc
     # rows: d x / dU, d x_old / dU (the start deflection is fixed), d w1 / dU, d w2 / dU
     sens = np.zeros((4, m))
@@ -157,7 +162,7 @@ def inclined_aft(u: np.ndarray, ax, basis, jacobian: bool):
         dF = np.empty((flat.shape[0], P.shape[0], E.shape[1])) if jacobian else None
         for b, ub in enumerate(flat):
             el = inclined_periodic(ub[:, a], p, float(ax.w_start[a]),
-                                   E if jacobian else None)
+                                   E if jacobian else None, ax.start_state(a))
             F[b] = P @ el.force
             if jacobian:
                 dF[b] = P @ el.dforce
@@ -182,7 +187,8 @@ def _orbit_elements(hb, X: np.ndarray) -> list:
     if not ax.inclined:
         return []
     u = hb.basis.E @ hb.axis_coefficients(np.asarray(X, dtype=float))
-    return [(a, inclined_periodic(u[:, a], p, float(ax.w_start[a])))
+    return [(a, inclined_periodic(u[:, a], p, float(ax.w_start[a]),
+                                  start_state=ax.start_state(a)))
             for a, p in ax.inclined]
 
 

@@ -94,9 +94,12 @@ class HarmonicBalance:
         H = int(harmonics)
         #: the static working point the system vibrates about (None: unloaded)
         self.static = working_point(system)
+        states = None
         if self.static is not None and sliders is None:
-            sliders = self.static.sliders  # relaxed at the working point
-        ax = nonlinear_axes(system, sliders)
+            # the working point's elements: lowered onto the mount by default
+            # (their states), or relaxed there (system.static_reading)
+            sliders, states = self.static.sliders, self.static.states
+        ax = nonlinear_axes(system, sliders, states)
         closed_form = _closed_form_choice(closed_form, H, ax, self.static is not None)
         if n_samples is None:
             n_samples = default_n_samples(H)

@@ -38,10 +38,12 @@ References: thesis Sec. 2.1 (models), 2.3-2.4 (elastic laws); PHYSICS.md section
 from __future__ import annotations
 
 import enum
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
+from drymount.fmu_src.friction import flat_state
 from drymount.fmu_src.inclined import _solve as _regime_forces
 from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, axis_force,
                                         initial_sliders, static_force,
@@ -99,11 +101,27 @@ class StaticPoint:
     reading: str = "relaxed"
     #: the lowered reading's friction-element states ``{(element, axis): state}``
     states: dict | None = None
+    #: the axes of ``states``, ``{(element, axis): AxisParameters}``
+    axes: dict | None = None
 
     @property
     def sliders(self) -> np.ndarray:
-        """Relaxed slider positions (= the static deflections), shape (n_el, 3), m."""
-        return self.deflection.copy()
+        """Slider positions, shape (n_el, 3), m: the relaxed reading's are the static
+        deflections; the lowered reading's the positions of its element states
+        (``FrictionElement.position``, the FMU's ``w_<axis>``; the whole states,
+        which the position alone does not give for every element, are
+        :attr:`states`)."""
+        out = self.deflection.copy()
+        for (ie, j), state in (self.states or {}).items():
+            out[ie, j] = _position(self, ie, j, state)
+        return out
+
+
+def _position(point: StaticPoint, ie: int, j: int, state) -> float:
+    from drymount.fmu_src.mount_law import mean_slider
+
+    p = point.axes[(ie, j)] if point.axes else None
+    return p.element.position(state) if p is not None else mean_slider(state)
 
 
 def gravity_load(system: System, vertical, g: float = 9.81) -> np.ndarray:
@@ -183,19 +201,43 @@ def static_equilibrium(system: System, load, q0=None, max_iter: int = MAX_ITER
     return StaticPoint(q, u, F, f, status, it, float(np.max(np.abs(R))))
 
 
-def working_point(system: System) -> StaticPoint | None:
-    """The working point of ``system`` under its ``static_load`` (None without one).
+def working_point(system: System, reading: str | None = None) -> StaticPoint | None:
+    """The working point of ``system`` under its ``static_load`` (None without one)
+    that the HBM and the co-simulation start from: ``reading`` (default
+    ``system.static_reading``, itself ``"lowered"`` by default) ``"lowered"``
+    (:func:`lowered_equilibrium`: the engine lowered onto the assembled mount, its
+    element states in ``states``) or ``"relaxed"`` (:func:`static_equilibrium`).
 
     Raises ValueError if the equilibrium is not found (HBM and co-simulation cannot
-    run about a point that does not exist).
+    run about a point that does not exist) or ``reading`` is unknown.
     """
+    from drymount.hbm.system import STATIC_READINGS
+
+    reading = system.static_reading if reading is None else reading
+    if reading not in STATIC_READINGS:
+        raise ValueError(f"`reading` must be one of {STATIC_READINGS}, got {reading!r}")
     if not system.has_static_load:
         return None
-    point = static_equilibrium(system, system.static_load)
+    if reading == "lowered":
+        point = _lowered_cached(system)
+    else:
+        point = static_equilibrium(system, system.static_load)
     if point.status is not StaticStatus.CONVERGED:
-        raise ValueError(f"the static working point under `static_load` "
+        raise ValueError(f"the static working point ({reading}) under `static_load` "
                          f"{system.static_load.tolist()} {point.status.value} "
                          f"(largest residual {point.residual:.3g})")
+    return point
+
+
+_LOWERED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _lowered_cached(system: System) -> StaticPoint:
+    """:func:`lowered_equilibrium` under ``system.static_load``, once per system
+    (the HBM builds its problem several times per curve; a System is frozen)."""
+    point = _LOWERED.get(system)
+    if point is None:
+        point = _LOWERED[system] = lowered_equilibrium(system, system.static_load)
     return point
 
 
@@ -294,8 +336,12 @@ def lowered_equilibrium(system: System, load, steps: int = LOWER_STEPS,
         total += it
         if status is not StaticStatus.CONVERGED:
             break
+    axes = {key: system.elements[key[0]].params.axes[key[1]] for key in states}
+    # plain floats (the element's own state type), as a time simulation commits them
+    states = {key: axes[key].element.from_flat(axes[key], flat_state(s))
+              for key, s in states.items()}
     return StaticPoint(q, u, F, f, status, total, float(np.max(np.abs(R))),
-                       reading="lowered", states=states)
+                       reading="lowered", states=states, axes=axes)
 
 
 @dataclass(frozen=True)

@@ -31,7 +31,8 @@ import numpy as np
 
 from drymount.fmu_src.mount_law import AXES, MountParameters
 
-__all__ = ["MountElement", "Excitation", "Transmissibility", "System"]
+__all__ = ["MountElement", "Excitation", "Transmissibility", "System",
+           "STATIC_READINGS"]
 
 EXCITATION_KINDS = ("force", "unbalance", "base")
 TRANSMISSIBILITY_KINDS = ("force", "displacement")
@@ -129,6 +130,10 @@ class Transmissibility:
                              f"{TRANSMISSIBILITY_KINDS}, got {self.kind!r}")
 
 
+#: The readings of the static working point (``System.static_reading``): the engine
+#: lowered onto the assembled mount (default) or every friction element relaxed there.
+STATIC_READINGS = ("lowered", "relaxed")
+
 @dataclass(frozen=True, eq=False)
 class System:
     """A vehicle/engine model: linear structure + mount elements + excitation.
@@ -151,6 +156,13 @@ class System:
         Constant generalised load (N, N m), e.g. the engine's weight: the system
         vibrates about the static working point it produces (:mod:`hbm.static`).
         None (default): no static load, the unloaded point.
+    static_reading : str
+        Which static working point the HBM and the co-simulation start from
+        (:data:`STATIC_READINGS`, :func:`hbm.static.working_point`): ``"lowered"``
+        (default: the engine lowered onto the assembled mount, the friction elements
+        following their return maps; docs/physics.md says why it is the physical
+        one) or ``"relaxed"`` (every friction element unloaded at the working
+        point).
     """
 
     name: str
@@ -167,8 +179,12 @@ class System:
     description: str = ""
     notes: dict = field(default_factory=dict)
     static_load: np.ndarray | None = None
+    static_reading: str = "lowered"
 
     def __post_init__(self):
+        if self.static_reading not in STATIC_READINGS:
+            raise ValueError(f"`static_reading` must be one of {STATIC_READINGS}, got "
+                             f"{self.static_reading!r}")
         n = len(self.dof_names)
         nb = len(self.base_names)
         object.__setattr__(self, "M", _array(self.M, (n, n), "M"))

@@ -191,7 +191,8 @@ def test_model_description_interface(fmu):
                          f"slip_{a}": "output", f"E_fr_{a}": "output",
                          f"w_{a}": "local", f"N_{a}": "output",
                          f"N2_{a}": "output", f"slipped_{a}": "output",
-                         f"dE_fr_{a}": "output", f"ks_{a}": "output"})
+                         f"dE_fr_{a}": "output", f"ks_{a}": "output",
+                         f"w1_{a}": "local", f"w2_{a}": "local"})
     expected["E_fr"] = "output"
     assert {n: v.causality for n, v in by_name.items()} == expected
     units = {u.name for u in md.unitDefinitions}
@@ -258,7 +259,8 @@ def test_model_description_is_the_interface_table(fmu):
     assert float(md.defaultExperiment.stepSize) == \
         interface.DEFAULT_EXPERIMENT["stepSize"]
     assert interface.by_causality("local") == tuple(
-        v for v in interface.VARIABLES if v.name.startswith("w_"))
+        v for v in interface.VARIABLES
+        if v.name.startswith(("w_", "w1_", "w2_")))
     with pytest.raises(KeyError, match="no variable 'F_x'"):
         interface.variable("F_x")
 

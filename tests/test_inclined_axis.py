@@ -42,10 +42,13 @@ def _sdof(weight=0.0):
     return replace(s, static_load=np.array([-weight])) if weight else s
 
 
-def _hand_march(u, p, u0=0.0):
-    """Element force on the axis, stepped by hand with inclined_update."""
+def _hand_march(u, p, u0=0.0, start=None):
+    """Element force on the axis, stepped by hand with inclined_update, from the
+    element relaxed at u0 or from the state ``start`` (w1, w2, uc)."""
     s, c = math.sin(math.radians(p.theta_deg)), math.cos(math.radians(p.theta_deg))
     w1, w2, x_old = -u0 / s, -u0 * c / s, -u0
+    if start is not None:
+        w1, w2, x_old = start[0], start[1], -start[2]
     out = []
     for ui in u:
         st = inclined_update(-ui, x_old, w1, w2, p.inclined)
@@ -69,14 +72,25 @@ def test_fmu_and_native_agree_under_the_weight_from_the_working_point():
     a = simulate(s, 7.0, 0.4, backend="inproc")
     b = simulate(s, 7.0, 0.4, backend="fmu")
     assert np.abs(a.q - b.q).max() == 0.0
-    u0 = working_point(s).deflection[0, 0]
+    # both start from the engine lowered onto the mount (the default reading): the
+    # element's state there, sliders w1, w2 not relaxed (the FMU's w1_/w2_axial)
+    start = working_point(s).states[(0, 0)]
+    assert abs(start.w1 - (-start.uc) / math.sin(math.radians(60.0))) > 1e-4
+    ref = _hand_march(a.deflections[:, 0], AXIS, start=start)
+    assert np.abs(a.friction_forces[:, 0] - ref).max() <= HAND_TOL
+    # relaxed reading: the element relaxed at its working point
+    r = replace(s, static_reading="relaxed")
+    a = simulate(r, 7.0, 0.4, backend="inproc")
+    b = simulate(r, 7.0, 0.4, backend="fmu")
+    assert np.abs(a.q - b.q).max() == 0.0
+    u0 = working_point(r).deflection[0, 0]
     ref = _hand_march(a.deflections[:, 0], AXIS, u0)
     assert np.abs(a.friction_forces[:, 0] - ref).max() <= HAND_TOL
 
 
 def test_static_working_point_balances_weight_with_the_relaxed_element():
     s = _sdof(70.0 * 9.81)
-    u0 = working_point(s).deflection[0, 0]
+    u0 = working_point(s, "relaxed").deflection[0, 0]
     assert u0 < 0   # the weight compresses the mount and presses the wedge in
     f1, f2, n1, n2 = inclined_forces(-u0, *initial_sliders(AXIS, u0)[:2],
                                      AXIS.inclined)
@@ -185,8 +199,8 @@ def test_six_dof_engine_on_inclined_mounts_native_equals_fmu():
     assert np.abs(a.q - b.q).max() == 0.0
     col = list(a.force_names).index("mount3_axial")
     p = s.elements[2].params.axial
-    u0 = working_point(s).deflection[2, 0]
-    ref = _hand_march(a.deflections[:, col], p, u0)
+    # from the engine lowered onto its mounts (the default reading's states)
+    ref = _hand_march(a.deflections[:, col], p, start=working_point(s).states[(2, 0)])
     assert np.abs(a.friction_forces[:, col] - ref).max() <= HAND_TOL
 
 
@@ -203,7 +217,8 @@ def test_bonded_surface_mu_inf_through_both_fmus(build, tmp_path):
         from native_helpers import build as build_native
         fmu = build_native(tmp_path, 2)
     th = simulate(s, 8.0, 0.3, backend="fmu", fmu_path=fmu)
-    u0 = working_point(s).deflection[0, 0]
-    ref = _hand_march(th.deflections[:, 0], bonded, u0)
+    # from the engine lowered onto the mount (w1_/w2_axial set through FMI)
+    start = working_point(s).states[(0, 0)]
+    ref = _hand_march(th.deflections[:, 0], bonded, start=start)
     assert np.abs(th.friction_forces[:, 0] - ref).max() <= HAND_TOL
     assert np.ptp(th.friction_forces[:, 0]) > 100.0

@@ -41,7 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from drymount.fmu_src.interface import by_causality
+from drymount.fmu_src.friction import flat_state
+from drymount.fmu_src.interface import SLIDER_SLOTS, by_causality
 from drymount.fmu_src.mount_law import (AXES, axis_force, conform_state,
                                         friction_kind_code, initial_sliders, law_code,
                                         slider_position)
@@ -197,7 +198,9 @@ class _Backend:
         """Set whole friction-element states ``{(mount index, axis index): state}``
         (the element's own state, e.g. an ``fmu_src.inclined.InclinedState``), not
         only the one-number position of :meth:`set_sliders`. The in-process backend
-        only: an FMU's ``w_<axis>`` relaxes its element there."""
+        sets the state; the FMU backend its position ``w_<axis>`` and then its
+        sliders ``w1_<axis>``, ``w2_<axis>`` (``FrictionElement.slider_slots``); a
+        backend without either refuses."""
         raise ValueError(f"the {self.name!r} backend cannot set a whole friction-"
                          f"element state (its w_<axis> relaxes the element); use "
                          f"backend 'inproc' (the same law in-process)")
@@ -660,6 +663,53 @@ class FMUBackend(_Backend):
                 raise FMUError(self._instance_name(e), self.time,
                                "the FMU did not accept slider positions w_<axis>; "
                                "continue a sweep on live instances instead")
+
+    def set_element_states(self, states: dict) -> None:
+        """Each state through the FMU: ``w_<axis>`` = its position (the element
+        relaxed there), then ``w1_<axis>``, ``w2_<axis>`` = its sliders
+        (``FrictionElement.with_sliders``), read back. ValueError if the FMU lacks
+        the slider variables or the state is not its position plus its sliders
+        (an element whose state holds more, e.g. a bristle deflection)."""
+        index = {(e, j) for (_i, e, j) in self.layout.axes()}
+        for (e, j), state in states.items():
+            if (e, j) not in index:
+                raise ValueError(f"element state for mount {e} axis {j}: not an "
+                                 f"active axis of the system")
+            p = self.system.elements[e].params.axes[j]
+            where = f"mount {self.system.elements[e].name!r} axis {AXES[j]}"
+            if not p.friction:
+                raise ValueError(f"element state for {where}: the axis has no "
+                                 f"friction element")
+            el = p.element
+            state = conform_state(p, state)
+            pos, values = el.position(state), el.slider_values(p, state)
+            rebuilt = el.with_sliders(p, el.start(p, pos), dict(enumerate(values)))
+            if len(values) > SLIDER_SLOTS or flat_state(rebuilt) != flat_state(state):
+                raise ValueError(
+                    f"element state for {where}: the FMU sets a {el.name} element "
+                    f"by its position w_{AXES[j]} and at most {SLIDER_SLOTS} sliders "
+                    f"w1_..w{SLIDER_SLOTS}_{AXES[j]}; this state ({len(values)} "
+                    f"sliders) is not of that form; use backend 'inproc'")
+            names = [f"w_{AXES[j]}"] + [f"w{k + 1}_{AXES[j]}"
+                                        for k in range(len(values))]
+            missing = [n for n in names if n not in self._vars]
+            if missing:
+                raise ValueError(f"FMU {self.fmu_path!r} lacks {missing} (an FMU "
+                                 f"built before the slider variables): rebuild it")
+            fmu = self._fmus[e]
+            want = [float(pos)] + [float(x) for x in values]
+            try:
+                fmu.setReal([self._vars[names[0]].valueReference], want[:1])
+                if values:   # after w_: it relaxes the element
+                    fmu.setReal([self._vars[n].valueReference for n in names[1:]],
+                                want[1:])
+                back = fmu.getReal([self._vars[n].valueReference for n in names])
+            except Exception as exc:
+                raise self._error(e, self.time, exc) from exc
+            if list(back) != want:
+                raise FMUError(self._instance_name(e), self.time,
+                               f"the FMU did not accept the element state {want} "
+                               f"(read back {list(back)})")
 
     def energy(self) -> np.ndarray:
         out = np.zeros(self.layout.n_mounts)

@@ -157,11 +157,15 @@ class Master:
             self.backend.set_control(control)
         n = system.n_dof
         #: the static working point (``system.static_load``), None if unloaded; the
-        #: master starts there with the sliders relaxed (hbm.static)
+        #: master starts there, by default with the engine lowered onto the mount
+        #: (its friction-element states; ``system.static_reading = "relaxed"``: the
+        #: elements relaxed there), hbm.static.working_point
         self.static = working_point(system)
         self.q_static = np.zeros(n) if self.static is None else self.static.q.copy()
         if self.static is not None:
             self.backend.set_sliders(self.static.sliders)
+            if self.static.states:   # the lowered reading: whole element states
+                self.backend.set_element_states(self.static.states)
         self.q = self.q_static.copy()
         self.qd = np.zeros(n)
         self.qdd = np.zeros(n)

@@ -98,7 +98,9 @@ def config_from_dict(data, source: str = "<dict>", name: str | None = None) -> C
     system = replace(system, name=cfg_name,
                      description=description or system.description,
                      notes={"config_name": cfg_name, "model": model, "source": source},
-                     static_load=load)
+                     static_load=load,
+                     static_reading=static.reading if static is not None
+                     else "lowered")
     sweep, hbm_settings, cosim = settings
     cfg = Config(cfg_name, description, model, system, sweep, hbm_settings, cosim,
                  source, data, static, control)

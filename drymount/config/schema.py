@@ -68,7 +68,7 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "cosim": ("backend", "freq_hz", "duration", "steps_per_period", "input"),
     # measured inputs of `drymount cosim` (drymount.measured), checked in systems.py
     "cosim.input": ("road", "speed", "engine", "units"),
-    "static": ("gravity", "g", "loads", "travel"),
+    "static": ("gravity", "g", "loads", "travel", "reading"),
     # semi-active normal-force control (drymount.config.control)
     "control": ("kind", "axes", "n_min", "n_max", "rate_max", "schedule_hz",
                 "schedule_n", "n_on", "n_off"),

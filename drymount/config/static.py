@@ -5,6 +5,8 @@
     g = 9.81                    # m/s^2
     loads = { beta = 40.0 }     # generalised static loads by DOF name, N or N m
     travel = 0.015              # m: warn when a mount axis deflects more (optional)
+    reading = "lowered"         # the working point the HBM and cosim start from:
+                                # "lowered" (default) or "relaxed" (hbm.static)
 
 Gravity acts downwards on the vertical translation DOFs of the model
 (:data:`VERTICAL`). The resulting generalised load becomes ``System.static_load``:
@@ -21,7 +23,7 @@ import numpy as np
 
 from drymount.config.checks import _Checker, _join, _show, _type_name
 from drymount.hbm.static import gravity_load
-from drymount.hbm.system import System
+from drymount.hbm.system import STATIC_READINGS, System
 
 __all__ = ["VERTICAL", "StaticSettings", "vertical_dofs", "static_settings",
            "static_load"]
@@ -29,7 +31,7 @@ __all__ = ["VERTICAL", "StaticSettings", "vertical_dofs", "static_settings",
 #: The DOFs that a unit upward translation of every body moves, per model.
 VERTICAL = {"sdof": ("x",), "quarter_car": ("engine", "sprung", "unsprung"),
             "rigid_engine": ("z",)}
-KEYS = ("gravity", "g", "loads", "travel")
+KEYS = ("gravity", "g", "loads", "travel", "reading")
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,9 @@ class StaticSettings:
     g: float = 9.81
     loads: dict = field(default_factory=dict)
     travel: float | None = None
+    #: ``System.static_reading``: "lowered" (the engine lowered onto the assembled
+    #: mount) or "relaxed" (every friction element unloaded there)
+    reading: str = "lowered"
 
     @property
     def active(self) -> bool:
@@ -85,9 +90,14 @@ def static_settings(ck: _Checker, data: dict, dof_names) -> StaticSettings | Non
                   default=StaticSettings.g)
     travel = ck.number(tbl, "travel", "static", rule=">0", unit="m", required=False)
     loads = _loads(ck, tbl, list(dof_names))
+    reading = tbl.get("reading", StaticSettings.reading)
+    if reading not in STATIC_READINGS:
+        ck.add(f"`{_join('static', 'reading')}` must be one of "
+               f"{', '.join(repr(r) for r in STATIC_READINGS)}, got "
+               f"{_type_name(reading)} {_show(reading)}")
     if len(ck.problems) > n_before:
         return None
-    return StaticSettings(gravity, g, loads, travel)
+    return StaticSettings(gravity, g, loads, travel, reading)
 
 
 def static_load(settings: StaticSettings, model: str, system: System

@@ -84,4 +84,4 @@ static double berg_position(const double *state, int n)
 
 ML_ELEMENT_DEF const ml_element ml_berg = {
     "berg", 1, berg_state_size, berg_start, berg_position, berg_step,
-    ml_contact_normal_forces, NULL};
+    ml_contact_normal_forces, NULL, NULL};

@@ -61,4 +61,4 @@ static double dahl_position(const double *state, int n)
 
 ML_ELEMENT_DEF const ml_element ml_dahl = {
     "dahl", 1, dahl_state_size, dahl_start, dahl_position, dahl_step,
-    ml_contact_normal_forces, NULL};
+    ml_contact_normal_forces, NULL, NULL};

@@ -99,6 +99,14 @@ static int inclined_problems(const ml_axis_params *p, const char *prefix, char *
     return added;
 }
 
+/* the sliders w1 (inclined surface) and w2 (flat surface) of the state (w1, w2, uc):
+ * inclined_element.py slider_slots */
+static int inclined_slider_index(const ml_axis_params *p, int slot)
+{
+    (void)p;
+    return slot == 0 || slot == 1 ? slot : -1;
+}
+
 ML_ELEMENT_DEF const ml_element ml_inclined = {
     "inclined", 1, inclined_state_size, ml_relaxed_state, inclined_position,
-    inclined_step, inclined_normal_forces, inclined_problems};
+    inclined_step, inclined_normal_forces, inclined_problems, inclined_slider_index};

@@ -190,6 +190,12 @@ void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double f
     *n2 = 0.0;
 }
 
+/* every slider of the state may be set (jenkins.py slider_slots) */
+static int jenkins_slider_index(const ml_axis_params *p, int slot)
+{
+    return slot < jenkins_state_size(p) ? slot : -1;
+}
+
 ML_ELEMENT_DEF const ml_element ml_jenkins = {
     "jenkins", 0, jenkins_state_size, jenkins_start, ml_mean_slider, jenkins_step,
-    ml_contact_normal_forces, NULL};
+    ml_contact_normal_forces, NULL, jenkins_slider_index};

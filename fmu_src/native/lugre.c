@@ -123,4 +123,4 @@ static int lugre_problems(const ml_axis_params *p, const char *prefix, char *buf
 
 ML_ELEMENT_DEF const ml_element ml_lugre = {
     "lugre", 1, lugre_state_size, lugre_start, lugre_position, lugre_step,
-    ml_contact_normal_forces, lugre_problems};
+    ml_contact_normal_forces, lugre_problems, NULL};

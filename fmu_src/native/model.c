@@ -80,7 +80,7 @@ static int is_output(md_role role)
 {
     switch (role) {
     case MD_PARAMETER: case MD_INPUT_U: case MD_INPUT_V: case MD_INPUT_N:
-    case MD_LOCAL_W: case MD_TIME:
+    case MD_LOCAL_W: case MD_LOCAL_W1: case MD_LOCAL_W2: case MD_TIME:
         return 0;
     default:
         return 1;
@@ -604,6 +604,16 @@ md_status md_get(md_instance *m, const char *call, md_type type, unsigned vr,
     case MD_INPUT_V: *value = m->d.v[j]; return MD_OK;
     case MD_INPUT_N: *value = normal_force(m, j); return MD_OK;
     case MD_LOCAL_W: *value = mean_state(&m->d, j); return MD_OK;
+    case MD_LOCAL_W1: case MD_LOCAL_W2: {  /* FrictionMount._slider */
+        int idx;
+        *value = 0.0;  /* no such slider, or invalid parameters */
+        if (!m->params_ok && check_parameters(m, call, MD_WARNING) != MD_OK)
+            return MD_OK;
+        idx = ml_slider_index(&m->d.p[j], var->role == MD_LOCAL_W1 ? 0 : 1);
+        if (idx >= 0)
+            *value = m->d.w[j][idx];
+        return MD_OK;
+    }
     case MD_TIME: *value = m->d.time; return MD_OK;
     case MD_OUTPUT_E_TOTAL: return energy_total(m, call, value);
     case MD_OUTPUT_SLIPPED: *value = m->d.slipped[j]; return MD_OK;
@@ -664,6 +674,34 @@ static int infinite_allowed(const char *name)
     return 0;
 }
 
+/* FrictionMount._slot_problem: w1_/w2_<axis> need valid parameters (set in an
+ * earlier call) and an element with that slider. */
+static md_status check_slider(md_instance *m, const char *call, const md_variable *var,
+                              double value)
+{
+    int j = var->axis, slot = var->role == MD_LOCAL_W1 ? 0 : 1, n = 0;
+    const ml_axis_params *p = &m->d.p[j];
+    char sv[40];
+    ml_repr_double(value, sv, sizeof sv);
+    if (!m->params_ok && check_parameters(m, call, MD_ERROR) != MD_OK) {
+        md_log(m, MD_ERROR, "%s: `%s` = %s sets a slider of the axis's friction "
+               "element, which needs valid parameters first", call, var->name, sv);
+        return MD_ERROR;
+    }
+    if (ml_slider_index(p, slot) >= 0)
+        return MD_OK;
+    while (ml_slider_index(p, n) >= 0)
+        ++n;
+    if (p->friction)
+        md_log(m, MD_ERROR, "%s: `%s` = %s: the friction element (kind %d) of axis %s "
+               "has %d settable slider(s); no slider %d to set", call, var->name, sv,
+               p->friction_kind, AXIS_NAMES[j], n, slot + 1);
+    else
+        md_log(m, MD_ERROR, "%s: `%s` = %s: axis %s has no friction element; no "
+               "slider %d to set", call, var->name, sv, AXIS_NAMES[j], slot + 1);
+    return MD_ERROR;
+}
+
 md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned vr,
                        double value)
 {
@@ -678,6 +716,7 @@ md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned 
         break;
     case MD_INPUT_U: case MD_INPUT_V: case MD_INPUT_N:
     case MD_LOCAL_W:  /* w also in step mode, as the PythonFMU build (docs/fmu.md) */
+    case MD_LOCAL_W1: case MD_LOCAL_W2:
         allowed = MD_IN(MD_INSTANTIATED) | MD_IN(MD_INIT) | MD_IN(MD_STEP);
         break;
     default:
@@ -696,6 +735,8 @@ md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned 
         md_log(m, MD_ERROR, "%s: `%s` must be finite, got %s", call, var->name, sv);
         return MD_ERROR;
     }
+    if (var->role == MD_LOCAL_W1 || var->role == MD_LOCAL_W2)
+        return check_slider(m, call, var, value);
     return MD_OK;
 }
 
@@ -736,6 +777,11 @@ md_status md_set(md_instance *m, const char *call, md_type type, unsigned vr,
             m->d.post[j] = 0;
         m->d.n[j] = value;
         m->d.n_set[j] = 1;
+        break;
+    case MD_LOCAL_W1: case MD_LOCAL_W2:  /* FrictionMount._set_slider (checked) */
+        m->d.post[j] = 0;
+        m->d.w[j][ml_slider_index(&m->d.p[j], var->role == MD_LOCAL_W1 ? 0 : 1)] =
+            value;
         break;
     default:  /* w_<axis>: FrictionMount._set_sliders */
         m->d.post[j] = 0;

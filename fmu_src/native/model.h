@@ -42,7 +42,8 @@ typedef enum {
     MD_OUTPUT_FFR, MD_OUTPUT_KT, MD_OUTPUT_SLIP, MD_OUTPUT_E_AXIS, MD_OUTPUT_E_TOTAL,
     MD_LOCAL_W, MD_TIME, MD_OUTPUT_N, MD_OUTPUT_N2,
     /* the record of the last step (fmu_src/step_record.py): slipped_, dE_fr_, ks_ */
-    MD_OUTPUT_SLIPPED, MD_OUTPUT_DE_STEP, MD_OUTPUT_KS
+    MD_OUTPUT_SLIPPED, MD_OUTPUT_DE_STEP, MD_OUTPUT_KS,
+    MD_LOCAL_W1, MD_LOCAL_W2  /* w1_/w2_<axis>: one slider of the element */
 } md_role;
 
 /* Fields of a parameter variable, in mount_law.AxisParameters' order. */

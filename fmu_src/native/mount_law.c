@@ -107,6 +107,14 @@ void ml_state_start(const ml_axis_params *p, double w, double *state)
             state[n + i] = w;
 }
 
+int ml_slider_index(const ml_axis_params *p, int slot)
+{
+    const ml_element *el = element_of(p);
+    if (el == NULL || el->slider_index == NULL || slot < 0)
+        return -1;
+    return el->slider_index(p, slot);
+}
+
 int ml_friction_kinds(void)
 {
     return ML_N_FRICTION_KINDS;

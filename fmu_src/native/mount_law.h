@@ -86,6 +86,9 @@ typedef struct {
      * returns the number appended */
     int (*problems)(const ml_axis_params *p, const char *prefix, char *buf,
                     size_t size, int count);
+    /* FrictionElement.slider_slots: the index in the state of settable slider
+     * `slot` (0, 1, ...), -1 if it has none (NULL: no settable sliders) */
+    int (*slider_index)(const ml_axis_params *p, int slot);
 } ml_element;
 
 /* The thesis's defaults (mount_law.AxisParameters()). */
@@ -125,6 +128,10 @@ ML_DECL void ml_state_start(const ml_axis_params *p, double w, double *state);
 ML_DECL int ml_state_tag(const ml_axis_params *p);
 /* The number of friction elements of the table (the largest state tag). */
 ML_DECL int ml_friction_kinds(void);
+
+/* The index in axis p's friction state of its settable slider `slot` (the FMU's
+ * w1_/w2_<axis>: FrictionElement.slider_slots), -1 if it has none. */
+ML_DECL int ml_slider_index(const ml_axis_params *p, int slot);
 
 /* mount_law.slider_position / mean_slider of the n doubles of a state with tag. */
 ML_DECL double ml_state_position(const double *state, int n, int tag);
