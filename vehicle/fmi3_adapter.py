@@ -107,11 +107,11 @@ class FMU3Adapter:
                           ctypes.byref(self._last))
 
     def raw_fmi_calls(self, h: float, t_arg):
-        """The stepping loop's direct calls (:class:`vehicle.backends.RawFMICalls`):
+        """The stepping loop's direct calls (:class:`vehicle.raw_calls.RawFMICalls`):
         ``fmi3SetFloat64`` / ``fmi3GetFloat64`` with their value counts and
         ``fmi3DoStep(instance, t_arg, h, fmi3True, ...)`` with this adapter's flags,
         the FMU's functions without the Python frames of :meth:`fmi2SetReal` & co."""
-        from drymount.vehicle.backends import RawFMICalls
+        from drymount.vehicle.raw_calls import RawFMICalls
 
         size = ctypes.c_size_t
 
