@@ -39,7 +39,9 @@ def test_axis_fields_are_the_registered_fields():
     names = [f.name for f in fields(AxisParameters)]
     assert names[:8] == ["law", "k1", "kc", "k2", "delta", "delta_neg", "c",
                          "friction"]
-    assert set(names[8:]) == {"friction_kind"} | {f.name for f in element_fields()}
+    maxwell = {name for name, *_ in interface.MAXWELL_PARAMETER_FIELDS}
+    assert set(names[8:]) == ({"friction_kind"} | {f.name for f in element_fields()}
+                              | maxwell)
     rows = {name for name, *_ in interface.ALL_PARAMETER_FIELDS}
     assert rows == set(names)
     for f in element_fields():   # the FMU's row carries the declared unit and text
