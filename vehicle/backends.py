@@ -43,7 +43,7 @@ import numpy as np
 
 from drymount.fmu_src.friction import flat_state
 from drymount.fmu_src.interface import SLIDER_SLOTS, by_causality
-from drymount.vehicle.raw_calls import RawFMICalls
+from drymount.vehicle.raw_calls import raw_fmi_calls
 from drymount.fmu_src.mount_law import (AXES, axis_force, conform_state,
                                         friction_kind_code, initial_sliders, law_code,
                                         slider_position)
@@ -365,24 +365,6 @@ class InProcessBackend(_Backend):
 
     def close(self) -> None:
         pass
-
-
-def raw_fmi_calls(fmu, h: float, t_arg) -> RawFMICalls:
-    """:class:`RawFMICalls` of an fmpy ``FMU2Slave`` (or of an object with its own
-    ``raw_fmi_calls(h, t_arg)``, as :class:`vehicle.fmi3_adapter.FMU3Adapter`);
-    ``doStep(component, t_arg, h, fmi2True)``."""
-    own = getattr(fmu, "raw_fmi_calls", None)
-    if own is not None:
-        return own(h, t_arg)
-    size = ctypes.c_size_t
-
-    def args(c, vr, n, values):
-        return (c, vr, size(n), values)
-
-    r = RawFMICalls(fmu.dll, ("fmi2SetReal", "fmi2GetReal", "fmi2DoStep"),
-                    fmu.component, args, args, ())
-    r.step_args = (r.component, t_arg, ctypes.c_double(h), ctypes.c_int(1))
-    return r
 
 
 class FMUBackend(_Backend):

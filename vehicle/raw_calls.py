@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import ctypes
 
-__all__ = ["RawFMICalls"]
+__all__ = ["RawFMICalls", "raw_fmi_calls"]
 
 
 class RawFMICalls:
@@ -44,3 +44,21 @@ class RawFMICalls:
         from fmpy.fmi1 import FMICallException
 
         return FMICallException(function=self.names[which], status=status)
+
+
+def raw_fmi_calls(fmu, h: float, t_arg) -> RawFMICalls:
+    """:class:`RawFMICalls` of an fmpy ``FMU2Slave`` (or of an object with its own
+    ``raw_fmi_calls(h, t_arg)``, as :class:`vehicle.fmi3_adapter.FMU3Adapter`);
+    ``doStep(component, t_arg, h, fmi2True)``."""
+    own = getattr(fmu, "raw_fmi_calls", None)
+    if own is not None:
+        return own(h, t_arg)
+    size = ctypes.c_size_t
+
+    def args(c, vr, n, values):
+        return (c, vr, size(n), values)
+
+    r = RawFMICalls(fmu.dll, ("fmi2SetReal", "fmi2GetReal", "fmi2DoStep"),
+                    fmu.component, args, args, ())
+    r.step_args = (r.component, t_arg, ctypes.c_double(h), ctypes.c_int(1))
+    return r
