@@ -74,9 +74,12 @@ def _num(x: float) -> str:
 
 
 def mount_toml(axis: AxisParameters, header: str, stderr: dict,
-               notes: dict | None = None, c_known: bool = True) -> str:
-    """``[mount]`` (and ``[mount.friction]``) TOML text of ``axis`` with comments;
-    ``c_known=False`` leaves c out (a comment says it is unknown and how to set it)."""
+               notes: dict | None = None, c_known: bool = True,
+               maxwell: tuple = ()) -> str:
+    """``[mount]`` (and ``[mount.friction]``, ``[mount.maxwell]``) TOML text of
+    ``axis`` with comments; ``c_known=False`` leaves c out (a comment says it is
+    unknown and how to set it). ``maxwell``: ``(k, c)`` of each Maxwell branch, their
+    standard errors in ``stderr`` as ``maxwell<i>_k`` / ``maxwell<i>_c``."""
     notes = notes or {}
     used = {"linear": ("k1",), "cubic": ("k1", "kc"),
             "piecewise": ("k1", "k2", "delta"),
@@ -105,7 +108,22 @@ def mount_toml(axis: AxisParameters, header: str, stderr: dict,
                 f"{'n0 = ' + _num(axis.fs):<28}  # N (= Fs)"
                 + (f", standard error {stderr['fs']:.3g} "
                    f"({stderr['fs'] / axis.fs:.2%})" if stderr.get("fs") else "")]
+    if maxwell:
+        out += ["", "[mount.maxwell]", _maxwell_line("k", maxwell, stderr, "N/m"),
+                _maxwell_line("c", maxwell, stderr, "N s/m")]
     return "\n".join(out) + "\n"
+
+
+def _maxwell_line(q: str, branches: tuple, stderr: dict, unit: str) -> str:
+    """``k = [...]`` or ``c = [...]`` of the Maxwell branches with a comment."""
+    i = 0 if q == "k" else 1
+    values = ", ".join(_num(b[i]) for b in branches)
+    se = [stderr.get(f"maxwell{n}_{q}") for n in range(1, len(branches) + 1)]
+    note = f"  # {unit}"
+    if all(s is not None and s > 0 for s in se):
+        note += ", standard errors " + ", ".join(
+            f"{s:.3g} ({s / abs(b[i]):.2%})" for s, b in zip(se, branches))
+    return f"{q} = [{values}]{note}"
 
 
 def _fits_csv(path: Path, fits, chosen, source: str) -> None:

@@ -12,7 +12,7 @@ Writes into ``--out``: ``fit.csv`` (every parameter, standard error, unit, fixed
 fitted, R^2, AIC), ``residuals.csv`` (per row of the table, or per loop: measured and
 fitted |K*| and loss angle, the residuals), ``fit.png`` (measured and fitted |K*|
 and loss angle over frequency, one line per amplitude) and, for a model the
-configuration has (no Maxwell branch, not hydraulic), ``mount.toml``.
+configuration has (up to three Maxwell branches, not hydraulic), ``mount.toml``.
 """
 
 from __future__ import annotations
@@ -29,6 +29,10 @@ from drymount.hbm.rig_fit import (RigModel, check_model, complex_stiffness,
                                   fit_loops, fit_table, loop_fundamental,
                                   loop_residuals, table_residuals, unit)
 from drymount.io import atomic_write_text, save_figure, write_csv
+
+#: The configuration's ``[mount.maxwell]`` holds at most this many branches (the FMU
+#: has three per axis).
+MAX_CONFIG_BRANCHES = 3
 
 __all__ = ["wanted", "parse_fixed", "build_model", "main"]
 
@@ -162,7 +166,7 @@ def _plot(path: Path, fit, freq, amp, K, source: str, loops: bool) -> None:
 def _mount_toml(fit, args) -> str | None:
     """The ``[mount]`` TOML of a fit the configuration can hold, else None."""
     rig = fit.rig
-    if rig.kind != "rubber" or rig.maxwell:
+    if rig.kind != "rubber" or rig.maxwell > MAX_CONFIG_BRANCHES:
         return None
     from drymount.fit import mount_toml
     from drymount.fmu_src.mount_law import AxisParameters
@@ -174,7 +178,10 @@ def _mount_toml(fit, args) -> str | None:
                       else {}))
     header = (f"Fitted by `drymount fit {args.kind} {args.data}`: model {rig.label}, "
               f"R^2 = {fit.r2:.6f}")
-    return mount_toml(axis, header, {k: v for k, v in fit.stderr.items() if v > 0})
+    branches = tuple((p[f"maxwell{i}_k"], p[f"maxwell{i}_c"])
+                     for i in range(1, rig.maxwell + 1))
+    return mount_toml(axis, header, {k: v for k, v in fit.stderr.items() if v > 0},
+                      maxwell=branches)
 
 
 def main(args) -> int:
@@ -225,9 +232,10 @@ def main(args) -> int:
         written.append(out / "mount.toml")
     print("wrote " + ", ".join(str(p) for p in written))
     if text is None:
-        print("  (no mount.toml: the configuration has no "
-              f"{'hydraulic mount' if model.kind == 'hydraulic' else 'Maxwell branch'} "
-              "in this build; the parameters are in fit.csv)")
+        print("  (no mount.toml: the configuration has "
+              + ("no hydraulic mount in this build" if model.kind == "hydraulic" else
+                 f"at most {MAX_CONFIG_BRANCHES} Maxwell branches per axis")
+              + "; the parameters are in fit.csv)")
     if fit.status is not FitStatus.CONVERGED:
         print(f"drymount: error: the fit did not converge: {fit.message}",
               file=sys.stderr)

@@ -396,3 +396,26 @@ def test_table_hydraulic_mount_with_decoupler():
     fit = fit_table(_noisy_points(rows, np.random.default_rng(3)), model)
     for k in model.free:
         assert abs(fit.params[k] - truth[k]) < MAX_Z * fit.stderr[k], k
+
+
+def test_a_maxwell_fit_writes_a_mount_toml_the_configuration_loads(tmp_path, capsys):
+    # the fit's mount.toml carries [mount.maxwell]; a preset built from it holds the
+    # fitted branches, the law, the damper and the friction element (fit.csv's values)
+    data = Path(__file__).resolve().parents[1] / "examples" / "data"
+    out = tmp_path / "fit"
+    assert main(["fit", "table", str(data / "rig_rubber_table.csv"), "--maxwell", "2",
+                 "--out", str(out), "--no-plot"]) == 0
+    assert "mount.toml" in capsys.readouterr().out
+    fitted = {r["parameter"]: float(r["value"]) for r in _csv_rows(out / "fit.csv")}
+    preset = tmp_path / "engine.toml"
+    assert main(["presets", "export", "sdof_halved", str(preset), "--mount",
+                 str(out / "mount.toml")]) == 0
+    from drymount.config.loading import load_config
+    axis = load_config(preset).system.elements[0].params.axial
+    expected = {"k1": fitted["k1"], "c": fitted["c"], "kf": fitted["kf"],
+                "n0": fitted["fs"], "maxwell_k1": fitted["maxwell1_k"],
+                "maxwell_c1": fitted["maxwell1_c"], "maxwell_k2": fitted["maxwell2_k"],
+                "maxwell_c2": fitted["maxwell2_c"], "maxwell_k3": 0.0}
+    for name, value in expected.items():   # 10 significant digits in the TOML
+        assert getattr(axis, name) == pytest.approx(value, rel=1e-9, abs=0.0), name
+    assert axis.law == "linear" and axis.friction
