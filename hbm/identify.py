@@ -39,7 +39,7 @@ from drymount.hbm.elements import jenkins_periodic
 __all__ = ["FIT_LAWS", "PARAMETERS", "UNITS", "MIN_POINTS", "DataError",
            "FitStatus", "Fit", "ElasticComparison", "LoopTest", "StiffnessPoint",
            "check_curve", "law_force", "fit_elastic", "compare_elastic",
-           "loop_model", "fit_loops", "fit_dynamic_stiffness"]
+           "loop_model", "fit_loops", "fit_dynamic_stiffness", "point_problems"]
 
 #: The elastic laws a force-deflection curve is fitted with.
 FIT_LAWS = ("linear", "cubic", "piecewise", "piecewise_asym")
@@ -499,6 +499,18 @@ class StiffnessPoint:
                                         math.sin(math.radians(self.loss_angle_deg)))
 
 
+def point_problems(points) -> list[str]:
+    """What is wrong with each row of a dynamic-stiffness table (empty: nothing):
+    frequency, amplitude and |K*| finite and > 0, the loss angle finite."""
+    problems = []
+    for i, p in enumerate(points):
+        vals = (p.freq_hz, p.amplitude, p.magnitude, p.loss_angle_deg)
+        if not all(math.isfinite(v) for v in vals) or min(vals[:3]) <= 0:
+            problems.append(f"row {i + 1}: frequency, amplitude and |K*| must be "
+                            f"finite and > 0 and the loss angle finite, got {vals}")
+    return problems
+
+
 def fit_dynamic_stiffness(points, elastic: AxisParameters, fit_c: bool = True,
                           n_samples: int = DEFAULT_SAMPLES // 4) -> Fit:
     """Fit kf, Fs (and c) to measured |K*| and loss angles, the elastic law given.
@@ -509,12 +521,7 @@ def fit_dynamic_stiffness(points, elastic: AxisParameters, fit_c: bool = True,
     """
     points = list(points)
     names = ("kf", "fs", "c") if fit_c else ("kf", "fs")
-    problems = []
-    for i, p in enumerate(points):
-        vals = (p.freq_hz, p.amplitude, p.magnitude, p.loss_angle_deg)
-        if not all(math.isfinite(v) for v in vals) or min(vals[:3]) <= 0:
-            problems.append(f"row {i + 1}: frequency, amplitude and |K*| must be "
-                            f"finite and > 0 and the loss angle finite, got {vals}")
+    problems = point_problems(points)
     if len(points) < MIN_POINTS_PER_PARAMETER * len(names):
         problems.append(f"a dynamic-stiffness table needs at least "
                         f"{MIN_POINTS_PER_PARAMETER * len(names)} rows, got "

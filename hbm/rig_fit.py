@@ -54,7 +54,8 @@ from drymount.hbm.characterise import rate_independent_stiffness
 from drymount.hbm.closed_form import jenkins_coefficients
 from drymount.hbm.elements import jenkins_periodic
 from drymount.hbm.identify import (MIN_POINTS_PER_PARAMETER, DataError, Fit,
-                                   FitStatus, LoopTest, StiffnessPoint)
+                                   FitStatus, LoopTest, StiffnessPoint,
+                                   point_problems)
 from drymount.hbm.laws import hbm_law
 
 __all__ = ["MODELS", "RigModel", "RigFit", "PARAMETER_UNITS", "check_model",
@@ -430,12 +431,7 @@ def _order_branches(model: RigModel, params: dict, stderr: dict
 
 def _check_points(points, model: RigModel) -> list[StiffnessPoint]:
     points = list(points)
-    problems = []
-    for i, p in enumerate(points):
-        vals = (p.freq_hz, p.amplitude, p.magnitude, p.loss_angle_deg)
-        if not all(math.isfinite(v) for v in vals) or min(vals[:3]) <= 0:
-            problems.append(f"row {i + 1}: frequency, amplitude and |K*| must be "
-                            f"finite and > 0 and the loss angle finite, got {vals}")
+    problems = point_problems(points)
     need = math.ceil(MIN_POINTS_PER_PARAMETER * len(model.free) / 2)
     if len(points) < need:
         problems.append(f"the {model.label} model has {len(model.free)} free "
