@@ -41,9 +41,8 @@ import uuid
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
-from xml.etree.ElementTree import Element, SubElement, indent, tostring
 
-from drymount.fmu_build import native_me
+from drymount.fmu_build import native_me, native_xml
 from drymount.fmu_build.extras import fmu_extras
 from drymount.fmu_src import interface
 from drymount.fmu_src.friction import FRICTION_ELEMENTS
@@ -70,7 +69,8 @@ CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", "-share
           "-fvisibility=hidden", "-ffp-contract=off")
 #: A PE header carries a link time unless told not to (reproducible DLLs); -s: no
 #: debug info (the MinGW runtime's objects carry 244 KB of it).
-_PE_FLAGS = ("-Wl,--no-insert-timestamp", "-s")
+_PE_FLAGS = ("-s",)
+_PE_GNU_FLAGS = ("-Wl,--no-insert-timestamp",)
 #: The oldest glibc the linux binaries need (zig cc links against this version's
 #: symbols; tests/test_native_platforms.py reads the versions from the binaries):
 #: 2.17 (CentOS/RHEL 7, 2012), below RHEL 8's 2.28.
@@ -84,19 +84,22 @@ class Platform:
     """How one platform's binary is compiled: with ``zig cc -target <zig>`` (the
     ``ziglang`` package, extra ``native-cross``), or without zig with the C compiler
     ``fallback`` where one is installed (``prefer_fallback``: even with zig, when it
-    is installed; the MinGW DLL imports only msvcrt, zig's the UCRT)."""
+    is installed; the MinGW DLL imports only msvcrt, zig's the UCRT).
+    ``fallback_flags``: GNU linker flags only the fallback takes (zig cc 0.17 refuses
+    ``--no-insert-timestamp``)."""
 
     zig: str
     suffix: str
     flags: tuple[str, ...] = ()
     fallback: str | None = None
     prefer_fallback: bool = False
+    fallback_flags: tuple[str, ...] = ()
 
 
 _LINUX64 = Platform(f"x86_64-linux-gnu.{GLIBC_FLOOR}", ".so", ("-fPIC",), "gcc")
 _LINUX_ARM = Platform(f"aarch64-linux-gnu.{GLIBC_FLOOR}", ".so", ("-fPIC",))
 _WIN64 = Platform("x86_64-windows-gnu", ".dll", _PE_FLAGS, "x86_64-w64-mingw32-gcc",
-                  prefer_fallback=True)
+                  prefer_fallback=True, fallback_flags=_PE_GNU_FLAGS)
 _DARWIN64 = Platform(f"x86_64-macos.{MACOS_FLOOR}", ".dylib", ("-fPIC",))
 _DARWIN_ARM = Platform(f"aarch64-macos.{MACOS_FLOOR}", ".dylib", ("-fPIC",))
 #: Platform folder -> how its binary is built, per FMI version (FMI 2.0: its folder
@@ -122,7 +125,6 @@ COMPILE = {
 }
 
 _C_TYPE = {"Real": "MD_REAL", "Integer": "MD_INTEGER", "Boolean": "MD_BOOLEAN"}
-_FMI3_TYPE = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean"}
 #: The per-axis parameter fields model.c stores (md_field): the elastic law's and
 #: every field of the registered friction elements (ml_axis_params).
 _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
@@ -137,15 +139,6 @@ _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "slipped": "MD_OUTPUT_SLIPPED", "dE_fr": "MD_OUTPUT_DE_STEP",
                "ks": "MD_OUTPUT_KS",
                "w1": "MD_LOCAL_W1", "w2": "MD_LOCAL_W2"}
-#: Inputs each output depends on (per axis; E_fr on those of every axis): a
-#: rate-dependent friction element reads v in Ffr, kt and E_fr.
-_DEPENDS = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),
-            "slip": ("u", "n"), "E_fr": ("u", "v", "n"), "N": ("u", "n"),
-            "N2": ("u", "n"),
-            # the records of the last step change only in doStep (step_record.py)
-            "slipped": (), "dE_fr": (), "ks": ()}
-_LOG_CATEGORIES = ("logStatusWarning", "logStatusDiscard", "logStatusError",
-                   "logStatusFatal", "logAll")
 
 
 class NativeBuildError(RuntimeError):
@@ -340,161 +333,15 @@ def variables_header(target: NativeTarget, token: str) -> str:
         + "\n".join(rows) + "\n};\n\n#endif\n")
 
 
-# ---------------------------------------------------------------------- XML
-
-
-def _bounds(var: interface.Variable) -> dict[str, str]:
-    """Declared ranges of a parameter, as every build (interface.declared_bounds)."""
-    if var.causality != "parameter":
-        return {}
-    return interface.declared_bounds(var.name.partition("_")[2], var.type)
-
-
-def _start_text(var: interface.Variable) -> str | None:
-    if var.start is None:
-        return None
-    if var.type == "Boolean":
-        return "true" if var.start else "false"
-    if var.type == "Integer":
-        return str(int(var.start))
-    return repr(float(var.start))
-
-
-def _header_attributes(target: NativeTarget, token: str) -> dict[str, str]:
-    key = "guid" if target.fmi == 2 else "instantiationToken"
-    return {"fmiVersion": f"{target.fmi}.0", "modelName": interface.MODEL_NAME,
-            key: token,
-            "description": ("Friction-damped engine mount (native C build): elastic "
-                            "law + viscous damping + a friction element "
-                            "(<axis>_friction_kind) on three local axes"
-                            + (" -- NULL MODEL, no physics" if target.null else "")),
-            "author": "drymount", "generationTool": "drymount fmu_build.native",
-            "variableNamingConvention": "flat"}
-
-
-def _cosimulation(root: Element, target: NativeTarget) -> None:
-    caps = {name: "true" if value else "false"
-            for name, value in interface.CAPABILITIES.items()}
-    if target.fmi == 3:
-        caps = {name.replace("FMUstate", "FMUState"): value
-                for name, value in caps.items()}
-        caps.update(hasEventMode="false", providesIntermediateUpdate="false",
-                    canReturnEarlyAfterIntermediateUpdate="false")
-    cs = SubElement(root, "CoSimulation", modelIdentifier=target.model_identifier,
-                    **caps)
-    if target.fmi == 2:
-        files = SubElement(cs, "SourceFiles")  # the rest is #included (internal.h)
-        SubElement(files, "File", name=UNITY)
-
-
-def _units(root: Element, target: NativeTarget) -> None:
-    units = SubElement(root, "UnitDefinitions")
-    table = dict(interface.BASE_UNITS) | native_me.EXTRA_UNITS
-    if target.fmi == 3:
-        table["s"] = {"s": 1}
-    for name, exps in table.items():
-        SubElement(SubElement(units, "Unit", name=name), "BaseUnit",
-                   {k: str(e) for k, e in exps.items()})
-
-
-def _variable_element(parent: Element, target: NativeTarget, vr: int,
-                      var: interface.Variable) -> None:
-    attrs = {"name": var.name, "valueReference": str(vr),
-             "description": var.description, "causality": var.causality,
-             "variability": var.variability}
-    if var.initial is not None:
-        attrs["initial"] = var.initial
-    typed = dict(_bounds(var))
-    if var.unit is not None and var.type == "Real":
-        typed["unit"] = var.unit
-    start = _start_text(var)
-    if start is not None:
-        typed["start"] = start
-    if target.fmi == 2:
-        SubElement(SubElement(parent, "ScalarVariable", attrs), var.type, typed)
-    else:
-        SubElement(parent, _FMI3_TYPE[var.type], {**attrs, **typed})
-
-
-def _structure(root: Element, target: NativeTarget, variables) -> None:
-    # FMI 2.0 refers to variables by 1-based index, FMI 3.0 by value reference
-    ref = {var.name: str(vr + 1 if target.fmi == 2 else vr) for vr, var in variables}
-    outputs = []
-    for vr, var in variables:
-        if var.causality != "output":
-            continue
-        prefix, _, axis = var.name.rpartition("_")
-        if var.name == "E_fr":
-            deps = [f"{d}_{a}" for a in AXES for d in _DEPENDS["E_fr"]]
-            deps += native_me.me_depends("E_fr", None)
-        else:
-            deps = [f"{d}_{axis}" for d in _DEPENDS[prefix]]
-            deps += [d for d in native_me.me_depends(prefix, axis) if d not in deps]
-        outputs.append((ref[var.name], " ".join(
-            sorted((ref[d] for d in deps), key=int))))
-    # Model Exchange: the states and derivatives are initial unknowns too
-    initial = [index for index, _ in outputs] + [
-        ref[n] for n in native_me.initial_unknowns()]
-    initial.sort(key=int)
-    structure = SubElement(root, "ModelStructure")
-    # outputs declared initial="exact" (slipped_, dE_fr_) are no initial unknowns
-    exact = {ref[var.name] for _, var in variables if var.initial == "exact"}
-    if target.fmi == 2:
-        out_el = SubElement(structure, "Outputs")
-        for index, deps in outputs:
-            SubElement(out_el, "Unknown", index=index, dependencies=deps)
-        native_me.structure_derivatives(structure, 2, ref)
-        init_el = SubElement(structure, "InitialUnknowns")
-        for index in initial:
-            if index not in exact:
-                SubElement(init_el, "Unknown", index=index)
-        return
-    for index, deps in outputs:
-        SubElement(structure, "Output", valueReference=index, dependencies=deps)
-    native_me.structure_derivatives(structure, 3, ref)
-    for index in initial:
-        if index not in exact:
-            SubElement(structure, "InitialUnknown", valueReference=index)
-    native_me.structure_event_indicators(structure, ref)
-
-
 def model_description(target: NativeTarget, token: str) -> bytes:
-    """``modelDescription.xml`` of the FMI 2.0 or FMI 3.0 flavour."""
-    root = Element("fmiModelDescription", _header_attributes(target, token))
-    if target.fmi == 2:
-        root.set("numberOfEventIndicators", str(3 * len(native_me.EVENT_INDICATORS)))
-    native_me.model_exchange(root, target.fmi, target.model_identifier, UNITY)
-    _cosimulation(root, target)
-    _units(root, target)
-    cats = SubElement(root, "LogCategories")
-    for name in _LOG_CATEGORIES:
-        SubElement(cats, "Category", name=name)
-    SubElement(root, "DefaultExperiment",
-               {k: repr(float(v)) for k, v in interface.DEFAULT_EXPERIMENT.items()})
-    variables = _variables(target)
-    mv = SubElement(root, "ModelVariables")
-    index = {var.name: vr for vr, var in variables}
-    for vr, var in variables:
-        _variable_element(mv, target, vr, var)
-        if var.name.startswith("der("):  # a Model Exchange state's derivative
-            state = index[var.name[4:-1]]
-            element = mv[-1] if target.fmi == 3 else mv[-1][0]
-            element.set("derivative", str(state + 1 if target.fmi == 2 else state))
-    _structure(root, target, variables)
-    indent(root)
-    return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+    """``modelDescription.xml`` of the FMI 2.0 or FMI 3.0 flavour
+    (:mod:`fmu_build.native_xml`)."""
+    return native_xml.model_description(target, token, _variables(target), UNITY)
 
 
 def build_description(target: NativeTarget) -> bytes:
     """``sources/buildDescription.xml`` (FMI 3.0)."""
-    root = Element("fmiBuildDescription", fmiVersion="3.0")
-    conf = SubElement(root, "BuildConfiguration",
-                      modelIdentifier=target.model_identifier)
-    files = SubElement(conf, "SourceFileSet", language="C99")
-    SubElement(files, "SourceFile", name=UNITY)  # the rest is #included
-    SubElement(conf, "Library", name="m", description="libm (C math library)")
-    indent(root)
-    return tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
+    return native_xml.build_description(target.model_identifier, UNITY)
 
 
 # ---------------------------------------------------------------------- archive
@@ -585,7 +432,8 @@ def _job(target: NativeTarget, folder: Path, platform: str,
     # relative names in the build folder: no temporary path ends up in the binary
     c_files = [UNITY]
     strip = () if "-s" in plat.flags else ("-s",)
-    cmd = (*compiler, *CFLAGS, *plat.flags, *strip, "-o",
+    gnu = plat.fallback_flags if compiler[0] == plat.fallback else ()
+    cmd = (*compiler, *CFLAGS, *plat.flags, *gnu, *strip, "-o",
            f"{platform}/{out.name}", *c_files, "-lm")
     h = hashlib.sha256(_compiler_identity(compiler).encode() + b"\0")
     h.update("\0".join(cmd).encode())
