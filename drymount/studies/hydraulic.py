@@ -504,8 +504,9 @@ def _summary_md(results: list[dict], figs: list[str], quick: bool) -> str:
     lines = ["# Study hydraulic: friction-damped elastomer mount against a hydraulic "
              "mount", "",
              f"Band {BAND_HZ[0]:g}-{BAND_HZ[1]:g} Hz. (a), (b): HBM H = {H} "
-             "(continuation, read on the log grid); (c): exact linear FRF with the "
-             "hydraulic mount's K*(omega) on the axial axes "
+             "(continuation, read on the log grid); (c) decoupler open, (c') closed "
+             "(inertia track only): exact linear FRF with the hydraulic mount's "
+             "K*(omega) on the axial axes "
              "(`hydraulic_mount_for`: literature values scaled to the original "
              "mount's static stiffness). |K*| and loss angle of (a), (b) at "
              + ", ".join(f"{X * 1e3:g} mm" for X in DS_AMPLITUDES_M)
