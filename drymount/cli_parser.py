@@ -12,7 +12,7 @@ from pathlib import Path
 __all__ = ["build_parser", "STUDY_NAMES"]
 
 STUDY_NAMES = ("normal-force", "optimize-n0", "quarter-car", "six-dof", "jump", "laws",
-               "six-dof-75", "incline", "semi-active")
+               "six-dof-75", "incline", "semi-active", "hydraulic")
 
 
 # ======================================================================================
@@ -486,6 +486,9 @@ def _cmd_study(sub) -> None:
              semi-active   passive vs controlled normal force (balance, skyhook,
                            scheduled, growth): unbalance, engine run-up and ISO
                            8608 road; single-DOF, quarter car, 6-DOF (co-simulation)
+             hydraulic     original elastomer vs halved friction mount (best n0)
+                           vs a linear hydraulic mount: transmissibility, |K*|,
+                           loss angle and static sag in single-DOF, quarter car, 6-DOF
              Each writes CSV files, plots and summary.md into --out.""",
              ["drymount study normal-force --out study-nf",
               "drymount study jump --out jump --quick"])

@@ -16,6 +16,7 @@ command                   function                      thesis
 ``jump``                  :func:`run_jump`              Figs. 3.5, 3.7
 ``laws``                  :func:`run_laws`              Fig. 4.5
 ``six-dof-75``            :func:`run_six_dof_75`        Figs. 4.45-4.50
+``hydraulic``             :func:`run_hydraulic`         Sec. 1.1.2.2 (issue 28)
 ========================  ============================  ===========================
 
 The normal force ``n0`` of a study is applied to every friction element of the system;
@@ -54,6 +55,7 @@ from drymount.studies.common import (
     with_normal_force,
     with_stiffness_factor,
 )
+from drymount.studies.hydraulic import run_hydraulic
 from drymount.studies.jump import run_jump
 from drymount.studies.laws import run_laws
 from drymount.studies.normal_force import run_normal_force
@@ -75,6 +77,7 @@ __all__ = [
     "run_jump",
     "run_laws",
     "run_six_dof_75",
+    "run_hydraulic",
     "load_system",
     "with_normal_force",
     "with_stiffness_factor",

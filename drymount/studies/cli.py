@@ -10,6 +10,7 @@ from collections.abc import Callable
 from enum import IntEnum
 from pathlib import Path
 
+from drymount.studies.hydraulic import run_hydraulic
 from drymount.studies.incline import run_incline
 from drymount.studies.jump import run_jump
 from drymount.studies.laws import run_laws
@@ -30,6 +31,7 @@ STUDIES: dict[str, Callable[..., dict]] = {
     "six-dof-75": run_six_dof_75,
     "incline": run_incline,
     "semi-active": run_semi_active,
+    "hydraulic": run_hydraulic,
 }
 
 
