@@ -221,9 +221,17 @@ class HarmonicBalance:
                 J = J + (self.BB[:, 0, 0] @ dF.reshape(self.axes.n, -1)).reshape(
                     self.m, self.m)
             else:
-                # J[h i, g j] += sum_a dF[a, h, g] B[a, i] B[a, j]
-                J = J + np.tensordot(dF, self.BB, axes=(0, 0)).transpose(
-                    0, 2, 1, 3).reshape(self.size, self.size)
+                # J[h i, g j] += sum_a dF[a, h, g] B[a, i] B[a, j]: the product
+                # np.tensordot(dF, BB, axes=(0, 0)) makes (its transposed copy of dF
+                # times BB as one matrix), without its Python, added in place (J is
+                # A, built by this call) through a view: the same numbers
+                na, m, n = self.axes.n, self.m, self.n
+                dFt = np.ascontiguousarray(dF.transpose(1, 2, 0)).reshape(m * m, na)
+                prod = np.dot(dFt, self.BB.reshape(na, n * n)).reshape(m, m, n, n)
+                if J is A:
+                    J.reshape(m, n, m, n)[...] += prod.transpose(0, 2, 1, 3)
+                else:
+                    J = J + prod.transpose(0, 2, 1, 3).reshape(self.size, self.size)
         dR_dw = ((self.A1 + (2.0 * omega) * self.A2) @ X
                  - self.exc_scale * (self.e1 + 2.0 * omega * self.e2))
         if mx is not None:
