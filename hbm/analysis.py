@@ -185,7 +185,7 @@ def _finish(result: FrequencyResponse, opts: HBMOptions) -> FrequencyResponse:
     full = postprocess(level.prob, level.br.y, opts, level.br,
                        level.br.turning_points, level.located)
     for name in ("message", "error_truncation", "error_sampling", "error_reference",
-                 "tol_met", "turning_points_merged"):
+                 "tol_met", "turning_points_merged", "samples_per_point"):
         setattr(full, name, getattr(result, name))
     return full
 
@@ -331,6 +331,10 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
                          events=not light)
     result._level = _Level(prob, br, zz.folds, light)
     result.turning_points_merged = zz.merged
+    if zz.fine_points:
+        result.samples_per_point = np.full(result.n_points, prob.hb.n_samples)
+        for i, j in zz.fine_points.items():
+            result.samples_per_point[i] = zz.fine_samples[j]
     if zz.refined:
         result.message += "; " + "; ".join(
             f"{f0:.4g}-{f1:.4g} Hz re-traced with more AFT samples ({k} points: "
@@ -351,8 +355,10 @@ def _merge_zigzags(prob: _Problem, br: Branch, opts: HBMOptions):
             fine = build_problem(prob.hb.system, *prob.f_ends, prob.hb.H, N, False)
             fine.xs, fine.ws, fine.rs = prob.xs, prob.ws, prob.rs  # same unknowns
             fines.append(fine)
-    return merge_spurious_pairs(br, fines, opts.continuation_settings(),
-                                opts.zigzag_span, _to_hz(prob))
+    rep = merge_spurious_pairs(br, fines, opts.continuation_settings(),
+                               opts.zigzag_span, _to_hz(prob))
+    rep.fine_samples = [fine.hb.n_samples for fine in fines]
+    return rep
 
 
 def solve_frequencies(system: System, freqs_hz, *, harmonics: int | None = None,

@@ -263,6 +263,9 @@ class ZigzagReport:
         ``{turning-point index: CurveEvent}`` for folds located on a finer re-trace.
     refined : list of (f_start, f_end, points)
         Stretches of the curve replaced by a finer re-trace (in Hz with ``to_hz``).
+    fine_points : dict
+        ``{point index: index into fines}``: the points of the spliced curve that
+        solve a finer problem (every other point solves the coarse one).
     """
 
     before: int = 0
@@ -271,6 +274,7 @@ class ZigzagReport:
     removed_points: int = 0
     folds: dict = dataclasses.field(default_factory=dict)
     refined: list = dataclasses.field(default_factory=list)
+    fine_points: dict = dataclasses.field(default_factory=dict)
 
 
 def _clusters(br: Branch, max_span: float) -> list[list[int]]:
@@ -337,7 +341,7 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
             continue
         a, b = max(cl[0] - 2, 0), min(cl[-1] + 1, npts - 1)
         best = None
-        for fine in fines:
+        for j, fine in enumerate(fines):
             sub = _retrace(fine, br, a, b, settings)
             if sub is None:
                 continue
@@ -345,7 +349,7 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
             # fewer turns that connect like the stretch they replace (same parity)
             if k < len(cl) and (len(cl) - k) % 2 == 0 and \
                     (best is None or k < len(best[2].turning_points)):
-                best = (a, b, sub, fine)
+                best = (a, b, sub, fine, j)
             if k <= 1:
                 break
         if best is None:
@@ -360,8 +364,9 @@ def merge_spurious_pairs(br: Branch, fines: list, settings: ContinuationSettings
 
 def _splice(br: Branch, parts: list, settings: ContinuationSettings,
             to_hz: Callable | None, rep: ZigzagReport) -> None:
-    """Replace the stretches ``(a, b, sub, fine)`` of ``br`` (points a+1..b) by the
-    re-traces ``sub`` (their folds located on them); in place, noted in ``rep``."""
+    """Replace the stretches ``(a, b, sub, fine, j)`` of ``br`` (points a+1..b) by
+    the re-traces ``sub`` of ``fines[j]`` (their folds located on them); in place,
+    noted in ``rep``."""
     npts = len(br.y)
     y, tg, jac, dets, nit, tps, folds = [], [], [], [], [], [], {}
     start = 0
@@ -380,7 +385,7 @@ def _splice(br: Branch, parts: list, settings: ContinuationSettings,
             dets.append(det_sign(br, i))
             nit.append(br.n_iter[i])
 
-    for a, b, sub, fine in parts:
+    for a, b, sub, fine, j in parts:
         copy(start, a + 1)  # sub point 0 is coarse point a
         located = {}
         if to_hz is not None and sub.turning_points:
@@ -390,6 +395,7 @@ def _splice(br: Branch, parts: list, settings: ContinuationSettings,
                 tps.append(len(y))
                 if k in located:
                     folds[len(y)] = dataclasses.replace(located[k], index=len(y))
+            rep.fine_points[len(y)] = j
             y.append(sub.y[k])
             tg.append(sub.tangent[k])
             jac.append(sub.jacobian[k])

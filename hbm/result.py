@@ -136,6 +136,10 @@ class FrequencyResponse:
     turning_points_merged : int
         Turning points dropped as zigzags of the sampled residual (pairs that
         vanished when re-traced with more AFT samples).
+    samples_per_point : ndarray of int, shape (n_points,) or (0,)
+        The AFT samples each point solves the equations with: ``n_samples``, but for
+        the stretches re-traced with more samples (``message`` names them); empty
+        when every point uses ``n_samples``. Use :meth:`samples_of`.
     error_truncation, error_sampling : ndarray, shape (n_points,)
         Estimated errors of each point from the harmonics above H and from the N AFT
         samples, relative to the curve's peak (:mod:`hbm.error_estimate`; NaN if not
@@ -191,6 +195,7 @@ class FrequencyResponse:
     peaks: list = field(default_factory=list)
     transmissibility_peak: MarkedPoint | None = None
     turning_points_merged: int = 0
+    samples_per_point: np.ndarray = field(default_factory=lambda: np.zeros(0, int))
     error_truncation: np.ndarray | None = None
     error_sampling: np.ndarray | None = None
     error_reference: str = ""
@@ -289,6 +294,12 @@ class FrequencyResponse:
     @property
     def n_points(self) -> int:
         return int(self.freq_hz.size)
+
+    def samples_of(self, i: int) -> int:
+        """The AFT samples point ``i`` solves the equations with."""
+        if len(self.samples_per_point):
+            return int(self.samples_per_point[i])
+        return self.n_samples
 
     @property
     def segments(self) -> list[slice]:

@@ -24,7 +24,8 @@ BAND_RTOL = 1e-9
 _POINT_FIELDS = {"freq_hz": None, "coefficients": np.nan, "amplitude": np.nan,
                  "peak": np.nan, "transmissibility": np.nan, "stable": True,
                  "floquet_max_real": np.nan, "newton_per_point": 0,
-                 "error_truncation": np.nan, "error_sampling": np.nan, "stuck": 0}
+                 "error_truncation": np.nan, "error_sampling": np.nan, "stuck": 0,
+                 "samples_per_point": 0}
 
 
 class Restart(NamedTuple):
@@ -41,6 +42,8 @@ def _points(fr: FrequencyResponse, name: str) -> np.ndarray:
         # not computed: give one entry per point
         fill = 0 if name == "newton_per_point" else np.nan
         value = np.full(fr.freq_hz.shape, fill, dtype=value.dtype)
+    if name == "samples_per_point" and value.shape[:1] != fr.freq_hz.shape:
+        value = np.full(fr.freq_hz.shape, fr.n_samples, dtype=int)
     if name == "stuck" and value.shape[:1] != fr.freq_hz.shape:
         value = np.zeros((fr.freq_hz.size, len(fr.stuck_labels)), dtype=int)
     return value
