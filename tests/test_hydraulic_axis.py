@@ -184,3 +184,73 @@ def test_batched_sweep_equals_inproc():
     for f, r in zip([3.0, 7.0], rows, strict=True):
         one = steady_state(s, f, backend="inproc", rtol=1e-12, max_periods=4000)
         assert abs(r.phasor[0] - one.phasor[0]) <= 1e-12 * abs(one.phasor[0])
+
+
+# --------------------------------------------------------------------------------------
+# Configuration: [mount.hydraulic], --set, the preset
+# --------------------------------------------------------------------------------------
+
+HYD_TOML = """
+model = "sdof"
+name = "t"
+[sdof]
+mass = 70.0
+[mount]
+law = "linear"
+k1 = 90000.0
+c = 100.0
+[mount.hydraulic]
+Ap = 5e-3
+C1 = 3e-11
+C2 = 1e-9
+I_i = 1e6
+R_i = 1e7
+[excitation]
+kind = "force"
+amplitude = 100.0
+"""
+
+
+def test_config_reads_the_fluid_path():
+    from drymount.config import load_config
+
+    ax = load_config(HYD_TOML).system.elements[0].params.axes[0]
+    assert ax.has_hydraulic and ax.hydraulic.Ap == 5e-3 and ax.hydraulic.I_d == 0.0
+    assert (ax.k1, ax.c) == (90000.0, 100.0)
+
+
+@pytest.mark.parametrize("line, needle", [
+    ("C2 = 0.0", "`mount.hydraulic.C2` must be finite and > 0"),
+    ("R_i = -3.0", "`mount.hydraulic.R_i` must be finite and >= 0"),
+    ("kr = 1.0", "`mount.hydraulic.kr` = 1.0 differs from `mount.k1` = 90000.0"),
+    ("Ai = 1.0", "mount.hydraulic"),
+])
+def test_config_errors_name_field_and_value(line, needle):
+    from drymount.config import ConfigError, load_config
+
+    key = line.split(" = ")[0]
+    text = "\n".join(ln for ln in HYD_TOML.splitlines()
+                     if not ln.startswith(f"{key} = "))
+    text = text.replace("[mount.hydraulic]", f"[mount.hydraulic]\n{line}")
+    with pytest.raises(ConfigError) as e:
+        load_config(text)
+    assert needle in str(e.value)
+
+
+def test_preset_sags_as_the_original_and_set_reaches_the_fluid(tmp_path, capsys):
+    from drymount import cli
+    from drymount.config import load_preset
+
+    ax = load_preset("sdof_hydraulic").system.elements[0].params.axes[0]
+    assert ax.has_hydraulic
+    h = ax.hydraulic
+    assert ax.k1 + h.Ap ** 2 / (h.C1 + h.C2) == pytest.approx(91870.0, abs=0.01)
+    out = tmp_path / "st"
+    # C2 -> inf-ish: the fluid's static stiffness Ap^2 / (C1 + C2) drops out
+    assert cli.main(["static", "sdof_hydraulic", "--set",
+                     "mount.hydraulic.C2=1e-3", "--out", str(out)]) == 0
+    sag = 70.0 * 9.81 / (ax.k1 + h.Ap ** 2 / (h.C1 + 1e-3))
+    assert f"deflection {-sag * 1e3:9.4f} mm" in capsys.readouterr().out
+    assert cli.main(["static", "sdof_hydraulic", "--set",
+                     "mount.hydraulic.Ap=-1", "--out", str(out)]) == 2
+    assert "mount.hydraulic.Ap" in capsys.readouterr().err
