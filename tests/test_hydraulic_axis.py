@@ -254,3 +254,25 @@ def test_preset_sags_as_the_original_and_set_reaches_the_fluid(tmp_path, capsys)
     assert cli.main(["static", "sdof_hydraulic", "--set",
                      "mount.hydraulic.Ap=-1", "--out", str(out)]) == 2
     assert "mount.hydraulic.Ap" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name, original", [
+    ("quarter_car_hydraulic", "quarter_car_original"),
+    ("six_dof_hydraulic", "six_dof_original")])
+def test_vehicle_presets_sag_as_the_original(name, original):
+    """The fluid's static stiffness plus the rubber's is the original k1 on every
+    axis: the same static point (the original's law is piecewise, its knee far)."""
+    from drymount.config import load_preset
+    from drymount.hbm.static import gravity_load, static_equilibrium
+    from drymount.config.static import vertical_dofs
+
+    def point(n):
+        cfg = load_preset(n)
+        s = cfg.system
+        return static_equilibrium(s, gravity_load(s, vertical_dofs(cfg.model,
+                                                                   s.dof_names)))
+
+    a, b = point(name), point(original)
+    assert np.max(np.abs(a.q - b.q)) < 1e-6 * np.max(np.abs(b.q))
+    assert any(p.has_hydraulic for e in load_preset(name).system.elements
+               for p in e.params.axes)
