@@ -276,3 +276,16 @@ def test_vehicle_presets_sag_as_the_original(name, original):
     assert np.max(np.abs(a.q - b.q)) < 1e-6 * np.max(np.abs(b.q))
     assert any(p.has_hydraulic for e in load_preset(name).system.elements
                for p in e.params.axes)
+
+
+def test_characterise_cli_checks_the_fluid_by_the_law(tmp_path, capsys):
+    """The FMUs lack the fluid path: `characterise` checks a hydraulic axis by the
+    law's time march (20 periods: the fluid's start transient dies out)."""
+    from drymount import cli
+
+    out = tmp_path / "ch"
+    assert cli.main(["characterise", "sdof_hydraulic", "--points", "3", "--fmin", "5",
+                     "--fmax", "20", "--amplitudes-mm", "1", "-q", "--out",
+                     str(out)]) == 0
+    text = (out / "crosscheck.csv").read_text()
+    assert "mount_axial,law," in text and ",fmu," not in text
