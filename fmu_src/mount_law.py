@@ -58,7 +58,9 @@ from .friction import (FRICTION_ELEMENTS, FRICTION_KINDS, ElementStep,
                        friction_kind_name)
 from .jenkins import (MAX_SLIDERS, SliderStep, iwan_update, jenkins_update,
                       slider_bank, slider_update)
-from .linear_branches import MAX_MAXWELL, maxwell_step
+from .linear_branches import (FLUID_STATE, HYDRAULIC_FIELDS, MAX_MAXWELL,
+                              HydraulicParameters, fluid_propagator,
+                              fluid_relaxed, fluid_step, maxwell_step)
 
 __all__ = [
     "AXES",
@@ -97,6 +99,9 @@ __all__ = [
     "MaxwellAxisState",
     "flat_state",
     "without_maxwell",
+    "HYDRAULIC_AXIS_FIELDS",
+    "without_branches",
+    "fluid_static",
 ]
 
 #: Names of the three local axes of a mount, in the order used everywhere.
@@ -126,6 +131,14 @@ _LAW_FIELDS = (("law", "piecewise", None), ("k1", 91870.0, ">= 0"),
 MAXWELL_FIELDS = tuple(f"maxwell_{q}{i}" for i in range(1, MAX_MAXWELL + 1)
                        for q in ("k", "c"))
 
+#: The hydraulic fluid path's axis fields (``hyd_Ap`` m^2, ``hyd_C1``, ``hyd_C2``
+#: m^5/N, ``hyd_I_i``, ``hyd_I_d`` kg/m^4, ``hyd_R_i``, ``hyd_R_d`` N s/m^5; the
+#: fields of :class:`linear_branches.HydraulicParameters` after ``kr, br``: the
+#: rubber is the axis's own elastic law and damper ``c``), appended after the
+#: Maxwell fields; default 0, ``hyd_Ap = 0``: absent.
+HYDRAULIC_AXIS_FIELDS = tuple(f"hyd_{name}" for name, _u, _d in HYDRAULIC_FIELDS[2:])
+_HYD_POSITIVE = ("hyd_C1", "hyd_C2", "hyd_I_i")
+
 
 class _Axis:
     """The methods of :class:`AxisParameters` (its fields come from the registries).
@@ -149,6 +162,15 @@ class _Axis:
         object.__setattr__(self, "maxwell", pairs)
         object.__setattr__(self, "has_maxwell",
                            any(k > 0.0 and c > 0.0 for k, c in pairs))
+        # the hydraulic fluid path (None: absent); the rubber kr, br of
+        # HydraulicParameters are 0 here: they are the axis's k1/law and c
+        hyd = self.hyd_Ap > 0.0
+        object.__setattr__(self, "has_hydraulic", hyd)
+        object.__setattr__(self, "hydraulic", HydraulicParameters(
+            0.0, 0.0, *(getattr(self, n) for n in HYDRAULIC_AXIS_FIELDS))
+            if hyd else None)
+        object.__setattr__(self, "has_branches", self.has_maxwell or hyd)
+        object.__setattr__(self, "fluid_cache", {})   # dt -> fluid_propagator
 
     def problems(self, prefix: str = "") -> list[str]:
         """Every problem of these parameters, each naming field, value and rule."""
@@ -181,6 +203,17 @@ class _Axis:
             if not (_finite(value) and value >= 0):
                 out.append(f"`{prefix}{name}` must be finite and >= 0 (a Maxwell "
                            f"branch; 0: absent), got {value!r}")
+        ap = getattr(self, "hyd_Ap", 0.0)   # (an FMU's namespace may lack it)
+        on_hyd = _finite(ap) and ap > 0.0
+        for name in HYDRAULIC_AXIS_FIELDS:
+            value = getattr(self, name, 0.0)
+            if not (_finite(value) and value >= 0):
+                out.append(f"`{prefix}{name}` must be finite and >= 0 (the hydraulic "
+                           f"fluid path; hyd_Ap = 0: absent), got {value!r}")
+            elif on_hyd and name in _HYD_POSITIVE and value == 0.0:
+                out.append(f"`{prefix}{name}` must be > 0 when `{prefix}hyd_Ap` > 0 "
+                           f"(a fluid mount needs two compliant chambers and an "
+                           f"inertia track), got {value!r}")
         return out
 
     @property
@@ -234,6 +267,11 @@ class _Axis:
         if not (_finite(lam) and lam > 0):
             raise ParameterError([f"`lambda` must be finite and > 0, got {lam!r}"])
         mx = {name: getattr(self, name) * lam for name in MAXWELL_FIELDS}
+        # the fluid's stiffness Ap^2 f(C, Z) scales by lam with C / lam, I, R * lam
+        # (its notch and peak frequencies unchanged)
+        mx.update({name: getattr(self, name) / lam if name in ("hyd_C1", "hyd_C2")
+                   else getattr(self, name) * lam
+                   for name in HYDRAULIC_AXIS_FIELDS if name != "hyd_Ap"})
         return replace(self, k1=self.k1 * lam, kc=self.kc * lam, k2=self.k2 * lam,
                        c=self.c * lam, **mx)
 
@@ -263,6 +301,7 @@ def _axis_fields():
     out.append(("friction_kind", str, _dc_field(default=FRICTION_KINDS[0])))
     out += [(f.name, type(f.default), _dc_field(default=f.default)) for f in rest]
     out += [(name, float, _dc_field(default=0.0)) for name in MAXWELL_FIELDS]
+    out += [(name, float, _dc_field(default=0.0)) for name in HYDRAULIC_AXIS_FIELDS]
     return out
 
 
@@ -403,10 +442,23 @@ def static_force(u: float, p: AxisParameters) -> tuple[float, float]:
     law plus the element's ``relaxed_force`` (a relaxed Jenkins element carries
     none, the inclined one its wedge spring and preload)."""
     f, k = p.elastic_force(u, p)
+    if p.has_hydraulic:   # the fluid at rest: both chambers at Ap u / (C1 + C2)
+        fh, kh = fluid_static(u, p)
+        f, k = f + fh, k + kh
     if p.friction:
         fi, ki = p.element.relaxed_force(u, p)
         return f + fi, k + ki
     return f, k
+
+
+def fluid_static(u: float, p: AxisParameters) -> tuple[float, float]:
+    """Force and tangent of axis ``p``'s fluid at rest at ``u``: ``Ap^2 u / (C1 +
+    C2)`` and ``Ap^2 / (C1 + C2)`` ((0, 0) without the hydraulic path)."""
+    if not p.has_hydraulic:
+        return 0.0, 0.0
+    h = p.hydraulic
+    k = h.Ap * h.Ap / (h.C1 + h.C2)
+    return k * u, k
 
 
 def initial_sliders(p: AxisParameters, w: float = 0.0):
@@ -416,15 +468,16 @@ def initial_sliders(p: AxisParameters, w: float = 0.0):
     branches (``p.has_maxwell``) a :class:`MaxwellAxisState`, every branch relaxed
     at ``w`` too."""
     inner = p.element.start(p, w) if p.friction else float(w)
-    if p.has_maxwell:
-        return _maxwell_state(inner, float(w), (float(w),) * MAX_MAXWELL)
+    if p.has_branches:
+        return _maxwell_state(inner, float(w), (float(w),) * MAX_MAXWELL,
+                              _fluid0(p, float(w)))
     return inner
 
 
 def slider_position(p: AxisParameters, w) -> float:
     """The one number (m) of the friction state ``w`` of axis ``p`` (the FMU's
     ``w_<axis>``; the element's ``position``)."""
-    if isinstance(w, MaxwellAxisState) and p.has_maxwell:
+    if isinstance(w, MaxwellAxisState) and p.has_branches:
         w = _split(p, w)[0]
     return p.element.position(w) if p.friction else mean_slider(w)
 
@@ -434,7 +487,7 @@ def conform_state(p: AxisParameters, w):
     its ``state_size`` floats is read as one: a restored FMU state), else the state
     of :func:`initial_sliders` at its :func:`mean_slider` (e.g. after the
     parameters changed)."""
-    if p.has_maxwell:
+    if p.has_branches:
         return _conform_maxwell(p, w)
     el = p.element
     if el is None:
@@ -457,7 +510,7 @@ def normal_forces(p: AxisParameters, w, n: float | None = None
     (0, 0) without friction."""
     if not p.friction:
         return 0.0, 0.0
-    if isinstance(w, MaxwellAxisState) and p.has_maxwell:
+    if isinstance(w, MaxwellAxisState) and p.has_branches:
         w = _split(p, w)[0]
     return p.element.normal_forces(p, w, p.n0 if n is None else n)
 
@@ -489,7 +542,7 @@ def axis_force(u: float, v: float, w, p: AxisParameters, n: float | None = None,
     ``friction_force``; their dissipation is not in ``dissipated``, which is the
     friction element's).
     """
-    if p.has_maxwell:
+    if p.has_branches:
         return _maxwell_axis_force(u, v, w, p, n, dt)
     f_el, k_el = p.elastic_force(u, p)
     step = p.friction_step
@@ -511,8 +564,9 @@ class MaxwellAxisState(tuple):
     friction element's state (its ``state_size`` floats; one placeholder float
     without friction), then the committed deflection ``uc`` (m) and the damper
     strokes ``w_1 .. w_MAX_MAXWELL`` (m) of the branches (an absent branch's stroke
-    follows ``u``). Flat, so that the FMU serializes it as a list and reads it back
-    (:func:`conform_state`)."""
+    follows ``u``), then, with the hydraulic fluid path (``p.has_hydraulic``), the
+    :data:`linear_branches.FLUID_STATE` fluid states ``x1, p2, q_i, q_d``. Flat, so
+    that the FMU serializes it as a list and reads it back (:func:`conform_state`)."""
 
     __slots__ = ()
 
@@ -521,13 +575,22 @@ def _inner_size(p: AxisParameters) -> int:
     return p.element.state_size(p) if p.friction else 1
 
 
-def _maxwell_state(inner, uc: float, branches) -> MaxwellAxisState:
+def _fluid0(p: AxisParameters, w: float) -> tuple:
+    return fluid_relaxed(p.hydraulic, w) if p.has_hydraulic else ()
+
+
+def _state_size(p: AxisParameters) -> int:
+    return _inner_size(p) + 1 + MAX_MAXWELL + (FLUID_STATE if p.has_hydraulic else 0)
+
+
+def _maxwell_state(inner, uc: float, branches, fluid=()) -> MaxwellAxisState:
     flat = (inner,) if isinstance(inner, float) else tuple(inner)
-    return tuple.__new__(MaxwellAxisState, flat + (uc,) + tuple(branches))
+    return tuple.__new__(MaxwellAxisState, flat + (uc,) + tuple(branches)
+                         + tuple(fluid))
 
 
 def _split(p: AxisParameters, w: MaxwellAxisState):
-    """``(friction state, uc, branch strokes)`` of ``w``."""
+    """``(friction state, uc, branch strokes)`` of ``w`` (the fluid: ``_fluid``)."""
     n = _inner_size(p)
     if not p.friction:
         inner = w[0]
@@ -545,7 +608,7 @@ def _conform_maxwell(p: AxisParameters, w) -> MaxwellAxisState:
     anything else is relaxed at its mean."""
     n = _inner_size(p)
     if isinstance(w, (tuple, list)) and not hasattr(w, "_fields") \
-            and len(w) == n + 1 + MAX_MAXWELL \
+            and len(w) == _state_size(p) \
             and all(isinstance(x, (int, float)) for x in w):
         flat = tuple(float(x) for x in w)
         inner = flat[0] if n == 1 else p.element.from_flat(p, flat[:n])
@@ -553,10 +616,10 @@ def _conform_maxwell(p: AxisParameters, w) -> MaxwellAxisState:
             return tuple.__new__(MaxwellAxisState, flat)
     if isinstance(w, MaxwellAxisState):
         return initial_sliders(p, mean_slider(tuple(w)))
-    q = replace(p, **{name: 0.0 for name in MAXWELL_FIELDS})
+    q = without_branches(p)
     inner = conform_state(q, w)
     x = slider_position(q, inner)
-    return _maxwell_state(inner, x, (x,) * MAX_MAXWELL)
+    return _maxwell_state(inner, x, (x,) * MAX_MAXWELL, _fluid0(p, x))
 
 
 def _maxwell_axis_force(u, v, w, p, n, dt) -> AxisForce:
@@ -577,9 +640,28 @@ def _maxwell_axis_force(u, v, w, p, n, dt) -> AxisForce:
                                                      else n, dt)
     else:
         f_fr, k_fr, slipping, diss = 0.0, 0.0, False, 0.0
+    fluid = ()
+    if p.has_hydraulic:
+        f_h, fluid, k_h = _fluid_step(p, w, uc, u, dt)
+        f_m += f_h
+        k_m += k_h
     return _new(AxisForce, (f_el + p.c * v + f_fr + f_m, f_fr,
-                            _maxwell_state(inner, u, new), k_el + k_fr + k_m,
+                            _maxwell_state(inner, u, new, fluid), k_el + k_fr + k_m,
                             slipping, diss))
+
+
+def _fluid_step(p: AxisParameters, w, uc: float, u: float, dt: float):
+    """The exact fluid step (:func:`linear_branches.fluid_step`) of the fluid states
+    at the end of ``w``; the propagator of ``dt`` cached on the axis."""
+    x0 = w[len(w) - FLUID_STATE:]
+    prop = None
+    if dt > 0.0:
+        prop = p.fluid_cache.get(dt)
+        if prop is None:
+            if len(p.fluid_cache) > 64:
+                p.fluid_cache.clear()
+            prop = p.fluid_cache[dt] = fluid_propagator(p.hydraulic, dt)
+    return fluid_step(p.hydraulic, prop, x0, uc, u, dt)
 
 
 def flat_state(w) -> float | list[float]:
@@ -594,3 +676,11 @@ def without_maxwell(p: AxisParameters) -> AxisParameters:
     if not p.has_maxwell:
         return p
     return replace(p, **{name: 0.0 for name in MAXWELL_FIELDS})
+
+
+def without_branches(p: AxisParameters) -> AxisParameters:
+    """Axis ``p`` without its Maxwell branches and its hydraulic fluid path (the
+    static equilibrium adds the fluid at rest, :func:`fluid_static`)."""
+    if not p.has_branches:
+        return p
+    return replace(p, **{name: 0.0 for name in MAXWELL_FIELDS + HYDRAULIC_AXIS_FIELDS})

@@ -44,7 +44,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import brentq
 
-from drymount.fmu_src.linear_branches import maxwell_complex_stiffness
+from drymount.fmu_src.linear_branches import (hydraulic_complex_stiffness,
+                                              maxwell_complex_stiffness)
 from drymount.fmu_src.mount_law import AxisParameters, axis_force, initial_sliders
 from drymount.hbm.aft import FourierBasis, aft_forces
 from drymount.hbm.elements import NonlinearAxes, friction_columns
@@ -202,6 +203,10 @@ def dynamic_stiffness(axis: AxisParameters, freqs_hz, amplitudes, preloads=(0.0,
                 K[i, j] += np.asarray(maxwell_complex_stiffness(
                     [k for k, _ in axis.maxwell], [c for _, c in axis.maxwell],
                     omega.tolist()))
+            if axis.has_hydraulic:   # linear: the fluid's closed form (its static
+                # part Ap^2 / (C1 + C2) is the omega -> 0 limit; rubber: k1/law, c)
+                K[i, j] += np.asarray(hydraulic_complex_stiffness(axis.hydraulic,
+                                                                  omega.tolist()))
             if progress is not None:
                 progress()
     return DynamicStiffnessMap(f, a, p, U0, K)

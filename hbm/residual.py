@@ -26,6 +26,7 @@ from drymount.fmu_src.linear_branches import maxwell_complex_stiffness
 from drymount.hbm.aft import FourierBasis, aft_forces, default_n_samples
 from drymount.hbm.closed_form import closed_form_forces
 from drymount.hbm.elements import nonlinear_axes
+from drymount.hbm.hydraulic import fluid_stiffness, hydraulic_axes
 from drymount.hbm.maxwell import maxwell_axes
 from drymount.hbm.static import working_point
 from drymount.hbm.system import System
@@ -117,6 +118,8 @@ class HarmonicBalance:
         self.axes = ax
         #: the axes with Maxwell branches (None: none), exact per harmonic
         self.maxwell = maxwell_axes(system)
+        #: the axes with the hydraulic fluid path (None: none), exact per harmonic
+        self.hydraulic = hydraulic_axes(system)
         self.basis = FourierBasis(H, self.n_samples)
         K0, C0 = system.linearized(stuck=False)
         Kb0, Cb0 = system.linearized_base(stuck=False)
@@ -157,6 +160,11 @@ class HarmonicBalance:
             self.Ymx = np.zeros((self.m, self.maxwell.n))
             if exc.kind not in ("force", "unbalance"):
                 self.Ymx[2] = -(self.maxwell.G @ np.asarray(exc.amplitude))
+        self.Yhy = None
+        if getattr(self, "hydraulic", None) is not None:
+            self.Yhy = np.zeros((self.m, self.hydraulic.n))
+            if exc.kind not in ("force", "unbalance"):
+                self.Yhy[2] = -(self.hydraulic.G @ np.asarray(exc.amplitude))
         self.e0, self.e1, self.e2 = e0.ravel(), e1.ravel(), e2.ravel()
         #: the static load (not scaled by ``exc_scale``: load stepping raises the
         #: vibration about the loaded working point)
@@ -213,6 +221,13 @@ class HarmonicBalance:
                   + self.exc_scale * self.Ymx)
             mx = self.maxwell.terms(Um, omega, self.H, self.n, jacobian)
             R += mx[0]
+        if self.hydraulic is not None:
+            Uh = (X.reshape(self.m, self.n) @ self.hydraulic.B.T
+                  + self.exc_scale * self.Yhy)
+            hy = self.hydraulic.terms(Uh, omega, self.H, self.n, jacobian)
+            R += hy[0]
+            mx = hy if mx is None else (mx[0] + hy[0], None if mx[1] is None else
+                                        mx[1] + hy[1], mx[2] + hy[2])
         if not jacobian:
             return Residual(R, None, None)
         J = A if mx is None else A + mx[1]
@@ -311,6 +326,10 @@ class HarmonicBalance:
                                                [c for _, c in p.maxwell], omega)
                 fc += km.real * uc + km.imag * us
                 fs += km.real * us - km.imag * uc
+            if p.has_hydraulic:   # the fluid's exact fundamental (hbm.hydraulic)
+                kh = fluid_stiffness(p.hydraulic, omega)
+                fc += kh.real * uc + kh.imag * us
+                fs += kh.real * us - kh.imag * uc
             if (ie, j) in self.axes.index:
                 if Fnl is None:
                     Fnl = self.nonlinear_forces(X, False, omega)[0]

@@ -46,8 +46,8 @@ import numpy as np
 from drymount.fmu_src.friction import flat_state
 from drymount.fmu_src.inclined import _solve as _regime_forces
 from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, axis_force,
-                                        initial_sliders, static_force,
-                                        without_maxwell)
+                                        fluid_static, initial_sliders,
+                                        static_force, without_branches)
 from drymount.hbm.system import System
 
 __all__ = ["StaticStatus", "StaticPoint", "gravity_load", "static_equilibrium",
@@ -272,14 +272,17 @@ def _committed_terms(system: System, q: np.ndarray, states: dict):
     new = {}
     for ie, e in enumerate(system.elements):
         for j in e.active_axes:
-            # a Maxwell branch carries no static force
-            p = without_maxwell(e.params.axes[j])
+            # a Maxwell branch carries no static force, the fluid at rest its
+            # fluid_static (Ap^2 / (C1 + C2))
+            p = without_branches(e.params.axes[j])
             u[ie, j] = float(e.B[j] @ q)
             if p.friction:
                 r = axis_force(u[ie, j], 0.0, states[(ie, j)], p)
                 F[ie, j], k, new[(ie, j)] = r[0], r[3], r[2]
             else:
                 F[ie, j], k = static_force(u[ie, j], p)
+            fh, kh = fluid_static(u[ie, j], e.params.axes[j])
+            F[ie, j], k = F[ie, j] + fh, k + kh
             f += e.B[j] * F[ie, j]
             Kt += k * np.outer(e.B[j], e.B[j])
     return u, F, f, Kt, new
@@ -325,7 +328,7 @@ def lowered_equilibrium(system: System, load, steps: int = LOWER_STEPS,
                          f"{f.tolist()}")
     if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
         raise ValueError(f"`steps` must be an integer >= 1, got {steps!r}")
-    states = {(ie, j): initial_sliders(without_maxwell(e.params.axes[j]), 0.0)
+    states = {(ie, j): initial_sliders(without_branches(e.params.axes[j]), 0.0)
               for ie, e in enumerate(system.elements) for j in e.active_axes
               if e.params.axes[j].friction}
     q = np.zeros(system.n_dof)

@@ -47,6 +47,7 @@ EXPECTED_PRESETS = {
     "sdof_inclined", "quarter_car_original", "quarter_car_inclined",
     "quarter_car_halved", "sdof_maxwell",
     "six_dof_original", "six_dof_halved", "six_dof_lambda12", "six_dof_4mount",
+    "sdof_hydraulic", "quarter_car_hydraulic", "six_dof_hydraulic",
 }
 
 SDOF = """

@@ -40,10 +40,13 @@ def test_axis_fields_are_the_registered_fields():
     assert names[:8] == ["law", "k1", "kc", "k2", "delta", "delta_neg", "c",
                          "friction"]
     maxwell = {name for name, *_ in interface.MAXWELL_PARAMETER_FIELDS}
+    # the hydraulic fluid path's axis fields (law and HBM; not yet FMU parameters)
+    from drymount.fmu_src.mount_law import HYDRAULIC_AXIS_FIELDS
+    hyd = set(HYDRAULIC_AXIS_FIELDS)
     assert set(names[8:]) == ({"friction_kind"} | {f.name for f in element_fields()}
-                              | maxwell)
+                              | maxwell | hyd)
     rows = {name for name, *_ in interface.ALL_PARAMETER_FIELDS}
-    assert rows == set(names)
+    assert rows == set(names) - hyd
     for f in element_fields():   # the FMU's row carries the declared unit and text
         var = interface.variable(f"axial_{f.name}")
         assert (var.type, var.unit) == (f.type, f.unit)

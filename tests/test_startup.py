@@ -98,7 +98,7 @@ def test_presets_list_describes_as_the_loaded_presets(capsys):
     assert cli.main(["presets", "list"]) == 0
     out = capsys.readouterr().out.splitlines()
     names = list_presets()
-    assert len(out) == len(names) == 14
+    assert len(out) == len(names) == 17   # 14 + the three hydraulic presets
     width = max(map(len, names))
     assert out == [f"{n:<{width}}  {load_preset(n).description}" for n in names]
 

@@ -93,9 +93,9 @@ VECTOR_FRICTION = ("symmetric_slider",)
 
 def _vectorised(p) -> bool:
     """Whether :class:`VectorLaw` computes the friction of axis ``p`` itself (an
-    axis with Maxwell branches is stepped by the scalar law, whose state holds
-    them)."""
-    if p.has_maxwell:
+    axis with Maxwell branches or the hydraulic fluid path is stepped by the scalar
+    law, whose state holds them)."""
+    if p.has_branches:
         return False
     return not p.friction or p.fast_form in VECTOR_FRICTION
 

@@ -40,6 +40,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from drymount.hbm.hydraulic import hydraulic_axes
 from drymount.hbm.maxwell import maxwell_axes
 
 from .inputs import HarmonicInput
@@ -207,6 +208,12 @@ def linear_start(system, freq_hz: float) -> State:
         A = A + mx.B.T @ (Km[:, None] * mx.B)
         if exc.kind == "base":
             rhs = rhs + mx.B.T @ (Km * (mx.G @ np.asarray(exc.amplitude, float)))
+    hy = hydraulic_axes(system)
+    if hy is not None:   # the hydraulic fluid's complex stiffness (hbm.hydraulic)
+        Kh = hy.stiffness(omega)
+        A = A + hy.B.T @ (Kh[:, None] * hy.B)
+        if exc.kind == "base":
+            rhs = rhs + hy.B.T @ (Kh * (hy.G @ np.asarray(exc.amplitude, float)))
     try:
         X = np.linalg.solve(A, rhs)
     except np.linalg.LinAlgError:

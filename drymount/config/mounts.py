@@ -11,6 +11,7 @@ import numpy as np
 
 from drymount.fmu_src.friction import FRICTION_ELEMENTS, FRICTION_KINDS, element_fields
 from drymount.fmu_src.interface import parameter_unit
+from drymount.fmu_src.linear_branches import HYDRAULIC_FIELDS
 from drymount.fmu_src.mount_law import (AXES, ELASTIC_LAWS, LAWS, MAX_MAXWELL,
                                         AxisParameters, MountParameters)
 from drymount.config.checks import (
@@ -187,7 +188,9 @@ def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
                    f"required{why}")
     fr = _friction(ck, data, path)
     mx = _maxwell(ck, data, path)
-    if len(ck.problems) > n_before or law is None or fr is None or mx is None:
+    hy = _hydraulic(ck, data, path, kw)
+    if len(ck.problems) > n_before or law is None or fr is None or mx is None \
+            or hy is None:
         return None
     # fields the law does not use get neutral values (kept for the FMU's parameters)
     kw.setdefault("kc", 0.0)
@@ -196,6 +199,7 @@ def _axis(ck: _Checker, data, path: str) -> AxisParameters | None:
     kw.setdefault("delta_neg", kw["delta"])
     kw.update(fr)
     kw.update(mx)
+    kw.update(hy)
     axis = _unchecked_axis(law=law, **kw)
     problems = _law_problems(axis, path)
     if problems:
@@ -247,6 +251,48 @@ def _maxwell(ck: _Checker, data: dict, path: str) -> dict | None:
         out[f"maxwell_k{i + 1}"] = lists["k"][i] if i < len(lists["k"]) else 0.0
         out[f"maxwell_c{i + 1}"] = lists["c"][i] if i < len(lists["c"]) else 0.0
     return out
+
+
+#: The ``hydraulic`` sub-table's keys after the rubber (the fields of
+#: linear_branches.HydraulicParameters after kr, br) -> AxisParameters ``hyd_<key>``.
+_HYD_KEYS = tuple(name for name, _u, _d in HYDRAULIC_FIELDS[2:])
+
+
+def _hydraulic(ck: _Checker, data: dict, path: str, kw: dict) -> dict | None:
+    """The ``hydraulic`` sub-table of an axis (the fluid path of a hydraulic mount:
+    ``Ap`` m^2, ``C1``, ``C2`` m^5/N, ``I_i``, ``I_d`` kg/m^4, ``R_i``, ``R_d`` N s/m^5;
+    ``kr``, ``br`` optional: the rubber is the axis's own ``k1`` and ``c``, a
+    different value is an error) -> AxisParameters keywords (``hyd_<key>``); {}
+    without it, None after a problem. The values are checked by
+    :func:`linear_branches.check_hydraulic`'s rules."""
+    if "hydraulic" not in data:
+        return {}
+    p = _join(path, "hydraulic")
+    hy = data["hydraulic"]
+    units = {name: unit for name, unit, _d in HYDRAULIC_FIELDS}
+    if not isinstance(hy, dict):
+        ck.add(f"`{p}` must be a table of the fluid path ("
+               + ", ".join(f"`{k}` {units[k]}" for k in _HYD_KEYS)
+               + f"), got {_type_name(hy)} {_show(hy)}")
+        return None
+    ck.keys(hy, p, ALLOWED_KEYS["mount.hydraulic"])
+    n_before = len(ck.problems)
+    out = {}
+    for key in _HYD_KEYS:
+        positive = key in ("Ap", "C1", "C2", "I_i")
+        x = ck.number(hy, key, p, rule=">0" if positive else ">=0", unit=units[key],
+                      required=positive, default=0.0)
+        if x is not None:
+            out[f"hyd_{key}"] = x
+    for key, axis_key in (("kr", "k1"), ("br", "c")):
+        if key in hy:
+            x = ck.number(hy, key, p, rule=">=0", unit=units[key])
+            if x is not None and axis_key in kw and x != kw[axis_key]:
+                ck.add(f"`{p}.{key}` = {_show(hy[key])} differs from "
+                       f"`{_join(path, axis_key)}` = {_show(kw[axis_key])}: the "
+                       f"rubber of a hydraulic mount is the axis's own `{axis_key}`; "
+                       f"give it once, as `{_join(path, axis_key)}`")
+    return None if len(ck.problems) > n_before else out
 
 
 def _single_mount(ck: _Checker, data: dict) -> MountParameters | None:

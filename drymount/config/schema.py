@@ -53,14 +53,19 @@ ALLOWED_KEYS: dict[str, tuple[str, ...]] = {
     "sdof": ("mass",),
     "quarter_car": ("m_e", "m_s", "m_us", "k_s", "c_s", "k_t", "c_t"),
     "rigid_engine": ("mass", "inertia"),
-    "mount": (*_AXIS_LAW_KEYS, "friction", "maxwell"),
+    "mount": (*_AXIS_LAW_KEYS, "friction", "maxwell", "hydraulic"),
     "mount.friction": _FRICTION_KEYS,
     # Maxwell branches (spring k in series with damper c) beside the elastic law
     "mount.maxwell": ("k", "c"),
+    # the hydraulic mount's fluid path (linear_branches.HydraulicParameters; the
+    # rubber kr, br: the axis's own k1 and c)
+    "mount.hydraulic": ("kr", "br", "Ap", "C1", "C2", "I_i", "R_i", "I_d", "R_d"),
     "mounts[]": ("name", "position", "orientation", "lambda", *AXES),
-    "mounts[].<axis>": (*_AXIS_LAW_KEYS, "friction", "maxwell"),
+    "mounts[].<axis>": (*_AXIS_LAW_KEYS, "friction", "maxwell", "hydraulic"),
     "mounts[].<axis>.friction": _FRICTION_KEYS,
     "mounts[].<axis>.maxwell": ("k", "c"),
+    "mounts[].<axis>.hydraulic": ("kr", "br", "Ap", "C1", "C2", "I_i", "R_i", "I_d",
+                                  "R_d"),
     "excitation": ("kind", "amplitude"),
     "sweep": ("fmin_hz", "fmax_hz", "points", "direction", "spacing"),
     "hbm": ("harmonics", "n_samples", "tol", "max_harmonics", "ds_initial", "ds_min",
