@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 from .friction import FRICTION_ELEMENTS
 from .jenkins import MAX_SLIDERS
+from .linear_branches import HYDRAULIC_FIELDS
 from .mount_law import (AXES, LAWS, MAX_MAXWELL, AxisParameters,
                         friction_kind_code, law_code)
 
@@ -37,7 +38,7 @@ __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
            "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds",
-           "MAXWELL_PARAMETER_FIELDS", "SLIDER_SLOTS"]
+           "MAXWELL_PARAMETER_FIELDS", "SLIDER_SLOTS", "HYDRAULIC_PARAMETER_FIELDS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -86,6 +87,10 @@ BASE_UNITS: dict[str, dict[str, int]] = {
     "J": {"kg": 1, "m": 2, "s": -2},
     "1": {},
     "deg": {"rad": 1, "factor": 0.017453292519943295},  # pi / 180
+    "m2": {"m": 2},                               # the hydraulic mount's units
+    "m5/N": {"kg": -1, "m": 4, "s": 2},
+    "kg/m4": {"kg": 1, "m": -4},
+    "N.s/m5": {"kg": 1, "m": -4, "s": -1},
 }
 
 #: CoSimulation capability flags of the model description.
@@ -234,6 +239,7 @@ def _variables() -> tuple[Variable, ...]:
                 f"it after w_{axis} starts the element with this slider there (a "
                 f"state that is not relaxed, e.g. the engine lowered onto the "
                 f"mount)", "exact"))
+    out += _parameters(HYDRAULIC_PARAMETER_FIELDS)   # appended: the others stay
     return tuple(out)
 
 
@@ -273,9 +279,21 @@ MAXWELL_PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = tuple(
          f"branch)")))
 
 
+#: (field, FMI type, unit, description) of the hydraulic mount's fluid path (piston,
+#: two chambers, inertia track, decoupler; fmu_src.linear_branches, the rubber is the
+#: axis's own elastic law and c), appended after every other variable; hyd_Ap = 0:
+#: absent.
+HYDRAULIC_PARAMETER_FIELDS: tuple[tuple[str, str, str | None, str], ...] = tuple(
+    (f"hyd_{name}", "Real", unit,
+     f"hydraulic mount: {text}, >= 0" + (" (0: no fluid path)" if name == "Ap" else
+                                         ", > 0 when hyd_Ap > 0"
+                                         if name in ("C1", "C2", "I_i") else ""))
+    for name, unit, text in HYDRAULIC_FIELDS[2:])
+
 #: Every per-axis parameter field: (field, FMI type, unit, description).
 ALL_PARAMETER_FIELDS = (PARAMETER_FIELDS + INCLINED_PARAMETER_FIELDS
-                        + LATER_PARAMETER_FIELDS + MAXWELL_PARAMETER_FIELDS)
+                        + LATER_PARAMETER_FIELDS + MAXWELL_PARAMETER_FIELDS
+                        + HYDRAULIC_PARAMETER_FIELDS)
 
 
 def declared_bounds(field: str, typ: str) -> dict[str, str]:

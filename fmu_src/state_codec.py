@@ -18,6 +18,7 @@ import json
 import math
 
 from .fmi_state import INFINITE_ALLOWED, Mode
+from .linear_branches import FLUID_STATE
 from .mount_law import MAX_MAXWELL, MAX_SLIDERS
 from .step_record import record_problem
 
@@ -84,8 +85,9 @@ def _three(state: dict, key: str, check) -> str | None:
 
 def _slider_state(w) -> bool:
     if isinstance(w, list):
-        # the element's state, plus uc and the strokes of the Maxwell branches
-        return 1 <= len(w) <= MAX_SLIDERS + 1 + MAX_MAXWELL \
+        # the element's state, plus uc and the strokes of the Maxwell branches and
+        # the hydraulic fluid's states
+        return 1 <= len(w) <= MAX_SLIDERS + 1 + MAX_MAXWELL + FLUID_STATE \
             and all(_real_ok("w", x) for x in w)
     return _real_ok("w", w)
 

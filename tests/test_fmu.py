@@ -183,7 +183,8 @@ def test_model_description_interface(fmu):
               "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind",
               "theta_deg", "k", "kf2", "mu1", "mu2", "preload", "sigma1", "sigma2",
               "stribeck_ratio", "v_stribeck", "maxwell_k1", "maxwell_c1", "maxwell_k2",
-              "maxwell_c2", "maxwell_k3", "maxwell_c3"]
+              "maxwell_c2", "maxwell_k3", "maxwell_c3", "hyd_Ap", "hyd_C1", "hyd_C2",
+              "hyd_I_i", "hyd_R_i", "hyd_I_d", "hyd_R_d"]
     expected = {f"{a}_{f}": "parameter" for a in AXES for f in fields}
     for a in AXES:
         expected.update({f"u_{a}": "input", f"v_{a}": "input", f"n_{a}": "input",

@@ -40,13 +40,14 @@ def test_axis_fields_are_the_registered_fields():
     assert names[:8] == ["law", "k1", "kc", "k2", "delta", "delta_neg", "c",
                          "friction"]
     maxwell = {name for name, *_ in interface.MAXWELL_PARAMETER_FIELDS}
-    # the hydraulic fluid path's axis fields (law and HBM; not yet FMU parameters)
+    # the hydraulic fluid path's axis fields are FMU parameters too
     from drymount.fmu_src.mount_law import HYDRAULIC_AXIS_FIELDS
     hyd = set(HYDRAULIC_AXIS_FIELDS)
+    assert {name for name, *_ in interface.HYDRAULIC_PARAMETER_FIELDS} == hyd
     assert set(names[8:]) == ({"friction_kind"} | {f.name for f in element_fields()}
                               | maxwell | hyd)
     rows = {name for name, *_ in interface.ALL_PARAMETER_FIELDS}
-    assert rows == set(names) - hyd
+    assert rows == set(names)
     for f in element_fields():   # the FMU's row carries the declared unit and text
         var = interface.variable(f"axial_{f.name}")
         assert (var.type, var.unit) == (f.type, f.unit)

@@ -390,11 +390,6 @@ class FMUBackend(_Backend):
     def __init__(self, system, layout: Layout, fmu_path=None, *, logging_on=True,
                  start_values=None):
         super().__init__(system, layout)
-        hyd = [f"{e.name}_{AXES[j]}" for e in system.elements for j in e.active_axes
-               if e.params.axes[j].has_hydraulic]
-        if hyd:   # the FMUs do not carry the fluid path yet: refuse, do not drop it
-            raise ValueError(f"axes {hyd} have the hydraulic fluid path, which the "
-                             f"FMUs do not carry yet: use the backend 'inproc'")
         from fmpy import extract, read_model_description
 
         import drymount.vehicle.fmi_logging as fmi_logging
