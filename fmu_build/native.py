@@ -131,7 +131,8 @@ _FIELDS = ("law", "k1", "kc", "k2", "delta", "delta_neg", "c", "friction", "kf",
            "mu", "n0", "sliders", "spread", "fs_ratio", "friction_kind", "theta_deg",
            "k", "kf2", "mu1", "mu2", "preload", "sigma1", "sigma2", "stribeck_ratio",
            "v_stribeck", "maxwell_k1", "maxwell_c1", "maxwell_k2", "maxwell_c2",
-           "maxwell_k3", "maxwell_c3")
+           "maxwell_k3", "maxwell_c3", "hyd_Ap", "hyd_C1", "hyd_C2", "hyd_I_i",
+           "hyd_R_i", "hyd_I_d", "hyd_R_d")
 _AXIS_ROLES = {"u": "MD_INPUT_U", "v": "MD_INPUT_V", "n": "MD_INPUT_N",
                "F": "MD_OUTPUT_F", "Ffr": "MD_OUTPUT_FFR", "kt": "MD_OUTPUT_KT",
                "slip": "MD_OUTPUT_SLIP", "E_fr": "MD_OUTPUT_E_AXIS",

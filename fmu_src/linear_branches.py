@@ -315,8 +315,8 @@ def maxwell_step(k: float, c: float, uc: float, w0: float, u: float,
 
 
 # --------------------------------------------------------------------------------------
-# Time domain: the exact step of the hydraulic mount's fluid (law layer only: not yet
-# wired into the axis, the FMUs or the harness)
+# Time domain: the exact step of the hydraulic mount's fluid (the axis steps it,
+# mount_law._fluid_step; the native C port is fmu_src/native/hydraulic.c)
 # --------------------------------------------------------------------------------------
 
 #: Floats of the fluid state: ``x1 = C1 p1 - Ap u`` (m^3, the upper chamber's volume

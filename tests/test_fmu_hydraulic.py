@@ -95,3 +95,36 @@ def test_sdof_hydraulic_fmu_backend_equals_inproc(build, request):
         b = steady_state(system, f_hz, backend="fmu", fmu_path=path, **kw)
         assert a.converged and b.converged
         assert np.array_equal(a.phasor, b.phasor), (f_hz, a.phasor, b.phasor)
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_model_exchange_refuses_the_fluid_naming_the_parameter(fmi, native_fmus,
+                                                               capfd):
+    """docs/fmu.md 7a: Model Exchange does not carry the fluid states."""
+    pytest.importorskip("fmpy")
+    from fmpy import extract, read_model_description
+    from fmpy.fmi1 import FMICallException
+    from fmpy.fmi2 import FMU2Model
+    from fmpy.fmi3 import FMU3Model
+
+    path = native_fmus[fmi]
+    md = read_model_description(str(path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    model = (FMU2Model if fmi == 2 else FMU3Model)(
+        guid=md.guid, unzipDirectory=extract(str(path)), instanceName="me",
+        modelIdentifier=md.modelExchange.modelIdentifier)
+    model.instantiate(loggingOn=True)
+    names = ["radial1_hyd_Ap", "radial1_hyd_C1", "radial1_hyd_C2", "radial1_hyd_I_i"]
+    (model.setReal if fmi == 2 else model.setFloat64)(
+        [vr[n] for n in names], [5e-3, 1e-10, 1e-9, 1e6])
+    if fmi == 2:
+        model.setupExperiment(startTime=0.0)
+        model.enterInitializationMode()
+    else:
+        model.enterInitializationMode(startTime=0.0)
+    with pytest.raises(FMICallException):
+        model.exitInitializationMode()
+    model.freeInstance()
+    log = capfd.readouterr().out
+    assert "`radial1_hyd_Ap` = 0.005: the hydraulic fluid path is Co-Simulation " \
+           "only" in log, log

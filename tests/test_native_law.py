@@ -48,7 +48,8 @@ class Params(ctypes.Structure):
         for name in ("theta_deg", "k", "kf2", "mu1", "mu2", "preload", "sigma1",
                      "sigma2", "stribeck_ratio", "v_stribeck", "maxwell_k1",
                      "maxwell_c1", "maxwell_k2", "maxwell_c2", "maxwell_k3",
-                     "maxwell_c3")]
+                     "maxwell_c3", "hyd_Ap", "hyd_C1", "hyd_C2", "hyd_I_i", "hyd_R_i",
+                     "hyd_I_d", "hyd_R_d")]
 
 
 @pytest.fixture(scope="module")

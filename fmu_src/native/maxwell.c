@@ -2,6 +2,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "hydraulic.h"
 #include "maxwell.h"
 
 #define MAXWELL_PAIR(p, i, k, c) do { \
@@ -63,8 +64,8 @@ void ml_maxwell_forces(const ml_axis_params *p, double uc, const double *strokes
 
 int ml_inner_size(const ml_axis_params *p, int n)
 {
-    if (ml_has_maxwell(p) && n == ml_state_size(p))
-        return n - 1 - ML_MAX_MAXWELL;
+    if (ml_has_branches(p) && n == ml_state_size(p))   /* and the fluid's states */
+        return n - 1 - ML_MAX_MAXWELL - (ml_has_hydraulic(p) ? ML_FLUID_STATE : 0);
     return n;
 }
 

@@ -14,7 +14,7 @@ static const char *const AXIS_NAMES[3] = {"axial", "radial1", "radial2"};
 static const char *const TYPE_NAMES[3] = {"Real", "Integer", "Boolean"};
 static const char *const MODE_NAMES[4] = {"Instantiated", "InitializationMode",
                                           "StepMode", "Terminated"};
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '5'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '6'};
 
 /* The call-order rules of docs/fmu.md 4a, as fmu_src/fmi_state.py states them
  * (tests/test_native_fmu.py checks that the numbers agree): the largest
@@ -123,6 +123,13 @@ static void set_field(ml_axis_params *p, md_field field, double value)
     case MD_P_MAXWELL_C2: p->maxwell_c2 = value; break;
     case MD_P_MAXWELL_K3: p->maxwell_k3 = value; break;
     case MD_P_MAXWELL_C3: p->maxwell_c3 = value; break;
+    case MD_P_HYD_AP: p->hyd_Ap = value; break;
+    case MD_P_HYD_C1: p->hyd_C1 = value; break;
+    case MD_P_HYD_C2: p->hyd_C2 = value; break;
+    case MD_P_HYD_I_I: p->hyd_I_i = value; break;
+    case MD_P_HYD_R_I: p->hyd_R_i = value; break;
+    case MD_P_HYD_I_D: p->hyd_I_d = value; break;
+    case MD_P_HYD_R_D: p->hyd_R_d = value; break;
     case MD_P_NONE: break;
     }
 }
@@ -161,6 +168,13 @@ static double get_field(const ml_axis_params *p, md_field field)
     case MD_P_MAXWELL_C2: return p->maxwell_c2;
     case MD_P_MAXWELL_K3: return p->maxwell_k3;
     case MD_P_MAXWELL_C3: return p->maxwell_c3;
+    case MD_P_HYD_AP: return p->hyd_Ap;
+    case MD_P_HYD_C1: return p->hyd_C1;
+    case MD_P_HYD_C2: return p->hyd_C2;
+    case MD_P_HYD_I_I: return p->hyd_I_i;
+    case MD_P_HYD_R_I: return p->hyd_R_i;
+    case MD_P_HYD_I_D: return p->hyd_I_d;
+    case MD_P_HYD_R_D: return p->hyd_R_d;
     case MD_P_NONE: break;
     }
     return 0.0;
@@ -275,6 +289,20 @@ void md_delete(md_instance *m)
 
 /* ------------------------------------------------------------------ the law */
 
+/* Model Exchange does not carry the hydraulic fluid path (docs/fmu.md 7a): 1 with
+ * the message naming the parameter when axis j of an ME instance has it. */
+static int me_refuses_fluid(const md_instance *m, int j, char *why, size_t size)
+{
+    char val[40];
+    if (!m->model_exchange || !ml_has_hydraulic(&m->d.p[j]))
+        return 0;
+    ml_repr_double(m->d.p[j].hyd_Ap, val, sizeof val);
+    snprintf(why, size, "`%s_hyd_Ap` = %s: the hydraulic fluid path is Co-Simulation "
+             "only (Model Exchange does not carry its fluid states); set it to 0 or "
+             "instantiate for Co-Simulation", AXIS_NAMES[j], val);
+    return 1;
+}
+
 /* Check every parameter once (FrictionMount._prepare): MD_OK or a logged MD_ERROR. */
 static md_status check_parameters(md_instance *m, const char *call, md_status level)
 {
@@ -286,7 +314,8 @@ static md_status check_parameters(md_instance *m, const char *call, md_status le
         return MD_OK;
     for (j = 0; j < 3; ++j) {
         snprintf(prefix, sizeof prefix, "%s_", AXIS_NAMES[j]);
-        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0)
+        if (ml_axis_problems(&m->d.p[j], prefix, one, sizeof one) == 0
+                && !me_refuses_fluid(m, j, one, sizeof one))
             continue;
         if (count++)
             strncat(all, "; ", sizeof all - strlen(all) - 1);
@@ -380,8 +409,8 @@ static md_status evaluate(md_instance *m, const char *call, int j)
     m->res[j].w_new = m->d.w[j][0];
     memcpy(m->w_new[j], m->d.w[j], ml_state_size(&m->d.p[j]) * sizeof(double));
 #else
-    if (ml_axis_force_p(u, v, m->d.dt, m->d.w[j], &m->d.p[j], n, m->w_new[j],
-                        &m->res[j], m->lost, sizeof m->lost)) {  /* inclined: ContactLost */
+    if (ml_axis_force_pc(u, v, m->d.dt, m->d.w[j], &m->d.p[j], n, m->w_new[j],
+                         &m->res[j], m->lost, sizeof m->lost, &m->fluid[j])) {  /* inclined: ContactLost */
         const char *a = AXIS_NAMES[j];
         ml_repr_double(u, su, sizeof su);
         md_log(m, MD_ERROR, "FrictionMount: axis %s at u_%s=%s: %s (in %s)", a, a, su,
@@ -895,7 +924,8 @@ static int axis_problem(const md_data *d, int j, char *why, size_t size)
         MD_P_THETA_DEG, MD_P_K, MD_P_KF2, MD_P_MU1, MD_P_MU2, MD_P_PRELOAD,
         MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO, MD_P_V_STRIBECK,
         MD_P_MAXWELL_K1, MD_P_MAXWELL_C1, MD_P_MAXWELL_K2, MD_P_MAXWELL_C2,
-        MD_P_MAXWELL_K3, MD_P_MAXWELL_C3};
+        MD_P_MAXWELL_K3, MD_P_MAXWELL_C3, MD_P_HYD_AP, MD_P_HYD_C1, MD_P_HYD_C2,
+        MD_P_HYD_I_I, MD_P_HYD_R_I, MD_P_HYD_I_D, MD_P_HYD_R_D};
     size_t i;
     int k;
     for (i = 0; i < sizeof reals / sizeof reals[0]; ++i) {

@@ -25,6 +25,7 @@ extern "C" {
 #include <stddef.h>
 
 #include "mount_law.h"
+#include "hydraulic.h"
 #include "me_state.h"
 
 typedef enum { MD_OK = 0, MD_WARNING = 1, MD_DISCARD = 2, MD_ERROR = 3,
@@ -54,7 +55,9 @@ typedef enum {
     MD_P_MU1, MD_P_MU2, MD_P_PRELOAD, MD_P_SIGMA1, MD_P_SIGMA2, MD_P_STRIBECK_RATIO,
     MD_P_V_STRIBECK,
     MD_P_MAXWELL_K1, MD_P_MAXWELL_C1, MD_P_MAXWELL_K2, MD_P_MAXWELL_C2,
-    MD_P_MAXWELL_K3, MD_P_MAXWELL_C3
+    MD_P_MAXWELL_K3, MD_P_MAXWELL_C3,
+    MD_P_HYD_AP, MD_P_HYD_C1, MD_P_HYD_C2, MD_P_HYD_I_I, MD_P_HYD_R_I, MD_P_HYD_I_D,
+    MD_P_HYD_R_D
 } md_field;
 
 typedef struct {
@@ -116,6 +119,8 @@ typedef struct {
     double last_time_ok;   /* last successful communication point */
     unsigned long warned;  /* hash of the last "outputs are 0" warning's problems */
     int model_exchange;    /* instantiated for Model Exchange (me.h) */
+    ml_fluid_prop fluid[3];  /* per axis: the fluid's propagator of the last dt (a
+                                cache, keyed by dt and the fields: not state) */
 } md_instance;
 
 /* Number of variables, the variable table and the instantiation token (GUID), all

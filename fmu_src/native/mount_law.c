@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "friction_table.h"  /* generated from fmu_src/friction_elements.py */
+#include "hydraulic.h"
 #include "maxwell.h"
 #include "messages.h"
 
@@ -45,6 +46,8 @@ ml_axis_params ml_default_params(void)
     p.maxwell_k1 = p.maxwell_c1 = 0.0;  /* no Maxwell branches */
     p.maxwell_k2 = p.maxwell_c2 = 0.0;
     p.maxwell_k3 = p.maxwell_c3 = 0.0;
+    p.hyd_Ap = p.hyd_C1 = p.hyd_C2 = p.hyd_I_i = 0.0;  /* no fluid path */
+    p.hyd_R_i = p.hyd_I_d = p.hyd_R_d = 0.0;
     return p;
 }
 
@@ -91,7 +94,8 @@ static const ml_element *element_of(const ml_axis_params *p)
 int ml_state_size(const ml_axis_params *p)
 {
     const ml_element *el = element_of(p);
-    return (el ? el->state_size(p) : 1) + (ml_has_maxwell(p) ? 1 + ML_MAX_MAXWELL : 0);
+    return (el ? el->state_size(p) : 1) + (ml_has_branches(p) ? 1 + ML_MAX_MAXWELL : 0)
+        + (ml_has_hydraulic(p) ? ML_FLUID_STATE : 0);
 }
 
 void ml_state_start(const ml_axis_params *p, double w, double *state)
@@ -102,9 +106,11 @@ void ml_state_start(const ml_axis_params *p, double w, double *state)
         el->start(p, w, state);
     else
         state[0] = w;
-    if (ml_has_maxwell(p))   /* uc and every stroke relaxed at w */
+    if (ml_has_branches(p))   /* uc and every stroke relaxed at w */
         for (i = 0; i <= ML_MAX_MAXWELL; ++i)
             state[n + i] = w;
+    if (ml_has_hydraulic(p))  /* the fluid at rest at w */
+        ml_fluid_relaxed(p, w, state + n + 1 + ML_MAX_MAXWELL);
 }
 
 int ml_slider_index(const ml_axis_params *p, int slot)
@@ -155,13 +161,24 @@ int ml_axis_force_w(double u, double v, const double *w, const ml_axis_params *p
 static int maxwell_axis_force(double u, double v, double dt, const double *w,
                               const ml_axis_params *p, double fs, double *w_new,
                               ml_axis_result *r, char *msg, size_t size,
-                              const ml_element *el, double f_el, double k_el)
+                              const ml_element *el, double f_el, double k_el,
+                              ml_fluid_prop *cache)
 {
     ml_axis_result out;
     ml_friction_step st;
     double f_m, k_m;
     int n = el ? el->state_size(p) : 1;
     ml_maxwell_forces(p, w[n], w + n + 1, u, dt, w_new + n + 1, &f_m, &k_m);
+    if (ml_has_hydraulic(p)) {   /* mount_law._fluid_step, added to the branches */
+        ml_fluid_prop scratch;
+        const ml_fluid_prop *prop = dt > 0.0 ? ml_fluid_cached(p, dt, cache, &scratch)
+                                             : NULL;
+        double f_h, k_h;
+        int at = n + 1 + ML_MAX_MAXWELL;
+        ml_fluid_step(p, prop, w + at, w[n], u, dt, w_new + at, &f_h, &k_h);
+        f_m += f_h;
+        k_m += k_h;
+    }
     w_new[n] = u;
     if (el == NULL) {
         out.friction = 0.0;
@@ -189,15 +206,22 @@ int ml_axis_force_dt(double u, double v, double dt, const double *w,
                      const ml_axis_params *p, double fs, double *w_new,
                      ml_axis_result *r, char *msg, size_t size)
 {
+    return ml_axis_force_dtc(u, v, dt, w, p, fs, w_new, r, msg, size, NULL);
+}
+
+int ml_axis_force_dtc(double u, double v, double dt, const double *w,
+                      const ml_axis_params *p, double fs, double *w_new,
+                      ml_axis_result *r, char *msg, size_t size, ml_fluid_prop *cache)
+{
     ml_axis_result out;
     ml_friction_step st;
     double f_el, k_el;
     const ml_element *el = element_of(p);
     ml_elastic_force(u, p->law, p->k1, p->kc, p->k2, p->delta, p->delta_neg, &f_el,
                      &k_el);
-    if (ml_has_maxwell(p))
+    if (ml_has_branches(p))
         return maxwell_axis_force(u, v, dt, w, p, fs, w_new, r, msg, size, el, f_el,
-                                  k_el);
+                                  k_el, cache);
     if (el == NULL) {
         out.force = f_el + p->c * v;
         out.friction = 0.0;
@@ -254,6 +278,14 @@ int ml_axis_force_p(double u, double v, double dt, const double *w,
 {
     return ml_axis_force_dt(u, v, dt, w, p, ml_slip_force(p, n), w_new, r, msg,
                             size);
+}
+
+int ml_axis_force_pc(double u, double v, double dt, const double *w,
+                     const ml_axis_params *p, double n, double *w_new,
+                     ml_axis_result *r, char *msg, size_t size, ml_fluid_prop *cache)
+{
+    return ml_axis_force_dtc(u, v, dt, w, p, ml_slip_force(p, n), w_new, r, msg,
+                             size, cache);
 }
 
 static int finite_and(double value, int strict)
@@ -330,5 +362,6 @@ int ml_axis_problems(const ml_axis_params *p, const char *prefix, char *buf,
     if (kind_ok && p->friction && ML_ELEMENTS[p->friction_kind]->problems)
         count += ML_ELEMENTS[p->friction_kind]->problems(p, prefix, buf, size, count);
     count += ml_maxwell_problems(p, prefix, buf, size, count);
+    count += ml_hydraulic_problems(p, prefix, buf, size, count);
     return count;
 }

@@ -26,9 +26,9 @@ enum ml_law { ML_LINEAR = 0, ML_CUBIC = 1, ML_PIECEWISE = 2, ML_PIECEWISE_ASYM =
 #define ML_MAX_SLIDERS 64
 /* linear_branches.MAX_MAXWELL: Maxwell branches per axis */
 #define ML_MAX_MAXWELL 3
-/* The largest axis state: the element's, then uc and the Maxwell strokes
- * (mount_law.MaxwellAxisState). */
-#define ML_MAX_STATE (ML_MAX_SLIDERS + 1 + ML_MAX_MAXWELL)
+/* The largest axis state: the element's, then uc and the Maxwell strokes, then the
+ * hydraulic fluid's 4 states (mount_law.MaxwellAxisState; hydraulic.h). */
+#define ML_MAX_STATE (ML_MAX_SLIDERS + 1 + ML_MAX_MAXWELL + 4)
 
 /* Parameters of one local axis (mount_law.AxisParameters), SI units. */
 typedef struct {
@@ -45,6 +45,8 @@ typedef struct {
     double sigma1, sigma2, stribeck_ratio, v_stribeck;
     /* the Maxwell branches (k 0 or c 0: absent), maxwell.h */
     double maxwell_k1, maxwell_c1, maxwell_k2, maxwell_c2, maxwell_k3, maxwell_c3;
+    /* the hydraulic fluid path (hyd_Ap 0: absent), hydraulic.h */
+    double hyd_Ap, hyd_C1, hyd_C2, hyd_I_i, hyd_R_i, hyd_I_d, hyd_R_d;
 } ml_axis_params;
 
 /* Result of mount_law.axis_force. */
