@@ -199,8 +199,8 @@ def cross_check(maps, method: str = "law", fmu_path=None) -> list[CrossCheck]:
             periods = max(periods, 20)
         for i, j, k in ((0, na - 1, nf // 2), (npl - 1, 0, nf - 1)):
             f, X, U0 = m.freq_hz[k], m.amplitude[j], m.mean_deflection[i, j]
-            # the FMUs do not carry the hydraulic fluid path yet: its axes are
-            # checked by the law's march (named "law" in crosscheck.csv)
+            # a hydraulic axis is checked by the law's march (named "law" in
+            # crosscheck.csv; the FMUs step the fluid bit for bit as the law does)
             how = "law" if p.has_hydraulic else method
             if how == "fmu":
                 K_t = fmu_stiffness(fmu_path, p, f, X, U0, periods, steps)
