@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from native_helpers import random_axis
 from test_native_law import Params, Result
-from test_native_maxwell import _c_params, law  # noqa: F401  (the fixture)
+from test_native_maxwell import _c_params
 
 from drymount.fmu_src.linear_branches import fluid_propagator
 from drymount.fmu_src.mount_law import (LAWS, AxisParameters, axis_force,
@@ -34,6 +34,34 @@ class Prop(ctypes.Structure):
     _fields_ = [("valid", ctypes.c_int), ("dt", ctypes.c_double),
                 ("key", ctypes.c_double * 7), ("phi", (ctypes.c_double * 4) * 4),
                 ("g0", ctypes.c_double * 4), ("g1", ctypes.c_double * 4)]
+
+
+@pytest.fixture(scope="module")
+def law(tmp_path_factory):
+    """The C law compiled with the FMU's flags (as test_native_maxwell's)."""
+    from native_helpers import need_gcc, run
+
+    from drymount.fmu_build.native import CFLAGS, write_law_sources
+
+    need_gcc()
+    folder = tmp_path_factory.mktemp("hydraulic_law")
+    lib = folder / "libmountlaw.so"
+    proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
+                *write_law_sources(folder), "-lm"])
+    assert proc.returncode == 0, proc.stderr
+    dll = ctypes.CDLL(str(lib))
+    P, D = ctypes.POINTER(Params), ctypes.POINTER(ctypes.c_double)
+    dll.ml_axis_force_dt.argtypes = [
+        ctypes.c_double, ctypes.c_double, ctypes.c_double, D, P, ctypes.c_double, D,
+        ctypes.POINTER(Result), ctypes.c_char_p, ctypes.c_size_t]
+    dll.ml_state_size.argtypes = [P]
+    dll.ml_state_start.argtypes = [P, ctypes.c_double, D]
+    dll.ml_state_position_p.restype = ctypes.c_double
+    dll.ml_state_position_p.argtypes = [P, D, ctypes.c_int, ctypes.c_int]
+    dll.ml_state_tag.argtypes = [P]
+    dll.ml_axis_problems.argtypes = [P, ctypes.c_char_p, ctypes.c_char_p,
+                                     ctypes.c_size_t]
+    return dll
 
 
 def _fluid(rng, decoupler: bool) -> dict:
