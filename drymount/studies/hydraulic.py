@@ -12,10 +12,10 @@ In the single-DOF, quarter-car and 6-DOF systems, side by side:
     in ONE place, ``sdof_hydraulic.toml``; :func:`hydraulic_mount_for` reads them) on
     every axial mount axis, and ``hydraulic_closed``: the same preset with its
     decoupler closed (inertia track only: ``--set ...hydraulic.I_d=0``, the law's
-    "no decoupler", :data:`DECOUPLER_CLOSED`). Colgate et al. (J. Sound Vib. 184(3), 1995)
-    model a production mount by exactly these two linear models: decoupler open for
-    small (engine-induced) amplitudes, closed for large (road-induced, resonant)
-    ones; the decoupler's gap limit that switches between them is nonlinear.
+    "no decoupler", :data:`DECOUPLER_CLOSED`). Colgate et al. (J. Sound Vib. 184(3),
+    1995) model a production mount by exactly these two linear models: decoupler
+    open for small (engine-induced) amplitudes, closed for large (road-induced,
+    resonant) ones; the decoupler's gap limit that switches between them is nonlinear.
 
 (a) and (b) are harmonic-balance curves (continuation, then read on a common log
 grid). (c) are the HBM of the loaded hydraulic presets solved on the grid
@@ -114,8 +114,8 @@ def hydraulic_systems(system: str) -> dict:
 
     spec = _spec(system)
     cfg = load_preset(spec.hydraulic)
-    return {"hydraulic": cfg.system,
-            "hydraulic_closed": override_config(cfg, DECOUPLER_CLOSED[cfg.model]).system}
+    closed = override_config(cfg, DECOUPLER_CLOSED[cfg.model])
+    return {"hydraulic": cfg.system, "hydraulic_closed": closed.system}
 
 
 def mount_parameters(system: System) -> HydraulicParameters:
