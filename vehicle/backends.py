@@ -43,7 +43,7 @@ import numpy as np
 
 from drymount.fmu_src.friction import flat_state
 from drymount.fmu_src.interface import SLIDER_SLOTS, by_causality
-from drymount.vehicle import c_loop
+from drymount.vehicle.c_loop import for_backend as c_loop_for
 from drymount.vehicle.raw_calls import raw_fmi_calls
 from drymount.fmu_src.mount_law import (AXES, axis_force, conform_state,
                                         friction_kind_code, initial_sliders, law_code,
@@ -536,7 +536,7 @@ class FMUBackend(_Backend):
                 for e, r in enumerate(raw)])
         self._raw = raw
         # the same loop in C where it gives the same rows (vehicle.c_loop), else None
-        self._c_loop = c_loop.for_backend(self)
+        self._c_loop = c_loop_for(self)
 
     # ---------------------------------------------------------------- stepping
     def run(self, k0: int, k1: int, times) -> None:
