@@ -29,9 +29,9 @@ mount-step (CPU time of the process, median of R interleaved repeats of P period
   (``W.dot(x, y)``, the same call as the harness's) on a copy of the row buffer.
 
 Ratio ``harness / raw`` (the automatic choice) is the harness's total cost over
-the FMI calls (target <= 1.2); ``(raw + dot) / raw`` is the least it can be while the product stays
-NumPy's (the results bit for bit). Each row's figures come from one run, repeats
-interleaved.
+the FMI calls (target <= 1.2); ``py / raw`` the Python loop's; ``(raw + dot) /
+raw`` is the least the Python loop can cost while the product stays NumPy's (the
+results bit for bit). Each row's figures come from one run, repeats interleaved.
 """
 
 from __future__ import annotations
