@@ -112,6 +112,10 @@ class Case:
     family_hz: tuple[float, ...] = ()
     #: the co-simulation's backend ("fmu"; "inproc" where the FMUs lack the kind)
     backend: str = "fmu"
+    #: a third column: the exact FRF of a linear single DOF
+    #: (:func:`drymount.validation_exact.exact_sdof_amplitude`); HBM and
+    #: co-simulation must both be within ``TOL_REL_PEAK`` of it (of its peak)
+    exact: bool = False
 
 
 CASES = (
@@ -148,9 +152,10 @@ CASES = (
     # The hydraulic mount (issue 28 item 3): the HBM adds the fluid's complex
     # stiffness per harmonic exactly, the co-simulation steps the fluid exactly for
     # the step's linear path; linear, so both are the SDOF's exact FRF up to the
-    # leapfrog's O(h^2). In-process: the FMUs do not carry the fluid path yet.
+    # leapfrog's O(h^2). In-process: the FMUs do not carry the fluid path yet. The
+    # third column: the exact FRF from the chamber equations (validation_exact).
     Case("sdof_hydraulic", "sdof_hydraulic", 2.0, 30.0, harmonics=3,
-         backend="inproc"),
+         backend="inproc", exact=True),
 )
 
 
@@ -196,6 +201,10 @@ class CaseResult:
     family: list = field(default_factory=list)
     max_err_orbit: float = float("nan")
     max_err_rest: float = float("nan")
+    #: ``Case.exact``: largest |A_hbm - A_exact| and |A_cosim - A_exact| over the
+    #: compared points, relative to the exact peak of the DOF (nan without)
+    max_err_exact_hbm: float = float("nan")
+    max_err_exact_cosim: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -413,6 +422,7 @@ def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
             res.message += f"HBM ({direction}): {msg}. "
         dofs = _compared_dofs(system, a_h)
         peak = np.nanmax(a_h, axis=0)
+        a_ex = _exact_column(res, system, f, a_h, a_co, stable, dofs)
         for k in range(len(f)):
             for i, dof in enumerate(system.dof_names):
                 err = abs(a_co[k, i] - a_h[k, i]) / peak[i] if peak[i] > 0 else 0.0
@@ -423,7 +433,8 @@ def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
                                      amp_hbm=float(a_h[k, i]),
                                      amp_hbm1=float(a_h1[k, i]), err=float(err),
                                      err_h1=float(err1), stable=bool(stable[k]),
-                                     compared=compared))
+                                     compared=compared,
+                                     amp_exact=float(a_ex[k, i])))
                 if compared:
                     errs.append(err)
                     errs1.append(err1)
@@ -436,12 +447,32 @@ def run_case(case: Case, *, quick: bool = False, inject: str | None = None,
         orbit = _add_family(res, _family_points(system, system_hbm, case, amp))
     res.max_err = max(errs + orbit) if errs else float("nan")
     res.max_err_h1 = max(errs1) if errs1 else float("nan")
-    res.passed = bool(errs) and res.max_err <= TOL_REL_PEAK and \
+    exact_ok = not case.exact or max(res.max_err_exact_hbm,
+                                     res.max_err_exact_cosim) <= TOL_REL_PEAK
+    res.passed = bool(errs) and res.max_err <= TOL_REL_PEAK and exact_ok and \
         all(e <= TOL_FAMILY_ORBIT for e in orbit)
     if not errs:
         res.message += "no stable point to compare. "
     res.seconds = time.perf_counter() - t0
     return res
+
+
+def _exact_column(res: CaseResult, system, f, a_h, a_co, stable, dofs) -> np.ndarray:
+    """The exact FRF at ``f`` (``Case.exact``; nan otherwise), and the case's
+    largest HBM and co-simulation errors against it (of its peak) on the compared
+    points, kept in ``res``."""
+    if not res.case.exact:
+        return np.full_like(a_h, np.nan)
+    from drymount.validation_exact import exact_sdof_amplitude
+
+    a_ex = exact_sdof_amplitude(system, f)
+    peak = np.max(a_ex, axis=0)
+    rows = [k for k in range(len(f)) if stable[k]]
+    for attr, a in (("max_err_exact_hbm", a_h), ("max_err_exact_cosim", a_co)):
+        e = [abs(a[k, i] - a_ex[k, i]) / peak[i] for k in rows for i in dofs]
+        prev = getattr(res, attr)
+        setattr(res, attr, max([x for x in (prev,) if x == x] + e) if e else prev)
+    return a_ex
 
 
 def _dense_curves(system, case: Case) -> dict:
@@ -483,6 +514,17 @@ def _plot_family(ax, res: CaseResult, dof: str) -> None:
             label="co-simulation from the HBM orbit (family band)")
     ax.plot(f, [fp.amp_rest for fp in pts], "x", color="C4", ms=8,
             label="co-simulation from rest (family band)")
+
+
+def _exact_lines(res: CaseResult) -> list[str]:
+    """The report's line on the exact-FRF column ([] without)."""
+    if not res.case.exact:
+        return []
+    return [f"Exact FRF (chamber equations, `drymount/validation_exact.py`): HBM "
+            f"{100 * res.max_err_exact_hbm:.2e} % and co-simulation "
+            f"{100 * res.max_err_exact_cosim:.2e} % of its peak at most (<= "
+            f"{100 * TOL_REL_PEAK:g} % each); column `amp_exact` of `points.csv`.",
+            ""]
 
 
 def _family_lines(res: CaseResult) -> list[str]:
@@ -556,14 +598,16 @@ def write_report(results: list[CaseResult], out: Path, quick: bool,
     out.mkdir(parents=True, exist_ok=True)
     header = ["system", "preset", "direction", "freq_hz", "dof", "amp_cosim",
               "amp_hbm", "amp_hbm1", "err_rel_peak", "err_rel_peak_h1", "stable",
-              "compared"]
+              "compared", "amp_exact"]
     rows = [[r.case.name, r.case.preset, p["direction"], p["freq_hz"], p["dof"],
              p["amp_cosim"], p["amp_hbm"], p["amp_hbm1"], p["err"], p["err_h1"],
-             p["stable"], p["compared"]] for r in results for p in r.rows]
+             p["stable"], p["compared"], p.get("amp_exact", float("nan"))]
+            for r in results for p in r.rows]
     write_csv(out / "points.csv", header, rows,
               comment="freq_hz [Hz]; amp_* fundamental amplitude [m] (translations) or "
                       "[rad] (alpha, beta, gamma); err_* = |A_cosim - A_hbm| / peak "
-                      "HBM amplitude of the DOF [1]; cosim = mount FMU through fmpy")
+                      "HBM amplitude of the DOF [1]; cosim = mount FMU through fmpy; "
+                      "amp_exact: the exact FRF of a linear SDOF (nan: not computed)")
     lines = ["# drymount validation: co-simulation (mount FMU) vs harmonic balance", "",
              f"Mode: {'quick' if quick else 'full'}. Tolerance: largest error "
              f"<= {100 * TOL_REL_PEAK:g} % of the peak amplitude (HBM H >= 7, stable "
@@ -586,6 +630,7 @@ def write_report(results: list[CaseResult], out: Path, quick: bool,
         lines += [f"## {r.case.name}", ""]
         if r.message:
             lines += [f"Note: {r.message.strip()}", ""]
+        lines += _exact_lines(r)
         lines += _family_lines(r)
         lines += [f"![{r.case.name}]({r.case.name}.png)", ""]
         _plot_case(r, out / f"{r.case.name}.png")
@@ -642,6 +687,10 @@ def main(args: argparse.Namespace) -> int:
         verdict = "PASS" if r.passed else "FAIL"
         print(f"{r.case.name:24s} max error {100 * r.max_err:7.3f} % of peak "
               f"(H={r.case.harmonics}), H=1: {100 * r.max_err_h1:6.2f} %  {verdict}")
+        if r.case.exact:
+            print(f"{'':24s} exact FRF: HBM {100 * r.max_err_exact_hbm:.2e} %, "
+                  f"co-simulation {100 * r.max_err_exact_cosim:.2e} % of its peak "
+                  f"(<= {100 * TOL_REL_PEAK:g} %)")
         if r.family:
             print(f"{'':24s} family bands at "
                   f"{', '.join(f'{f:g}' for f in r.case.family_hz)} Hz: from the HBM "

@@ -1,6 +1,8 @@
-"""Study ``hydraulic`` (issue 28 item 5): the hydraulic mount's curves against the
-exact linear FRF written here from the chamber equations, and the summary's numbers
-against the study's own CSV files.
+"""Study ``hydraulic`` (issue 28 item 5): the hydraulic mount's curves (the HBM of
+the loaded hydraulic presets) against the exact linear FRF written here from the
+chamber equations and against the study's own exact-FRF path, the presets as the one
+source of the mount's values, and the summary's numbers against the study's own CSV
+files.
 
 References written in this file (not drymount's code): the hydraulic mount's
 frequency-domain balances (upper chamber, lower chamber, two passages) solved as a
@@ -14,12 +16,17 @@ from __future__ import annotations
 
 import csv
 import math
+import tomllib
+from importlib import resources
 
 import numpy as np
 import pytest
 
-from drymount.studies.hydraulic import (MOUNTS, complex_frf, decoupler_closed,
-                                        hydraulic_mount_for, run_hydraulic)
+from drymount.fmu_src.linear_branches import HydraulicParameters
+from drymount.studies.hydraulic import (MOUNTS, SYSTEMS, complex_frf,
+                                        decoupler_closed, hbm_transmissibility,
+                                        hydraulic_mount_for, hydraulic_systems,
+                                        run_hydraulic)
 from drymount.studies import load_system
 from drymount.hbm.linear import linear_frf
 
@@ -27,6 +34,8 @@ from drymount.hbm.linear import linear_frf
 TOL_OF_PEAK = 1e-8
 #: the CSV keeps 10 significant digits
 RTOL_CSV = 1e-9
+#: the presets print k1 to 1 mN/m: their static stiffness is 91870 N/m to 1e-8
+RTOL_STATIC = 1e-8
 ENGINE_KG = 70.0            # sdof_original and quarter_car_original m_e
 K1_ORIGINAL = 91870.0       # N/m, the original mount's k1 (thesis fit)
 
@@ -46,6 +55,22 @@ def chamber_K(p, w: float) -> complex:
         A[3] = [0, 0, 0, 1]
     P1 = np.linalg.solve(A, b)[0]
     return p.kr + jw * p.br + p.Ap * P1
+
+
+def _preset(name: str) -> dict:
+    return tomllib.loads(resources.files("drymount.presets").joinpath(
+        f"{name}.toml").read_text())
+
+
+def preset_mount(name: str = "sdof_hydraulic") -> HydraulicParameters:
+    """The hydraulic mount of a preset read from its TOML here (not by drymount):
+    the rubber kr, br = the axial axis's k1, c; the [hydraulic] table."""
+    doc = _preset(name)
+    axis = doc["mount"] if "mount" in doc else doc["mounts"][0]["axial"]
+    h = axis["hydraulic"]
+    return HydraulicParameters(kr=axis["k1"], br=axis["c"], Ap=h["Ap"], C1=h["C1"],
+                               C2=h["C2"], I_i=h["I_i"], R_i=h["R_i"],
+                               I_d=h.get("I_d", 0.0), R_d=h.get("R_d", 0.0))
 
 
 def exact_T(p, f_hz) -> np.ndarray:
@@ -78,14 +103,59 @@ def study(tmp_path_factory):
 @pytest.mark.parametrize("system", ["sdof", "quarter_car", "six_dof"])
 def test_static_stiffness_matches_the_original_mount(system):
     p = hydraulic_mount_for(system)
-    assert abs(chamber_K(p, 1e-9).real - K1_ORIGINAL) <= 1e-9 * K1_ORIGINAL
+    assert abs(chamber_K(p, 1e-9).real - K1_ORIGINAL) <= RTOL_STATIC * K1_ORIGINAL
+
+
+def test_one_source_the_presets():
+    """The study reads the mount from the presets, and the three presets carry one
+    mount (the values of sdof_hydraulic.toml on every axial axis), with a
+    decoupler; the decoupler-closed variant is the preset with I_d = 0, all else
+    equal."""
+    ref = preset_mount("sdof_hydraulic")
+    assert ref.I_d > 0.0
+    for name in ("quarter_car_hydraulic", "six_dof_hydraulic"):
+        doc = _preset(name)
+        axes = ([doc["mount"]] if "mount" in doc
+                else [m["axial"] for m in doc["mounts"]])
+        assert len(axes) >= 1
+        for a in axes:
+            assert (a["k1"], a["c"], a["hydraulic"]) == (
+                ref.kr, ref.br, {k: getattr(ref, k) for k in
+                                 ("Ap", "C1", "C2", "I_i", "R_i", "I_d", "R_d")})
+    for spec in SYSTEMS:
+        assert hydraulic_mount_for(spec.key) == ref
+        closed = hydraulic_systems(spec.key)["hydraulic_closed"]
+        hyd = [p for e in closed.elements for p in e.params.axes if p.has_hydraulic]
+        assert hyd and all(p.hydraulic == ref._replace(kr=0.0, br=0.0, I_d=0.0)
+                           for p in hyd)
+    with pytest.raises(ValueError, match="system = 'bus'"):
+        hydraulic_mount_for("bus")
+
+
+@pytest.mark.parametrize("system", ["sdof", "quarter_car", "six_dof"])
+def test_hbm_of_the_presets_equals_the_exact_frf(system):
+    """The study's path (HBM of the loaded preset, decoupler open and closed) equals
+    its former exact-FRF path (the original system with K* on the axial axes) to
+    1e-8 of peak; in the single DOF and the quarter car also the FRF written here
+    from the chamber equations with the values read from the TOML."""
+    f = np.geomspace(1.0, 60.0, 60)
+    spec = next(s for s in SYSTEMS if s.key == system)
+    orig = load_system(spec.original)
+    p = preset_mount()
+    for m, params in (("hydraulic", p), ("hydraulic_closed", decoupler_closed(p))):
+        T = hbm_transmissibility(hydraulic_systems(system)[m], f)
+        frf = complex_frf(orig, f, params).transmissibility
+        assert np.max(np.abs(T - frf)) <= TOL_OF_PEAK * np.max(frf), m
+        if system != "six_dof":
+            ref = exact_T(params, f)
+            assert np.max(np.abs(T - ref)) <= TOL_OF_PEAK * np.max(ref), m
 
 
 @pytest.mark.parametrize("system", ["sdof", "quarter_car"])
 def test_hydraulic_curves_equal_the_exact_frf(study, system):
     out, _ = study
     c = _csv(out / f"hydraulic_{system}_transmissibility.csv")
-    p = hydraulic_mount_for(system)
+    p = preset_mount()
     for col, params in (("T_hydraulic", p),
                         ("T_hydraulic_closed", decoupler_closed(p))):
         ref = exact_T(params, c["freq_hz"])
@@ -128,5 +198,5 @@ def test_summary_numbers_are_those_of_the_csvs(study):
             assert abs(key[(name, "loss_angle_max", m)] - loss.max()) <= 1e-8
             assert f"{pk:.4g}" in summary
         assert key[(name, "sag", "hydraulic")] == pytest.approx(
-            ENGINE_KG * 9.81 / K1_ORIGINAL, rel=1e-9)
+            ENGINE_KG * 9.81 / K1_ORIGINAL, rel=RTOL_STATIC)
     assert "hydraulic_sdof.png" in result["files"]

@@ -80,3 +80,51 @@ def test_full_validation_passes(tmp_path):
     results = validation.run_validation(quick=False, out=tmp_path, progress=False)
     for r in results:
         assert r.passed, (r.case.name, r.max_err, r.message)
+
+
+def _hydraulic_T(freqs):
+    """Reference written here: the engine's amplitude |f0 w^2| / |K* - w^2 m| on the
+    mount of sdof_hydraulic.toml (read with tomllib), K* = k1 + j w c + Ap^2 (1 + j w
+    C2 Z) / (C1 + C2 + j w C1 C2 Z), Z the inertia track parallel to the decoupler."""
+    import math
+    import tomllib
+    from importlib import resources
+
+    doc = tomllib.loads(resources.files("drymount.presets").joinpath(
+        "sdof_hydraulic.toml").read_text())
+    m, mt = doc["sdof"]["mass"], doc["mount"]
+    h, f0 = mt["hydraulic"], doc["excitation"]["amplitude"]
+    out = []
+    for f in freqs:
+        w = 2 * math.pi * f
+        zi, zd = h["R_i"] + 1j * w * h["I_i"], h["R_d"] + 1j * w * h["I_d"]
+        z = zi * zd / (zi + zd)
+        k = (mt["k1"] + 1j * w * mt["c"] + h["Ap"] ** 2 * (1 + 1j * w * h["C2"] * z)
+             / (h["C1"] + h["C2"] + 1j * w * h["C1"] * h["C2"] * z))
+        out.append(f0 * w * w / abs(k - w * w * m))
+    return out
+
+
+def test_hydraulic_case_checks_the_exact_frf(tmp_path, capsys):
+    """The hydraulic case compares three columns: HBM, co-simulation and the exact
+    FRF; its amp_exact equals the FRF written here to 1e-10, HBM equals it to 1e-8
+    of peak (the issue's target; measured 1.5e-16) and the co-simulation within the
+    1 % tolerance (measured 1.3e-4 of peak in quick mode); a wrong HBM-side k1 fails
+    against the exact column too."""
+    case = next(c for c in validation.CASES if c.name == "sdof_hydraulic")
+    assert case.exact
+    (r,) = validation.run_validation(quick=True, out=tmp_path, cases=(case,),
+                                     progress=False)
+    assert r.passed and r.max_err_exact_hbm <= 1e-8
+    assert r.max_err_exact_cosim <= validation.TOL_REL_PEAK
+    rows = [p for p in _read_points(tmp_path / "points.csv")
+            if p["direction"] == "up"]
+    ref = _hydraulic_T([float(p["freq_hz"]) for p in rows])
+    for p, a in zip(rows, ref, strict=True):
+        assert abs(float(p["amp_exact"]) - a) <= 1e-10 * a
+    assert "Exact FRF" in (tmp_path / "validation.md").read_text()
+    code = cli_main(["validate", "--quick", "--systems", "sdof_hydraulic",
+                     "--inject", "k1=1.02", "--out", str(tmp_path / "bad")])
+    assert code == 1
+    out = capsys.readouterr().out
+    assert "exact FRF: HBM" in out and "FAIL" in out

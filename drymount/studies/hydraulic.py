@@ -7,19 +7,24 @@ In the single-DOF, quarter-car and 6-DOF systems, side by side:
     thesis design with the best n0 (single DOF and quarter car: the rule of the
     n0 family studies, :func:`drymount.studies.family._best_halved`, over their
     normal forces; 6 DOF: the thesis's 250 N, ``six_dof.SIX_DOF_GOOD_N0``);
-(c) ``hydraulic``: a linear inertia-track + decoupler mount
-    (:func:`hydraulic_mount_for`) on every axial mount axis, and
-    ``hydraulic_closed``: the same mount with its decoupler closed (inertia track
-    only, :func:`decoupler_closed`). Colgate et al. (J. Sound Vib. 184(3), 1995)
-    model a production mount by exactly these two linear models: decoupler open for
-    small (engine-induced) amplitudes, closed for large (road-induced, resonant)
-    ones; the decoupler's gap limit that switches between them is nonlinear.
+(c) ``hydraulic``: the linear inertia-track + decoupler mount of the presets
+    ``sdof_hydraulic``, ``quarter_car_hydraulic``, ``six_dof_hydraulic`` (their values
+    in ONE place, ``sdof_hydraulic.toml``; :func:`hydraulic_mount_for` reads them) on
+    every axial mount axis, and ``hydraulic_closed``: the same preset with its
+    decoupler closed (inertia track only: ``--set ...hydraulic.I_d=0``, the law's
+    "no decoupler", :data:`DECOUPLER_CLOSED`). Colgate et al. (J. Sound Vib. 184(3),
+    1995) model a production mount by exactly these two linear models: decoupler
+    open for small (engine-induced) amplitudes, closed for large (road-induced,
+    resonant) ones; the decoupler's gap limit that switches between them is nonlinear.
 
 (a) and (b) are harmonic-balance curves (continuation, then read on a common log
-grid). The hydraulic mount is linear, so its response is the exact linear FRF of the
-system with its complex stiffness ``K*(omega)``
-(``fmu_src.linear_branches.hydraulic_complex_stiffness``) in place of the axial
-``k1 + i omega c`` of the original mount (:func:`complex_frf`). Outputs: the
+grid). (c) are the HBM of the loaded hydraulic presets solved on the grid
+(:func:`hbm_transmissibility`; the fluid enters the HBM exactly per harmonic and the
+mount is linear, so one harmonic is the exact steady state), cross-checked against
+the exact linear FRF of the original system with the mount's complex stiffness
+``K*(omega)`` (``fmu_src.linear_branches.hydraulic_complex_stiffness``) in place of
+the axial ``k1 + i omega c`` (:func:`complex_frf`; the largest difference, relative
+to the peak, is in the summary). Outputs: the
 transmissibility over the band, |K*| and loss angle over frequency of one mount
 axis, the static sag under the engine's weight; CSV, plots and ``summary.md``.
 """
@@ -37,9 +42,9 @@ from drymount.fmu_src.linear_branches import (HydraulicParameters,
                                               hydraulic_notch_peak)
 from drymount.hbm.system import System
 from drymount.io import atomic_write_text, write_csv
-from drymount.studies.common import (friction_axes, friction_template, hbm_curve,
-                                     load_system, peak, value_at, with_friction_of,
-                                     with_normal_force)
+from drymount.studies.common import (StudyError, friction_axes, friction_template,
+                                     hbm_curve, load_system, peak, value_at,
+                                     with_friction_of, with_normal_force)
 from drymount.studies.family import _best_halved
 from drymount.studies.normal_force import NORMAL_FORCE_SPEC
 from drymount.studies.output import log_axes, md_table, new_figure, save_fig
@@ -71,74 +76,81 @@ class SystemSpec:
     forces: tuple | None            # n0 candidates (None: fixed n0)
     forces_quick: tuple | None
     fixed_n0: float | None = None
+    hydraulic: str = ""             # the hydraulic preset (decoupler open)
 
+
+#: The ``--set`` overrides that close the decoupler of a hydraulic preset (``I_d =
+#: 0``: no decoupler, the law's convention; its ``R_d`` is then unused), per model.
+DECOUPLER_CLOSED = {"sdof": ("mount.hydraulic.I_d=0",),
+                    "quarter_car": ("mount.hydraulic.I_d=0",),
+                    "rigid_engine": ("mounts[*].axial.hydraulic.I_d=0",)}
 
 SYSTEMS = (
     SystemSpec("sdof", "sdof_original", "sdof_halved", "sdof",
-               NORMAL_FORCE_SPEC.forces, NORMAL_FORCE_SPEC.forces_quick),
+               NORMAL_FORCE_SPEC.forces, NORMAL_FORCE_SPEC.forces_quick,
+               hydraulic="sdof_hydraulic"),
     SystemSpec("quarter_car", "quarter_car_original", "quarter_car_halved",
-               "quarter_car", QUARTER_CAR_SPEC.forces, QUARTER_CAR_SPEC.forces_quick),
+               "quarter_car", QUARTER_CAR_SPEC.forces, QUARTER_CAR_SPEC.forces_quick,
+               hydraulic="quarter_car_hydraulic"),
     SystemSpec("six_dof", "six_dof_original", "six_dof_halved", "rigid_engine",
-               None, None, fixed_n0=SIX_DOF_GOOD_N0),
+               None, None, fixed_n0=SIX_DOF_GOOD_N0, hydraulic="six_dof_hydraulic"),
 )
 
-#: The literature parameter set before scaling (SI units; see hydraulic_mount_for).
-LITERATURE_HYDRAULIC = HydraulicParameters(kr=2.5e5, br=100.0, Ap=3.5e-3, C1=3e-11,
-                                           C2=2e-9, I_i=3.2e6, R_i=1.2e8, I_d=2e5,
-                                           R_d=5e6)
+def _spec(system: str) -> SystemSpec:
+    spec = {s.key: s for s in SYSTEMS}.get(system)
+    if spec is None:
+        raise StudyError(f"system = {system!r}: must be one of "
+                         f"{', '.join(s.key for s in SYSTEMS)}")
+    return spec
 
 
-def static_stiffness(p: HydraulicParameters) -> float:
-    """``kr + Ap^2 / (C1 + C2)``, N/m: the hydraulic mount at omega = 0."""
-    return p.kr + p.Ap * p.Ap / (p.C1 + p.C2)
+def hydraulic_systems(system: str) -> dict:
+    """{"hydraulic": System, "hydraulic_closed": System} of ``system`` (``"sdof"``,
+    ``"quarter_car"`` or ``"six_dof"``): its hydraulic preset loaded by
+    ``drymount.config.load_preset``, and the same with :data:`DECOUPLER_CLOSED`
+    applied by the ``--set`` mechanism (``drymount.paths.override_config``)."""
+    from drymount.config import load_preset
+    from drymount.paths import override_config
+
+    spec = _spec(system)
+    cfg = load_preset(spec.hydraulic)
+    closed = override_config(cfg, DECOUPLER_CLOSED[cfg.model])
+    return {"hydraulic": cfg.system, "hydraulic_closed": closed.system}
 
 
-def scaled_hydraulic(p: HydraulicParameters, k_static: float) -> HydraulicParameters:
-    """``p`` scaled so that its static stiffness is ``k_static`` (N/m), with its
-    notch, peak and loss angle unchanged: kr, br, I_i, R_i, I_d, R_d times s and
-    C1, C2 over s (s = k_static / static stiffness), so ``K*(omega)`` is s times the
-    original's at every frequency (the piston area Ap is kept)."""
-    s = k_static / static_stiffness(p)
-    return HydraulicParameters(kr=p.kr * s, br=p.br * s, Ap=p.Ap, C1=p.C1 / s,
-                               C2=p.C2 / s, I_i=p.I_i * s, R_i=p.R_i * s,
-                               I_d=p.I_d * s, R_d=p.R_d * s)
-
-
-def decoupler_closed(p: HydraulicParameters) -> HydraulicParameters:
-    """``p`` with the decoupler closed (``I_d = R_d = 0``: the inertia track only),
-    the large-amplitude linear model of Colgate et al. (1995)."""
-    return p._replace(I_d=0.0, R_d=0.0)
-
-
-def hydraulic_variants(p: HydraulicParameters) -> dict:
-    """{"hydraulic": p, "hydraulic_closed": decoupler_closed(p)}."""
-    return {"hydraulic": p, "hydraulic_closed": decoupler_closed(p)}
+def mount_parameters(system: System) -> HydraulicParameters:
+    """The hydraulic mount of ``system`` as :class:`HydraulicParameters` (rubber
+    ``kr, br`` = the axis's ``k1, c``): that of every axis with the fluid path, which
+    must all be the same linear mount (one design per system)."""
+    found = {}
+    for i, e in enumerate(system.elements):
+        for j in e.active_axes:
+            p = e.params.axes[j]
+            if p.has_hydraulic:
+                if p.law != "linear" or p.friction or p.has_maxwell:
+                    raise StudyError(f"mount {i + 1} {AXES[j]} axis: the hydraulic "
+                                     f"mount must be linear without friction or "
+                                     f"Maxwell branches, got law {p.law!r}")
+                found[(i, j)] = p.hydraulic._replace(kr=p.k1, br=p.c)
+    if not found or len(set(found.values())) != 1:
+        raise StudyError(f"{len(set(found.values()))} different hydraulic mounts on "
+                         f"the axes {sorted(found)}: the study needs exactly one")
+    return next(iter(found.values()))
 
 
 def hydraulic_mount_for(system: str) -> HydraulicParameters:
-    """The hydraulic mount (inertia track + decoupler, linear) of ``system``
-    (``"sdof"``, ``"quarter_car"`` or ``"six_dof"``): the ONE place the study reads.
+    """The hydraulic mount (decoupler open) of ``system`` (``"sdof"``,
+    ``"quarter_car"`` or ``"six_dof"``), read from its preset (values: the ONE place
+    ``drymount/presets/sdof_hydraulic.toml``, copied into the other two; see its
+    header for their source and the notch and peak they give)."""
+    return mount_parameters(hydraulic_systems(system)["hydraulic"])
 
-    Values: :data:`LITERATURE_HYDRAULIC`, lumped parameters of the order published
-    for passenger-car hydraulic engine mounts: main rubber kr = 250 kN/m,
-    br = 100 N s/m, piston area Ap = 3.5e-3 m^2, chamber compliances C1 = 3e-11 and
-    C2 = 2e-9 m^5/N, inertia track I_i = 3.2e6 kg/m^4, R_i = 1.2e8 N s/m^5,
-    decoupler I_d = 2e5 kg/m^4, R_d = 5e6 N s/m^5 (Christopherson & Jazar, "Dynamic
-    behavior comparison of passive hydraulic engine mounts. Part 1", J. Sound Vib.
-    290 (2006) 1040-1070; Colgate et al., J. Sound Vib. 184(3) (1995); Chai, Singh &
-    Dreyer, SAE 2013-01-1924; the same set as tests/test_hydraulic_law.py).
-    Scaled (:func:`scaled_hydraulic`) so that its static stiffness
-    ``kr + Ap^2 / (C1 + C2)`` equals the original mount's small-deflection axial
-    stiffness k1 of that system (91 870 N/m in all three presets): the engine sits
-    on it as on the original mount. The lead will switch this to the ``hydro``
-    presets (sdof_hydraulic, quarter_car_hydraulic, six_dof_hydraulic).
-    """
-    spec = {s.key: s for s in SYSTEMS}.get(system)
-    if spec is None:
-        raise ValueError(f"system = {system!r}: must be one of "
-                         f"{', '.join(s.key for s in SYSTEMS)}")
-    k1 = load_system(spec.original).elements[0].params.axes[0].k1
-    return scaled_hydraulic(LITERATURE_HYDRAULIC, k1)
+
+def decoupler_closed(p: HydraulicParameters) -> HydraulicParameters:
+    """``p`` with the decoupler closed (``I_d = 0``: the inertia track only; ``R_d``
+    unused), the large-amplitude linear model of Colgate et al. (1995); what
+    :data:`DECOUPLER_CLOSED` does to a preset."""
+    return p._replace(I_d=0.0)
 
 
 # ======================================================================================
@@ -226,7 +238,9 @@ class SystemCase:
     spec: SystemSpec
     original: System
     friction: System
-    hydraulic: HydraulicParameters
+    hydraulic: dict               # hydraulic mount -> HydraulicParameters (presets')
+    hydraulic_systems: dict       # hydraulic mount -> System (the loaded presets)
+    frf_check: dict               # hydraulic mount -> max |T_hbm - T_frf| / max T_frf
     n0: float
     n0_rule: str
     freq_hz: np.ndarray
@@ -270,28 +284,52 @@ def _best_n0(spec, orig, halved, H, quick, failures):
     return best["n0_N"], rule, ref, best
 
 
+def hbm_transmissibility(system: System, freqs_hz) -> np.ndarray:
+    """Transmissibility (the system's definition) of the linear ``system`` at
+    ``freqs_hz`` by :func:`drymount.hbm.solve_frequencies` with one harmonic: the
+    hydraulic fluid enters the HBM exactly per harmonic, and a linear system's
+    steady state under a sine is that sine, so H = 1 is the exact response."""
+    import drymount.hbm as hbm
+
+    r = hbm.solve_frequencies(system, freqs_hz, harmonics=1)
+    if not r.success or r.n_points != len(freqs_hz):
+        raise StudyError(f"HBM of the hydraulic system stopped after {r.n_points} "
+                         f"of {len(freqs_hz)} frequencies: {r.message}")
+    return np.asarray(r.transmissibility, dtype=float)
+
+
+def _hydraulic_curves(spec: SystemSpec, orig: System, f: np.ndarray):
+    """({mount: T}, {mount: params}, {mount: System}, {mount: check}) of (c), (c')."""
+    systems = hydraulic_systems(spec.key)
+    params = {m: mount_parameters(s) for m, s in systems.items()}
+    T = {m: hbm_transmissibility(s, f) for m, s in systems.items()}
+    lin = {m: complex_frf(with_normal_force(orig, 0.0), f, p).transmissibility
+           for m, p in params.items()}
+    check = {m: float(np.max(np.abs(T[m] - lin[m])) / np.max(lin[m])) for m in T}
+    return T, params, systems, check
+
+
 def run_system(spec: SystemSpec, quick: bool) -> SystemCase:
-    """HBM curves of (a) and (b), the exact FRF of (c), on the common grid."""
+    """HBM curves of (a) and (b), the HBM of the hydraulic presets (c) on the
+    common grid (checked against the exact FRF, :func:`complex_frf`)."""
     orig, halved = _systems(spec)
     H = HARMONICS_QUICK if quick else HARMONICS
     failures: list[str] = []
     n0, rule, ref, best = _best_n0(spec, orig, halved, H, quick, failures)
     f = np.geomspace(*BAND_HZ, GRID_POINTS_QUICK if quick else GRID_POINTS)
-    hyd = hydraulic_mount_for(spec.key)
-    lin = {m: complex_frf(with_normal_force(orig, 0.0), f, p)
-           for m, p in hydraulic_variants(hyd).items()}
+    T_hyd, params, systems, check = _hydraulic_curves(spec, orig, f)
     T = {"original": np.array([value_at(ref["fr"].freq_hz,
                                         ref["fr"].transmissibility, x) for x in f]),
          "friction": np.array([value_at(best["fr"].freq_hz,
                                         best["fr"].transmissibility, x) for x in f]),
-         **{m: r.transmissibility for m, r in lin.items()}}
+         **T_hyd}
     peaks = {"original": peak(ref["fr"].freq_hz, ref["fr"].transmissibility),
              "friction": peak(best["fr"].freq_hz, best["fr"].transmissibility),
-             **{m: peak(f, r.transmissibility) for m, r in lin.items()}}
+             **{m: peak(f, v) for m, v in T_hyd.items()}}
     curves = {m: (np.asarray(c["fr"].freq_hz), np.asarray(c["fr"].transmissibility))
               for m, c in (("original", ref), ("friction", best))}
-    return SystemCase(spec, orig, with_normal_force(halved, n0), hyd, float(n0), rule,
-                      f, T, peaks, failures, curves)
+    return SystemCase(spec, orig, with_normal_force(halved, n0), params, systems,
+                      check, float(n0), rule, f, T, peaks, failures, curves)
 
 
 def _characterised_axis(case: SystemCase) -> tuple[int, int]:
@@ -326,7 +364,7 @@ def stiffness_curves(case: SystemCase) -> StiffnessCurves:
         m = dynamic_stiffness(axis, f, DS_AMPLITUDES_M)
         for a, X in enumerate(DS_AMPLITUDES_M):
             K[(mount, X)] = m.K[0, a]
-    for m, p in hydraulic_variants(case.hydraulic).items():
+    for m, p in case.hydraulic.items():
         kh = np.array(hydraulic_complex_stiffness(p, (2 * np.pi * f).tolist()))
         for X in DS_AMPLITUDES_M:
             K[(m, X)] = kh
@@ -335,9 +373,9 @@ def stiffness_curves(case: SystemCase) -> StiffnessCurves:
 
 def static_sag(case: SystemCase) -> dict:
     """Largest axial mount deflection (m, positive = compressed) under the engine's
-    weight (g = :data:`GRAVITY`) per mount: (a), (b) by ``hbm.static`` (friction
-    sliders relaxed: they carry no static force), (c) linear with the hydraulic
-    mount's static stiffness on the axial axes."""
+    weight (g = :data:`GRAVITY`) per mount by ``hbm.static``: (a), (b) friction
+    sliders relaxed (they carry no static force), (c) the hydraulic presets (the
+    fluid's static stiffness ``Ap^2 / (C1 + C2)`` on the axial axes)."""
     from drymount.config.static import vertical_dofs
     from drymount.hbm.static import gravity_load, static_equilibrium
 
@@ -348,12 +386,11 @@ def static_sag(case: SystemCase) -> dict:
     for mount, sys_ in (("original", case.original), ("friction", case.friction)):
         pt = static_equilibrium(with_normal_force(sys_, 0.0), load)
         out[mount] = float(np.max(np.abs(pt.deflection[:, 0])))
-    for m, p in hydraulic_variants(case.hydraulic).items():
-        ks = axis_stiffness(case.original, p, 0.0).real
-        A = case.original.K + sum(e.B.T @ (ks[i][:, None] * e.B)
-                                  for i, e in enumerate(case.original.elements))
-        q = np.linalg.solve(A, load)
-        out[m] = float(max(abs(e.B[0] @ q) for e in case.original.elements))
+    for m, sys_ in case.hydraulic_systems.items():
+        load_h = gravity_load(sys_, vertical_dofs(case.spec.model, sys_.dof_names),
+                              GRAVITY)
+        pt = static_equilibrium(sys_, load_h)
+        out[m] = float(np.max(np.abs(pt.deflection[:, 0])))
     return out
 
 
@@ -369,7 +406,7 @@ def loss_extremes(sc: StiffnessCurves, case: SystemCase) -> dict:
     (on the grid; a frequency outside the band reads the band's edge value)."""
     X = DS_AMPLITUDES_M[-1]
     marks = {}
-    for m, p in hydraulic_variants(case.hydraulic).items():
+    for m, p in case.hydraulic.items():
         wn, wp = hydraulic_notch_peak(p)
         marks[f"{m} notch"], marks[f"{m} peak"] = wn / (2 * np.pi), wp / (2 * np.pi)
     out = {"marks_hz": marks}
@@ -400,7 +437,8 @@ def _write_csvs(case: SystemCase, sc: StiffnessCurves, out: Path) -> list[str]:
                for i, f in enumerate(case.freq_hz)],
               comment=f"{k}: transmissibility [-] (preset definition) of (a) "
                       f"original, (b) halved + friction n0 = {case.n0:g} N (HBM), (c) "
-                      "hydraulic (exact linear FRF); freq in Hz")
+                      "hydraulic presets (HBM, H = 1: exact, the mount is linear); "
+                      "freq in Hz")
     write_csv(out / f"hydraulic_{k}_hbm_curves.csv", ["mount", "freq_hz", "T"],
               [[m, fi, ti] for m, (fr, tr) in case.hbm_curves.items()
                for fi, ti in zip(fr, tr)],
@@ -462,8 +500,12 @@ def system_summary(case: SystemCase, sc: StiffnessCurves) -> dict:
             "peak": {m: case.peaks[m].value for m in MOUNTS},
             "peak_hz": {m: case.peaks[m].freq_hz for m in MOUNTS},
             "orders": order_values(case), "loss": loss_extremes(sc, case),
-            "sag_m": static_sag(case), "hydraulic": case.hydraulic._asdict(),
-            "failures": case.failures}
+            "sag_m": static_sag(case),
+            "hydraulic": case.hydraulic["hydraulic"]._asdict(),
+            "hydraulic_presets": {"hydraulic": case.spec.hydraulic,
+                                  "hydraulic_closed": f"{case.spec.hydraulic} --set "
+                                  + " ".join(DECOUPLER_CLOSED[case.spec.model])},
+            "frf_check": case.frf_check, "failures": case.failures}
 
 
 def _verdict(a: float, b: float, tol: float = 0.2) -> str:
@@ -494,7 +536,11 @@ def _system_md(s: dict) -> list[str]:
     rows += [_row("largest loss angle in the band [deg]",
                   {m: L[m]["max"] for m in MOUNTS}),
              _row("static sag [mm]", {m: 1e3 * v for m, v in s["sag_m"].items()})]
+    check = ", ".join(f"{m} {v:.1e}" for m, v in s["frf_check"].items())
+    presets = "; ".join(f"{m}: `{v}`" for m, v in s["hydraulic_presets"].items())
     return [f"## {s['system']}: friction n0 = {s['n0_N']:g} N ({s['n0_rule']})", "",
+            f"Hydraulic presets: {presets}. HBM against the exact FRF, largest "
+            f"difference over the grid relative to the peak: {check}.", "",
             md_table(["quantity", *MOUNTS, "friction vs hydraulic",
                       "friction vs hydraulic_closed"], rows), ""]
 
@@ -505,10 +551,11 @@ def _summary_md(results: list[dict], figs: list[str], quick: bool) -> str:
              "mount", "",
              f"Band {BAND_HZ[0]:g}-{BAND_HZ[1]:g} Hz. (a), (b): HBM H = {H} "
              "(continuation, read on the log grid); (c) decoupler open, (c') closed "
-             "(inertia track only): exact linear FRF with the hydraulic mount's "
-             "K*(omega) on the axial axes "
-             "(`hydraulic_mount_for`: literature values scaled to the original "
-             "mount's static stiffness). |K*| and loss angle of (a), (b) at "
+             "(inertia track only): HBM (H = 1, exact: the mount is linear) of the "
+             "hydraulic presets (`*_hydraulic`, values in `sdof_hydraulic.toml`; "
+             "closed: `--set ...hydraulic.I_d=0`), checked against the exact "
+             "linear FRF with the mount's K*(omega) on the axial axes (largest "
+             "difference per system below). |K*| and loss angle of (a), (b) at "
              + ", ".join(f"{X * 1e3:g} mm" for X in DS_AMPLITUDES_M)
              + " (loss angles in the table at the larger). Sag: largest axial "
              f"mount deflection under the engine's weight (g = {GRAVITY:g} m/s^2, "
