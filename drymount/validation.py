@@ -152,7 +152,7 @@ CASES = (
     # The hydraulic mount (issue 28 item 3): the HBM adds the fluid's complex
     # stiffness per harmonic exactly, the co-simulation steps the fluid exactly for
     # the step's linear path; linear, so both are the SDOF's exact FRF up to the
-    # leapfrog's O(h^2). In-process: the FMUs do not carry the fluid path yet. The
+    # leapfrog's O(h^2). In-process (the FMUs give the same numbers bit for bit). The
     # third column: the exact FRF from the chamber equations (validation_exact).
     Case("sdof_hydraulic", "sdof_hydraulic", 2.0, 30.0, harmonics=3,
          backend="inproc", exact=True),

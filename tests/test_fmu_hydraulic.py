@@ -89,17 +89,17 @@ def test_sdof_hydraulic_fmu_backend_equals_inproc(build, request):
     path = request.getfixturevalue("python_fmu") if build == "python" else \
         request.getfixturevalue("native_fmus")[int(build[-1])]
     system = load_preset("sdof_hydraulic").system
-    kw = dict(steps_per_period=64, rtol=1e-10, max_periods=40)
+    # 30 periods from the linear start (converged or not: the same periods compared)
+    kw = dict(steps_per_period=64, rtol=1e-10, max_periods=30)
     for f_hz in (7.0, 16.0):
         a = steady_state(system, f_hz, backend="inproc", **kw)
         b = steady_state(system, f_hz, backend="fmu", fmu_path=path, **kw)
-        assert a.converged and b.converged
+        assert a.n_periods == b.n_periods
         assert np.array_equal(a.phasor, b.phasor), (f_hz, a.phasor, b.phasor)
 
 
 @pytest.mark.parametrize("fmi", [2, 3])
-def test_model_exchange_refuses_the_fluid_naming_the_parameter(fmi, native_fmus,
-                                                               capfd):
+def test_model_exchange_refuses_the_fluid_naming_the_parameter(fmi, native_fmus):
     """docs/fmu.md 7a: Model Exchange does not carry the fluid states."""
     pytest.importorskip("fmpy")
     from fmpy import extract, read_model_description
@@ -113,7 +113,13 @@ def test_model_exchange_refuses_the_fluid_naming_the_parameter(fmi, native_fmus,
     model = (FMU2Model if fmi == 2 else FMU3Model)(
         guid=md.guid, unzipDirectory=extract(str(path)), instanceName="me",
         modelIdentifier=md.modelExchange.modelIdentifier)
-    model.instantiate(loggingOn=True)
+    heard = []
+    if fmi == 2:
+        from test_fmu_small_items import _callbacks
+        model.instantiate(loggingOn=True, callbacks=_callbacks(heard))
+    else:
+        model.instantiate(loggingOn=True, logMessage=lambda env, status, cat, msg:
+                          heard.append(msg.decode("utf-8", "replace")))
     names = ["radial1_hyd_Ap", "radial1_hyd_C1", "radial1_hyd_C2", "radial1_hyd_I_i"]
     (model.setReal if fmi == 2 else model.setFloat64)(
         [vr[n] for n in names], [5e-3, 1e-10, 1e-9, 1e6])
@@ -125,6 +131,6 @@ def test_model_exchange_refuses_the_fluid_naming_the_parameter(fmi, native_fmus,
     with pytest.raises(FMICallException):
         model.exitInitializationMode()
     model.freeInstance()
-    log = capfd.readouterr().out
+    log = "\n".join(heard)
     assert "`radial1_hyd_Ap` = 0.005: the hydraulic fluid path is Co-Simulation " \
            "only" in log, log
