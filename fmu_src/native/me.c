@@ -277,7 +277,7 @@ static md_status refresh(md_instance *m, const char *call)
 static md_status commit(md_instance *m, const char *call, int j)
 {
     ml_axis_result r;
-    double w_new[ML_MAX_SLIDERS];
+    double w_new[ML_MAX_STATE];  /* sliders + uc + Maxwell strokes (ml_state_size) */
     char msg[512];
     int n = ml_state_size(&m->d.p[j]);
     if (ml_axis_force_p(m->d.u[j], m->d.v[j], 0.0, m->d.w[j], &m->d.p[j],
