@@ -11,11 +11,13 @@ varying normal force input.
   same outputs, states and event steps bit for bit.
 * Varying ``n_<axis>``: fmpy's CVode (rtol 1e-10) with the normal force of every axis
   ramping down, n(t) = n0 (1 - 0.6 t / T), set at every evaluation, against
-  Co-Simulation fed the same n at each grid time. While a slider slips its force is
-  then the slip force of the moment whatever the commits (a decreasing limit never
-  makes a slipping slider stick), so both interfaces give the exact force and must
-  agree to 1e-6 of Fs; the step events ``CompletedIntegratorStep`` asks for (n
-  changed since the last event) are exercised at every integrator step.
+  Co-Simulation fed the same n at each grid time, at 1 ms and 0.1 ms. CS is not exact
+  here (after a reversal a slider keeps slipping while k |v| < -dFs/dt, and CS places
+  the stick up to a step late), ME commits at every integrator step (the step events
+  ``CompletedIntegratorStep`` asks for when n changed): the difference shrinks with
+  CS's step (2.9e-4 -> 2.9e-6 of Fs, measured).
+* Berg's energy: Co-Simulation's E_fr converges to the positive part of the rate
+  (docs/fmu.md 7a).
 """
 
 from __future__ import annotations
@@ -32,7 +34,6 @@ from test_native_me import (
     KINDS,
     OUTPUTS,
     T,
-    TOL_FORCE,
     native,  # noqa: F401 (the module fixture)
     reversal_times,
     sine,
@@ -88,7 +89,7 @@ class Loop:
     """A fixed-step ME host on one instance (explicit Euler, events at indicator sign
     changes and step events)."""
 
-    def __init__(self, native, params, name):
+    def __init__(self, native, params, name):  # noqa: F811
         fmi, _, md, unzipped = native
         self.fmi, self.md, self.params = fmi, md, params
         cls = FMU2Model if fmi == 2 else FMU3Model
