@@ -271,6 +271,7 @@ def _worst(me, cs):
     return worst, ref
 
 
+@pytest.mark.slow  # about 150 s per FMI version: a step event at every CVode step
 def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
     """Jenkins (axial), the 8-slider bank (radial1), a non-symmetric 3-slider bank
     (radial2), every normal force ramping down: ME (a commit at every integrator
