@@ -67,10 +67,12 @@ COMMON_SOURCES = tuple(sorted(
 #: every platform's binary rounds as the Python law does, operation by operation.
 CFLAGS = ("-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", "-shared",
           "-fvisibility=hidden", "-ffp-contract=off")
-#: A PE header carries a link time unless told not to (reproducible DLLs); -s: no
-#: debug info (the MinGW runtime's objects carry 244 KB of it).
+#: -s: no debug info (the MinGW runtime's objects carry 244 KB of it). A PE header
+#: carries a link time unless told not to (reproducible DLLs): GNU ld's flag, for
+#: MinGW only (zig's linker writes no time stamp and refuses the flag: "unsupported
+#: linker arg: --no-insert-timestamp").
 _PE_FLAGS = ("-s",)
-_PE_GNU_FLAGS = ("-Wl,--no-insert-timestamp",)
+_MINGW_FLAGS = ("-Wl,--no-insert-timestamp",)
 #: The oldest glibc the linux binaries need (zig cc links against this version's
 #: symbols; tests/test_native_platforms.py reads the versions from the binaries):
 #: 2.17 (CentOS/RHEL 7, 2012), below RHEL 8's 2.28.
@@ -93,13 +95,13 @@ class Platform:
     flags: tuple[str, ...] = ()
     fallback: str | None = None
     prefer_fallback: bool = False
-    fallback_flags: tuple[str, ...] = ()
+    fallback_flags: tuple[str, ...] = ()  # beside ``flags``, with ``fallback`` only
 
 
 _LINUX64 = Platform(f"x86_64-linux-gnu.{GLIBC_FLOOR}", ".so", ("-fPIC",), "gcc")
 _LINUX_ARM = Platform(f"aarch64-linux-gnu.{GLIBC_FLOOR}", ".so", ("-fPIC",))
 _WIN64 = Platform("x86_64-windows-gnu", ".dll", _PE_FLAGS, "x86_64-w64-mingw32-gcc",
-                  prefer_fallback=True, fallback_flags=_PE_GNU_FLAGS)
+                  prefer_fallback=True, fallback_flags=_MINGW_FLAGS)
 _DARWIN64 = Platform(f"x86_64-macos.{MACOS_FLOOR}", ".dylib", ("-fPIC",))
 _DARWIN_ARM = Platform(f"aarch64-macos.{MACOS_FLOOR}", ".dylib", ("-fPIC",))
 #: Platform folder -> how its binary is built, per FMI version (FMI 2.0: its folder
@@ -432,9 +434,9 @@ def _job(target: NativeTarget, folder: Path, platform: str,
     out = folder / platform / (target.model_identifier + plat.suffix)
     # relative names in the build folder: no temporary path ends up in the binary
     c_files = [UNITY]
-    strip = () if "-s" in plat.flags else ("-s",)
-    gnu = plat.fallback_flags if compiler[0] == plat.fallback else ()
-    cmd = (*compiler, *CFLAGS, *plat.flags, *gnu, *strip, "-o",
+    flags = plat.flags + (plat.fallback_flags if compiler == (plat.fallback,) else ())
+    strip = () if "-s" in flags else ("-s",)
+    cmd = (*compiler, *CFLAGS, *flags, *strip, "-o",
            f"{platform}/{out.name}", *c_files, "-lm")
     h = hashlib.sha256(_compiler_identity(compiler).encode() + b"\0")
     h.update("\0".join(cmd).encode())

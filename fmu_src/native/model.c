@@ -865,6 +865,10 @@ md_status md_set_state(md_instance *m, const char *call, const void *state)
     m->params_ok = 0;
     m->last_time_ok = isnan(m->d.time) ? 0.0 : m->d.time;
     invalidate(m);
+    /* after initialization the parameters are valid (state_problem): checked now, so
+     * that the Model Exchange calls, which read them without checking, see them */
+    if (m->d.mode == MD_STEP || m->d.mode == MD_TERMINATED)
+        return check_parameters(m, call, MD_ERROR);
     return MD_OK;
 }
 

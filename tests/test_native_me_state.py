@@ -1,0 +1,337 @@
+"""Model Exchange of the native FMUs (issue 30): FMU states saved mid-run and a
+varying normal force input.
+
+* FMU state: a fixed-step ME loop written here (explicit Euler on the continuous
+  states, events where an indicator changes sign or ``CompletedIntegratorStep``
+  asks) runs 400 steps of the sine of tests/test_native_me.py with a Jenkins slider,
+  an 8-slider bank, a Dahl element (continuous states) and a decreasing normal force
+  on every axis. At step 200 (continuous-time mode) the state is taken and
+  serialized; restoring it (``SetFMUstate`` in the same instance, and the
+  deserialized bytes in a fresh instance) and running steps 200..400 again gives the
+  same outputs, states and event steps bit for bit.
+* Varying ``n_<axis>``: fmpy's CVode (rtol 1e-10) with the normal force of every axis
+  ramping down, n(t) = n0 (1 - 0.6 t / T), set at every evaluation, against
+  Co-Simulation fed the same n at each grid time, at 1 ms and 0.1 ms. CS is not exact
+  here (after a reversal a slider keeps slipping while k |v| < -dFs/dt, and CS places
+  the stick up to a step late), ME commits at every integrator step (the step events
+  ``CompletedIntegratorStep`` asks for when n changed): the difference shrinks with
+  CS's step (2.9e-4 -> 2.9e-6 of Fs, measured).
+* Berg's energy: Co-Simulation's E_fr converges to the positive part of the rate
+  (docs/fmu.md 7a).
+"""
+
+from __future__ import annotations
+
+from ctypes import c_double
+
+import numpy as np
+import pytest
+from test_native_me import (
+    AXES,
+    BASE,
+    FS,
+    GRID,
+    KINDS,
+    OUTPUTS,
+    T,
+    native,  # noqa: F401 (the module fixture)
+    reversal_times,
+    sine,
+)
+
+fmpy = pytest.importorskip("fmpy", reason="pip install -e .[fmu] installs fmpy")
+
+from fmpy.fmi2 import FMU2Model, FMU2Slave  # noqa: E402
+from fmpy.fmi3 import FMU3Model, FMU3Slave  # noqa: E402
+
+N_DROP = 0.6  # n(t) = n0 (1 - N_DROP t / T)
+#: the varying-n run's length (a step event at every integrator step keeps CVode's
+#: steps short: 0.15 s holds the first slip of every slider and two reversals)
+T_N = 0.15
+NX = NZ = 6
+H_LOOP = 1e-3
+STEPS = 400
+
+
+def normal(params, axis, t):
+    return params[f"{axis}_n0"] * (1.0 - N_DROP * t / T)
+
+
+def _vrs(md):
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    return vr, [vr[f"{p}_{a}"] for a in AXES for p in ("u", "v", "n")]
+
+
+def _set_inputs(fmu, fmi, vrs, params, t):
+    u, v = sine(t)
+    values = [x for a in AXES for x in (u, v, normal(params, a, t))]
+    (fmu.setReal if fmi == 2 else fmu.setFloat64)(vrs, values)
+
+
+def _apply(fmu, fmi, md, params):
+    by_name = {v.name: v for v in md.modelVariables}
+    for name, value in params.items():
+        var = by_name[name]
+        if var.type == "Boolean":
+            fmu.setBoolean([var.valueReference], [value])
+        elif var.type in ("Integer", "Int32"):
+            (fmu.setInteger if fmi == 2 else fmu.setInt32)([var.valueReference],
+                                                           [value])
+        else:
+            (fmu.setReal if fmi == 2 else fmu.setFloat64)([var.valueReference],
+                                                          [value])
+
+
+# ---------------------------------------------------------------------- FMU state
+
+
+class Loop:
+    """A fixed-step ME host on one instance (explicit Euler, events at indicator sign
+    changes and step events)."""
+
+    def __init__(self, native, params, name):  # noqa: F811
+        fmi, _, md, unzipped = native
+        self.fmi, self.md, self.params = fmi, md, params
+        cls = FMU2Model if fmi == 2 else FMU3Model
+        self.fmu = cls(guid=md.guid, unzipDirectory=unzipped,
+                       modelIdentifier=md.modelExchange.modelIdentifier,
+                       instanceName=name)
+        self.fmu.instantiate()
+        vr, self.in_vrs = _vrs(md)
+        self.out_vrs = [vr[o] for o in OUTPUTS]
+
+    def start(self):
+        fmu, fmi = self.fmu, self.fmi
+        if fmi == 2:
+            fmu.setupExperiment(startTime=0.0)
+            fmu.enterInitializationMode()
+        else:
+            fmu.enterInitializationMode(startTime=0.0)
+        _apply(fmu, fmi, self.md, self.params)
+        _set_inputs(fmu, fmi, self.in_vrs, self.params, 0.0)
+        fmu.exitInitializationMode()
+        self.event_iteration()
+
+    def event_iteration(self):
+        fmu = self.fmu
+        if self.fmi == 2:
+            while fmu.newDiscreteStates()[0]:
+                pass
+        else:
+            while fmu.updateDiscreteStates()[0]:
+                pass
+        fmu.enterContinuousTimeMode()
+
+    def _arrays(self):
+        x, dx, z = (c_double * NX)(), (c_double * NX)(), (c_double * NZ)()
+        self.fmu.getContinuousStates(x, NX)
+        self.fmu.getEventIndicators(z, NZ)
+        return x, dx, z
+
+    def run(self, k0, k1):
+        """Steps k0 -> k1 from the instance's present state: (outputs after each
+        step, states after each step, the steps that had an event)."""
+        fmu, fmi = self.fmu, self.fmi
+        deriv = fmu.getDerivatives if fmi == 2 else fmu.getContinuousStateDerivatives
+        get = fmu.getReal if fmi == 2 else fmu.getFloat64
+        x, dx, z = self._arrays()
+        outs, states, events = [], [], []
+        for k in range(k0, k1):
+            t = (k + 1) * H_LOOP
+            deriv(dx, NX)
+            for i in range(NX):
+                x[i] += H_LOOP * dx[i]
+            fmu.setTime(t)
+            _set_inputs(fmu, fmi, self.in_vrs, self.params, t)
+            fmu.setContinuousStates(x, NX)
+            z_old = list(z)
+            fmu.getEventIndicators(z, NZ)
+            step_event = fmu.completedIntegratorStep()[0]
+            if step_event or any((a > 0) != (b > 0) for a, b in zip(z_old, z)):
+                fmu.enterEventMode()
+                self.event_iteration()
+                x, dx, z = self._arrays()
+                events.append(k)
+            outs.append(get(self.out_vrs))
+            states.append(list(x))
+        return np.array(outs), np.array(states), events
+
+    def free(self):
+        self.fmu.freeInstance()
+
+
+def test_fmu_state_mid_run_restores_the_trajectory_bit_for_bit(native):  # noqa: F811
+    params = dict(BASE, radial2_friction=True, radial2_friction_kind=KINDS["dahl"])
+    loop = Loop(native, params, "a")
+    loop.start()
+    first = loop.run(0, STEPS // 2)
+    state = loop.fmu.getFMUState()
+    blob = loop.fmu.serializeFMUState(state)
+    second = loop.run(STEPS // 2, STEPS)
+    outs, states, events = second
+    # the run did what it is meant to: Dahl's state moves, events on both halves,
+    # every axis's friction force reached its (falling) slip force
+    assert np.abs(states[:, 4]).max() > 0 and first[2] and events
+    for j, a in enumerate(AXES):
+        ffr = np.abs(np.vstack([first[0], outs])[:, OUTPUTS.index(f"Ffr_{a}")])
+        assert ffr.max() > 0.5 * FS[a], a
+    loop.fmu.setFMUState(state)
+    again = loop.run(STEPS // 2, STEPS)
+    fresh = Loop(native, params, "b")
+    fresh.start()
+    restored = fresh.fmu.deSerializeFMUstate(blob) if native[0] == 2 else \
+        fresh.fmu.deserializeFMUState(blob)
+    fresh.fmu.setFMUState(restored)
+    elsewhere = fresh.run(STEPS // 2, STEPS)
+    for got in (again, elsewhere):
+        assert got[2] == events
+        assert got[0].tobytes() == outs.tobytes(), np.abs(got[0] - outs).max()
+        assert got[1].tobytes() == states.tobytes()
+    loop.fmu.freeFMUState(state)
+    fresh.fmu.freeFMUState(restored)
+    loop.free()
+    fresh.free()
+
+
+# ---------------------------------------------------------------------- varying n
+
+
+def _driven_class(fmi, params):
+    base = FMU2Model if fmi == 2 else FMU3Model
+
+    class Driven(base):
+        def setTime(self, time):
+            super().setTime(time)
+            _set_inputs(self, fmi, self.input_vrs, params, time)
+
+        def exitInitializationMode(self):
+            _set_inputs(self, fmi, self.input_vrs, params, 0.0)
+            return super().exitInitializationMode()
+
+        def completedIntegratorStep(self, *args):
+            result = super().completedIntegratorStep(*args)
+            self.step_events += bool(result[0])
+            return result
+
+    return type(f"FMU{fmi}VaryingN", (Driven,), {})
+
+
+def run_me(native, params):  # noqa: F811
+    fmi, path, md, unzipped = native
+    fmu = _driven_class(fmi, params)(guid=md.guid, unzipDirectory=unzipped,
+                                     modelIdentifier=md.modelExchange.modelIdentifier,
+                                     instanceName="me")
+    fmu.input_vrs, fmu.step_events = _vrs(md)[1], 0
+    fmu.instantiate()
+    try:
+        result = fmpy.simulate_fmu(path, fmu_instance=fmu, fmi_type="ModelExchange",
+                                   stop_time=T_N, output_interval=GRID,
+                                   relative_tolerance=1e-10, start_values=params,
+                                   output=OUTPUTS, record_events=False,
+                                   model_description=md)
+    finally:
+        fmu.freeInstance()
+    return result, fmu.step_events
+
+
+def run_cs(native, params, times):  # noqa: F811
+    fmi, _, md, unzipped = native
+    slave = (FMU2Slave if fmi == 2 else FMU3Slave)(
+        guid=md.guid, unzipDirectory=unzipped,
+        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="cs")
+    slave.instantiate()
+    if fmi == 2:
+        slave.setupExperiment(startTime=0.0)
+        slave.enterInitializationMode()
+    else:
+        slave.enterInitializationMode(startTime=0.0)
+    _apply(slave, fmi, md, params)
+    vr, vrs = _vrs(md)
+    _set_inputs(slave, fmi, vrs, params, 0.0)
+    slave.exitInitializationMode()
+    get = slave.getReal if fmi == 2 else slave.getFloat64
+    got = {}
+    for i, t in enumerate(times):
+        _set_inputs(slave, fmi, vrs, params, t)
+        got[round(float(t), 9)] = np.array(get([vr[o] for o in OUTPUTS]))
+        if i + 1 < len(times):
+            slave.doStep(t, times[i + 1] - t)
+    slave.terminate()
+    slave.freeInstance()
+    return got
+
+
+def _worst(me, cs):
+    ref = np.array([cs[round(float(t), 9)] for t in me["time"]])
+    worst = {}
+    for i, name in enumerate(OUTPUTS):
+        axis = name.rpartition("_")[2]
+        scale = FS[axis] if not name.startswith("E_fr") else np.abs(ref[:, i]).max()
+        worst[name] = float(np.abs(me[name] - ref[:, i]).max()) / scale
+    return worst, ref
+
+
+@pytest.mark.slow  # about 150 s per FMI version: a step event at every CVode step
+def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
+    """Jenkins (axial), the 8-slider bank (radial1), a non-symmetric 3-slider bank
+    (radial2), every normal force ramping down: ME (a commit at every integrator
+    step) against CS at 1 ms and 0.1 ms (plus the reversal times). CS is first order
+    here: after a reversal a slider keeps slipping while k |v| < -dFs/dt, and CS's
+    return map from a commit h earlier places that stick late by up to h (measured:
+    CS's forces change by 2.9e-4 of Fs between 1 ms and 0.1 ms). ME's difference to
+    CS shrinks with CS's step like that (ratio < 0.2 for a 10x smaller step) and is
+    below 1e-5 of Fs at 0.1 ms (measured 2.1e-6 to 2.9e-6, from 2.3e-4 to 2.9e-4 at
+    1 ms). Energies are not compared: ME's E_fr differs from CS's by 7e-4 of the
+    largest at 0.1 ms and 1.6e-4 to 1.8e-4 at 1 ms (not converging; open, see the
+    report of branch plat)."""
+    params = dict(BASE, radial2_friction=True, radial2_friction_kind=KINDS["jenkins"],
+                  radial2_sliders=3, radial2_spread=0.3, radial2_fs_ratio=0.7)
+    me, step_events = run_me(native, params)
+    rev = reversal_times()
+    assert len(me) == round(T_N / GRID) + 1 and np.count_nonzero(rev < T_N) == 2
+    assert step_events > 50  # n changed at every integrator step
+    errs = {}
+    for h in (1e-3, 1e-4):
+        times = np.union1d(np.arange(0, round(T_N / h) + 1) * h, rev[rev < T_N])
+        errs[h], ref = _worst(me, run_cs(native, params, times))
+    for a in AXES:  # slipped at the falling slip force
+        assert np.abs(ref[:, OUTPUTS.index(f"Ffr_{a}")]).max() > 0.5 * FS[a], a
+    forces = [k for k in OUTPUTS if not k.startswith("E_fr")]
+    assert max(errs[1e-3][k] for k in forces) > 1e-5  # CS's step error is seen
+    for k in forces:
+        assert errs[1e-4][k] < 0.2 * errs[1e-3][k] + 1e-9, (k, errs)
+    assert max(errs[1e-4][k] for k in forces) < 1e-5, errs
+
+
+# ---------------------------------------------------------------------- Berg's energy
+
+
+def test_berg_energy_is_the_positive_part_of_its_rate(native):  # noqa: F811
+    """Berg's E_fr (docs/fmu.md 7a): each increment's energy, work minus the change of
+    F^2 / (2 kf), is clamped at 0, and the rate F v (1 - kt / kf) is negative just
+    after a reversal. Co-Simulation's E_fr therefore converges with the step (order
+    2: the error drops by more than 8 for 4x smaller steps) to the sum of the
+    positive parts of the rate (trapezoidal rule on the same 62.5 us steps: 1.3e-6
+    relative, measured),
+    which is more than 3 % above the unclamped sum an energy balance gives."""
+    params = dict(BASE, radial2_friction=True, radial2_friction_kind=KINDS["berg"])
+    kf = params["radial2_kf"]
+    ie, iff = OUTPUTS.index("E_fr_radial2"), OUTPUTS.index("Ffr_radial2")
+    energy, positive, unclamped = [], 0.0, 0.0
+    for h in (1e-3, 2.5e-4, 6.25e-5):
+        times = np.union1d(np.arange(0, round(T / h) + 1) * h, reversal_times())
+        cs = run_cs_fixed_n(native, params, times)
+        energy.append(cs[round(float(times[-1]), 9)][ie])
+        f = np.array([cs[round(float(t), 9)][iff] for t in times])
+        d = (f[1:] + f[:-1]) / 2 * np.diff(sine(times)[0]) - np.diff(f * f) / (2 * kf)
+        positive, unclamped = d[d > 0].sum(), d.sum()
+    assert abs(energy[2] - energy[1]) < abs(energy[1] - energy[0]) / 8, energy
+    assert abs(energy[2] - positive) < 3e-6 * energy[2], (energy, positive)
+    assert energy[2] > 1.03 * unclamped, (energy, unclamped)
+
+
+def run_cs_fixed_n(native, params, times):  # noqa: F811
+    """CS with n_<axis> left to follow <axis>_n0 (test_native_me's run)."""
+    from test_native_me import run_cs as run_cs_n0
+
+    return run_cs_n0(native, params, times)
