@@ -168,6 +168,13 @@ md_status md_check_set(md_instance *m, const char *call, md_type type, unsigned 
                        double value);
 
 /* FMU state: a heap copy of md_data, serialized as magic + size + bytes. */
+/* Shared by model.c and model_state.c: an axis's name, a parameter field's value,
+ * dropping the cached evaluations, the parameter check (MD_OK or a logged error). */
+ML_DECL const char *md_axis_name(int j);
+ML_DECL double md_get_field(const ml_axis_params *p, md_field field);
+ML_DECL void md_invalidate(md_instance *m);
+ML_DECL md_status md_check_parameters(md_instance *m, const char *call, md_status level);
+
 ML_DECL md_status md_get_state(md_instance *m, const char *call, void **state);
 ML_DECL md_status md_set_state(md_instance *m, const char *call, const void *state);
 ML_DECL void md_free_state(md_instance *m, void *state);
