@@ -276,7 +276,7 @@ def write_law_sources(folder) -> list[Path]:
         (folder / name).write_bytes((SOURCE_DIR / name).read_bytes())
     (folder / "friction_table.h").write_text(friction_table_header())
     return [folder / n for n in COMMON_SOURCES if n.endswith(".c")
-            and n not in ("model.c", "me.c")]  # the instance and its ME
+            and n not in ("model.c", "model_state.c", "me.c")]  # the instance, its state, its ME
 
 
 def _variables(target: NativeTarget) -> list[tuple[int, interface.Variable]]:
