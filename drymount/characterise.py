@@ -178,6 +178,24 @@ def fmu_stiffness(fmu_path, axis: AxisParameters, freq_hz: float, X: float,
     return complex(F_s, F_c) / X
 
 
+#: The fluid's start transient decays to this fraction of itself before the
+#: time-domain cross-check of a hydraulic axis measures its last period.
+FLUID_SETTLED = 1e-8
+
+
+def fluid_settling_periods(hyd, freq_hz: float) -> int:
+    """Periods at ``freq_hz`` after which the slowest decaying mode of the hydraulic
+    fluid path ``hyd`` (``fmu_src.linear_branches.fluid_matrices``; the conserved
+    volume's zero eigenvalues left out) has decayed to :data:`FLUID_SETTLED`; at
+    least 20. A lightly damped decoupler needs hundreds at high frequency."""
+    from drymount.fmu_src.linear_branches import fluid_matrices
+
+    lam = np.linalg.eigvals(np.array(fluid_matrices(hyd)[0]))
+    decay = -lam.real[np.abs(lam) > 1e-9 * np.abs(lam).max()]
+    sigma = float(decay.min()) if decay.size else math.inf
+    return max(20, math.ceil(freq_hz * math.log(1.0 / FLUID_SETTLED) / sigma))
+
+
 def cross_check(maps, method: str = "law", fmu_path=None) -> list[CrossCheck]:
     """Two points per distinct axis law, recomputed in the time domain.
 
@@ -195,13 +213,11 @@ def cross_check(maps, method: str = "law", fmu_path=None) -> list[CrossCheck]:
         steps = DEFAULT_SAMPLES if p.friction and p.element.rate_dependent \
             else CHECK_STEPS
         periods = MAX_PASSES if p.friction and p.fast_form is None else CHECK_PERIODS
-        if p.has_hydraulic:   # the fluid's start transient must die out: 20 periods
-            periods = max(periods, 20)
         for i, j, k in ((0, na - 1, nf // 2), (npl - 1, 0, nf - 1)):
             f, X, U0 = m.freq_hz[k], m.amplitude[j], m.mean_deflection[i, j]
-            # a hydraulic axis is checked by the law's march (named "law" in
-            # crosscheck.csv; the FMUs step the fluid bit for bit as the law does)
-            how = "law" if p.has_hydraulic else method
+            if p.has_hydraulic:   # the fluid's start transient must die out
+                periods = max(periods, fluid_settling_periods(p.hydraulic, f))
+            how = method
             if how == "fmu":
                 K_t = fmu_stiffness(fmu_path, p, f, X, U0, periods, steps)
             else:

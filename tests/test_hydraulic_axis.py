@@ -278,14 +278,20 @@ def test_vehicle_presets_sag_as_the_original(name, original):
                for p in e.params.axes)
 
 
-def test_characterise_cli_checks_the_fluid_by_the_law(tmp_path, capsys):
-    """The FMUs lack the fluid path: `characterise` checks a hydraulic axis by the
-    law's time march (20 periods: the fluid's start transient dies out)."""
+def test_characterise_cli_checks_the_fluid_through_the_fmu(tmp_path):
+    """`characterise` cross-checks a hydraulic axis through the FMU like any other
+    (its fluid path is in both builds), over the default band, where the decoupler's
+    lightly damped mode (about 1 % near 67 Hz) needs far more than 20 periods to
+    settle: the check runs until its slowest mode has decayed to 1e-8. Was: 4.3e-3
+    at 40 Hz after 20 periods, exit 1."""
+    import csv
+
     from drymount import cli
 
     out = tmp_path / "ch"
-    assert cli.main(["characterise", "sdof_hydraulic", "--points", "3", "--fmin", "5",
-                     "--fmax", "20", "--amplitudes-mm", "1", "-q", "--out",
-                     str(out)]) == 0
-    text = (out / "crosscheck.csv").read_text()
-    assert "mount_axial,law," in text and ",fmu," not in text
+    assert cli.main(["characterise", "sdof_hydraulic", "-q", "--out", str(out)]) == 0
+    rows = list(csv.DictReader(ln for ln in (out / "crosscheck.csv").read_text()
+                               .splitlines() if not ln.startswith("#")))
+    assert rows and all(r["method"] == "fmu" for r in rows)
+    assert max(float(r["freq_hz"]) for r in rows) >= 40.0
+    assert all(float(r["rel_error"]) < 1e-5 for r in rows)
