@@ -16,9 +16,9 @@ include the base motion ``u = B q - G y``.
 
 from __future__ import annotations
 
-import numpy as np
 
 from drymount.fmu_src.linear_branches import hydraulic_complex_stiffness
+from drymount.hbm.linear_axes import LinearAxes
 from drymount.hbm.system import System
 
 __all__ = ["HydraulicAxes", "hydraulic_axes", "fluid_stiffness"]
@@ -50,63 +50,19 @@ def _derivative(h, omega: float) -> complex:
     return h.Ap * h.Ap * (dn * d - n * dd) / (d * d)
 
 
-class HydraulicAxes:
-    """The axes of a system that carry the hydraulic fluid path: their deflection
-    rows and fluid parameters, with the residual terms of
-    :class:`hbm.residual.HarmonicBalance`."""
+class HydraulicAxes(LinearAxes):
+    """The axes of a system that carry the hydraulic fluid path (``params``: their
+    HydraulicParameters), with the residual terms of
+    :class:`hbm.residual.HarmonicBalance` (:class:`hbm.linear_axes.LinearAxes`)."""
 
-    def __init__(self, system: System):
-        B, G, hyd = [], [], []
-        for e in system.elements:
-            for j in e.active_axes:
-                p = e.params.axes[j]
-                if p.has_hydraulic:
-                    B.append(e.B[j])
-                    G.append(e.G[j])
-                    hyd.append(p.hydraulic)
-        n = system.n_dof
-        self.n = len(hyd)
-        self.B = np.array(B, dtype=float).reshape(self.n, n)
-        self.G = np.array(G, dtype=float).reshape(self.n, len(system.base_names))
-        self.params = tuple(hyd)
+    static = True
 
-    def stiffness(self, omega: float) -> np.ndarray:
-        """K* (N/m) of each axis's fluid at ``omega`` (rad/s), shape (n_ax,)."""
-        return np.array([fluid_stiffness(h, omega) for h in self.params], dtype=complex)
+    @staticmethod
+    def branch(axis):
+        return axis.hydraulic if axis.has_hydraulic else None
 
-    def terms(self, U: np.ndarray, omega: float, H: int, n_dof: int, jacobian: bool):
-        """Residual terms from the axes' deflection coefficients ``U`` (2H+1, n_ax):
-        ``(R, J, dR/domega)``, R and dR/domega (m n,), J (m n, m n) or None."""
-        m = 2 * H + 1
-        F = np.zeros((m, self.n))
-        dF = np.zeros((m, self.n))
-        J = np.zeros((m, n_dof, m, n_dof)) if jacobian else None
-        BB = np.einsum("ai,aj->aij", self.B, self.B)
-        k0 = self.stiffness(0.0).real
-        F[0] = k0 * U[0]
-        if jacobian:
-            J[0, :, 0, :] += np.tensordot(k0, BB, axes=(0, 0))
-        for h in range(1, H + 1):
-            w = h * omega
-            K = self.stiffness(w)
-            dK = h * np.array([_derivative(q, w) for q in self.params])
-            a, b = K.real, K.imag
-            uc, us = U[2 * h - 1], U[2 * h]
-            F[2 * h - 1] = a * uc + b * us
-            F[2 * h] = a * us - b * uc
-            dF[2 * h - 1] = dK.real * uc + dK.imag * us
-            dF[2 * h] = dK.real * us - dK.imag * uc
-            if jacobian:
-                ic, is_ = 2 * h - 1, 2 * h
-                J[ic, :, ic, :] += np.tensordot(a, BB, axes=(0, 0))
-                J[ic, :, is_, :] += np.tensordot(b, BB, axes=(0, 0))
-                J[is_, :, is_, :] += np.tensordot(a, BB, axes=(0, 0))
-                J[is_, :, ic, :] -= np.tensordot(b, BB, axes=(0, 0))
-        R = (F @ self.B).ravel()
-        dR = (dF @ self.B).ravel()
-        if jacobian:
-            J = J.reshape(m * n_dof, m * n_dof)
-        return R, J, dR
+    complex_stiffness = staticmethod(fluid_stiffness)
+    derivative = staticmethod(_derivative)
 
 
 def hydraulic_axes(system: System) -> HydraulicAxes | None:

@@ -16,9 +16,9 @@ motion ``u = B q - G y`` as the nonlinear axes' do.
 
 from __future__ import annotations
 
-import numpy as np
 
 from drymount.fmu_src.linear_branches import maxwell_complex_stiffness
+from drymount.hbm.linear_axes import LinearAxes
 from drymount.hbm.system import System
 
 __all__ = ["MaxwellAxes", "maxwell_axes", "maxwell_derivative"]
@@ -34,64 +34,25 @@ def maxwell_derivative(pairs, omega: float) -> complex:
     return out
 
 
-class MaxwellAxes:
-    """The axes of a system that carry Maxwell branches: their deflection rows and
-    their branches, with the residual terms of :class:`hbm.residual.HarmonicBalance`.
-    """
+class MaxwellAxes(LinearAxes):
+    """The axes of a system that carry Maxwell branches (``params``: their ``(k, c)``
+    pairs), with the residual terms of :class:`hbm.residual.HarmonicBalance`
+    (:class:`hbm.linear_axes.LinearAxes`; no static force)."""
 
-    def __init__(self, system: System):
-        B, G, pairs = [], [], []
-        for e in system.elements:
-            for j in e.active_axes:
-                p = e.params.axes[j]
-                if p.has_maxwell:
-                    B.append(e.B[j])
-                    G.append(e.G[j])
-                    pairs.append(tuple(p.maxwell))
-        n = system.n_dof
-        self.n = len(pairs)
-        self.B = np.array(B, dtype=float).reshape(self.n, n)
-        nb = len(system.base_names)
-        self.G = np.array(G, dtype=float).reshape(self.n, nb)
-        self.pairs = tuple(pairs)
+    @staticmethod
+    def branch(axis):
+        return tuple(axis.maxwell) if axis.has_maxwell else None
 
-    def stiffness(self, omega: float) -> np.ndarray:
-        """K* (N/m) of each axis's branches at ``omega`` (rad/s), shape (n_ax,)."""
-        return np.array([maxwell_complex_stiffness([k for k, _ in q],
-                                                   [c for _, c in q], omega)
-                         for q in self.pairs], dtype=complex)
+    @staticmethod
+    def complex_stiffness(q, omega: float) -> complex:
+        return maxwell_complex_stiffness([k for k, _ in q], [c for _, c in q], omega)
 
-    def terms(self, U: np.ndarray, omega: float, H: int, n_dof: int,
-              jacobian: bool):
-        """Residual terms from the axes' deflection coefficients ``U`` (2H+1, n_ax):
-        ``(R, J, dR/domega)``, R and dR/domega (m n,), J (m n, m n) or None."""
-        m = 2 * H + 1
-        F = np.zeros((m, self.n))
-        dF = np.zeros((m, self.n))
-        J = np.zeros((m, n_dof, m, n_dof)) if jacobian else None
-        BB = np.einsum("ai,aj->aij", self.B, self.B)
-        for h in range(1, H + 1):
-            w = h * omega
-            K = self.stiffness(w)
-            dK = h * np.array([maxwell_derivative(q, w) for q in self.pairs])
-            a, b = K.real, K.imag
-            da, db = dK.real, dK.imag
-            uc, us = U[2 * h - 1], U[2 * h]
-            F[2 * h - 1] = a * uc + b * us
-            F[2 * h] = a * us - b * uc
-            dF[2 * h - 1] = da * uc + db * us
-            dF[2 * h] = da * us - db * uc
-            if jacobian:
-                ic, is_ = 2 * h - 1, 2 * h
-                J[ic, :, ic, :] += np.tensordot(a, BB, axes=(0, 0))
-                J[ic, :, is_, :] += np.tensordot(b, BB, axes=(0, 0))
-                J[is_, :, is_, :] += np.tensordot(a, BB, axes=(0, 0))
-                J[is_, :, ic, :] -= np.tensordot(b, BB, axes=(0, 0))
-        R = (F @ self.B).ravel()
-        dR = (dF @ self.B).ravel()
-        if jacobian:
-            J = J.reshape(m * n_dof, m * n_dof)
-        return R, J, dR
+    derivative = staticmethod(maxwell_derivative)
+
+    @property
+    def pairs(self) -> tuple:
+        """The ``(k, c)`` pairs of each axis (``params``)."""
+        return self.params
 
 
 def maxwell_axes(system: System) -> MaxwellAxes | None:
