@@ -47,188 +47,26 @@ import argparse
 import dataclasses
 import sys
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from drymount.io import atomic_write_text, save_figure, write_csv
 from drymount.fmu_src.mount_law import AxisParameters, MountParameters
-from drymount.hbm.aft import default_n_samples
 
 __all__ = ["Case", "CASES", "CaseResult", "FamilyPoint", "run_case",
            "run_validation", "main", "TOL_REL_PEAK", "TOL_FAMILY_ORBIT",
            "hbm_matching", "compared_dofs"]
 
-#: Pass/fail tolerance on the largest amplitude error relative to the peak amplitude
-#: (issue 5 target: 1 % of peak with H >= 7 on stable branches).
-TOL_REL_PEAK = 0.01
-#: Tolerance of a co-simulation started on the HBM orbit in a family band (it must
-#: stay on the orbit, issue 26): 0.1 % of the peak amplitude.
-TOL_FAMILY_ORBIT = 1e-3
-#: DOFs whose HBM peak amplitude is below this fraction of the largest DOF peak of the
-#: same kind (translation or rotation) carry no information and are not compared.
-NEGLIGIBLE_RESPONSE = 1e-3
-
-_ROTATIONS = {"alpha", "beta", "gamma"}
-
-
-@dataclass(frozen=True)
-class Case:
-    """One validated system.
-
-    Attributes
-    ----------
-    name : str
-        Label in the report.
-    preset : str
-        Preset name (``drymount presets list``).
-    fmin_hz, fmax_hz : float
-        Band, Hz; it spans the resonances of the preset.
-    points, quick_points : int
-        Number of frequencies at full size and in ``--quick`` mode.
-    directions : tuple of str
-        Sweep directions; the cubic spring is swept both ways (its fold).
-    harmonics : int
-        H of the multi-harmonic HBM reference.
-    n_samples : int or None
-        AFT samples per period of that reference (None: the HBM default).
-    family_hz : tuple of float
-        Frequencies in the bands where a surface of an inclined element sticks for
-        the whole period (a family of periodic states, :func:`_family_points`):
-        co-simulated from the HBM orbit (must stay on it, ``TOL_FAMILY_ORBIT``) and
-        from rest (the spread reported, not judged); in quick mode too.
-    """
-
-    name: str
-    preset: str
-    fmin_hz: float
-    fmax_hz: float
-    points: int = 16
-    quick_points: int = 5
-    directions: tuple[str, ...] = ("up",)
-    harmonics: int = 7
-    n_samples: int | None = None
-    family_hz: tuple[float, ...] = ()
-    #: the co-simulation's backend ("fmu"; "inproc" where the FMUs lack the kind)
-    backend: str = "fmu"
-    #: a third column: the exact FRF of a linear single DOF
-    #: (:func:`drymount.validation_exact.exact_sdof_amplitude`); HBM and
-    #: co-simulation must both be within ``TOL_REL_PEAK`` of it (of its peak)
-    exact: bool = False
-
-
-CASES = (
-    Case("sdof_friction", "sdof_halved", 2.0, 14.0),
-    Case("quarter_car_friction", "quarter_car_halved", 1.0, 16.0),
-    # Three friction elements: with the default 64 AFT samples the sampled stick-slip
-    # reversals cost up to 0.57 % of peak (measured, beta at 6.2 Hz); 256 samples
-    # bring the largest error to 0.05 %.
-    Case("six_dof_friction", "six_dof_halved", 3.0, 18.0, points=15, quick_points=4,
-         harmonics=7, n_samples=256),
-    # Steps of 0.25 Hz (quick: 0.6 Hz) keep the up sweep on the upper branch well
-    # into the bistable band (4.3-8.9 Hz): it then jumps as on a test rig.
-    Case("sdof_cubic", "sdof_cubic", 3.0, 12.0, points=37, quick_points=16,
-         directions=("up", "down")),
-    # Micro-slip (Iwan, 8 sliders) with non-symmetric friction (issue 14 item 3):
-    # quick mode measured 0.061 % of peak (H = 7), 0.36 % with H = 1.
-    Case("sdof_microslip", "sdof_microslip", 2.0, 14.0),
-    # Maxwell branches beside the friction element (issue 28): the HBM adds their
-    # complex stiffness per harmonic exactly, the co-simulation steps their strokes
-    # exactly for the step's linear path; the friction is marched as in sdof_halved.
-    Case("sdof_maxwell_friction", "sdof_maxwell", 2.0, 14.0),
-    # The inclined element of Ch. 5 at 60 degrees (varying normal force), a friction
-    # kind of the FrictionMount FMU's axis: HBM against co-simulation, both through the
-    # general path (the element relaxed at the static working point under the weight).
-    # Where its flat surface sticks for the whole period (5.2-5.5 and 8.6-9.1 Hz,
-    # HBM H = 7) the periodic state is a family: the member depends on the start.
-    Case("sdof_inclined_60deg", "sdof_inclined", 3.0, 14.0, points=12, quick_points=3,
-         family_hz=(5.5, 9.0)),
-    # ... and on the quarter car (road input, the weight of the bodies): measured
-    # 0.25 % of peak (engine at 9 Hz, where its stick-slip pattern changes), 13 s.
-    # The flat surface sticks for the whole period at 8.5-9 Hz (HBM H = 7, N = 64):
-    # from the orbit and from rest both within 0.07 % of the local amplitude there.
-    Case("quarter_car_inclined", "quarter_car_inclined", 1.0, 16.0, family_hz=(9.0,)),
-    # The hydraulic mount (issue 28 item 3): the HBM adds the fluid's complex
-    # stiffness per harmonic exactly, the co-simulation steps the fluid exactly for
-    # the step's linear path; linear, so both are the SDOF's exact FRF up to the
-    # leapfrog's O(h^2). In-process (the FMUs give the same numbers bit for bit). The
-    # third column: the exact FRF from the chamber equations (validation_exact).
-    Case("sdof_hydraulic", "sdof_hydraulic", 2.0, 30.0, harmonics=3,
-         backend="inproc", exact=True),
+from drymount.validation_cases import (  # noqa: F401  (re-exported)
+    _ROTATIONS,
+    CASES,
+    NEGLIGIBLE_RESPONSE,
+    TOL_FAMILY_ORBIT,
+    TOL_REL_PEAK,
+    Case,
+    CaseResult,
+    FamilyPoint,
 )
-
-
-@dataclass
-class CaseResult:
-    """Result of one case.
-
-    Attributes
-    ----------
-    case : Case
-    rows : list of dict
-        One per (direction, frequency, DOF): ``direction``, ``freq_hz``, ``dof``,
-        ``amp_cosim``, ``amp_hbm``, ``amp_hbm1`` (m or rad), ``err`` and ``err_h1``
-        (relative to the DOF's peak HBM amplitude), ``stable`` (HBM point stable),
-        ``compared`` (counts toward pass/fail).
-    max_err, max_err_h1 : float
-        Largest compared error of H and of H = 1.
-    passed : bool
-    seconds : float
-        Wall time of the case.
-    curves : dict
-        Per direction: frequencies and amplitudes for the plot.
-    dense : dict
-        The plot's continuous HBM curves over the band (arc-length continuation at
-        the case's H and N, and at H = 1): ``{H: (freq_hz, amplitude, stable)}``.
-    family : list of FamilyPoint
-        The family-band points (``Case.family_hz``; their rows are in ``rows`` with
-        direction ``orbit``, compared, and ``rest``, reported only).
-    max_err_orbit, max_err_rest : float
-        Largest error of the family points started on the HBM orbit and from rest.
-    """
-
-    case: Case
-    rows: list = field(default_factory=list)
-    max_err: float = float("nan")
-    max_err_h1: float = float("nan")
-    passed: bool = False
-    seconds: float = 0.0
-    curves: dict = field(default_factory=dict)
-    message: str = ""
-    dof_names: tuple = ()
-    dense: dict = field(default_factory=dict)
-    family: list = field(default_factory=list)
-    max_err_orbit: float = float("nan")
-    max_err_rest: float = float("nan")
-    #: ``Case.exact``: largest |A_hbm - A_exact| and |A_cosim - A_exact| over the
-    #: compared points, relative to the exact peak of the DOF (nan without)
-    max_err_exact_hbm: float = float("nan")
-    max_err_exact_cosim: float = float("nan")
-
-
-@dataclass(frozen=True)
-class FamilyPoint:
-    """One frequency in a family band (``Case.family_hz``), one DOF.
-
-    ``stuck``: per inclined element, which surfaces stick for the whole period on
-    the HBM orbit (:attr:`hbm.result.FrequencyResponse.stuck`); ``amp_*`` the
-    fundamental amplitudes (m or rad) and ``mean_*`` the mean positions of the HBM
-    orbit and of the co-simulations started on it (``orbit``) and at rest at the
-    static working point (``rest``); ``err_*`` relative to the DOF's peak HBM
-    amplitude over the band (the dense curve's)."""
-
-    freq_hz: float
-    dof: str
-    stuck: tuple
-    amp_hbm: float
-    amp_orbit: float
-    amp_rest: float
-    err_orbit: float
-    err_rest: float
-    mean_hbm: float
-    mean_orbit: float
-    mean_rest: float
 
 
 def _family_points(system, system_hbm, case: Case, dense_amp) -> list[FamilyPoint]:
@@ -491,153 +329,6 @@ def _dense_curves(system, case: Case) -> dict:
     return out
 
 
-def _plot_dense(ax, res: CaseResult, i: int) -> None:
-    """The continuous HBM curves of DOF ``i``: stable solid, unstable dotted."""
-    for h, (f, amp, stable) in res.dense.items():
-        main = h == res.case.harmonics  # drawn over the H = 1 reference
-        color, style, lw, z = ("C0", "-", 1.4, 3) if main else ("C2", "--", 0.9, 2)
-        a = amp[:, i]
-        ax.plot(f, np.where(stable, a, np.nan), style, color=color, lw=lw, zorder=z,
-                label=f"HBM H={h}, continuous")
-        if not stable.all():
-            ax.plot(f, np.where(stable, np.nan, a), ":", color=color, lw=lw, zorder=z,
-                    label=f"HBM H={h}, unstable")
-
-
-def _plot_family(ax, res: CaseResult, dof: str) -> None:
-    """The family-band points of DOF ``dof``: started on the HBM orbit and at rest."""
-    pts = [fp for fp in res.family if fp.dof == dof]
-    if not pts:
-        return
-    f = [fp.freq_hz for fp in pts]
-    ax.plot(f, [fp.amp_orbit for fp in pts], "^", mfc="none", color="C1", ms=8,
-            label="co-simulation from the HBM orbit (family band)")
-    ax.plot(f, [fp.amp_rest for fp in pts], "x", color="C4", ms=8,
-            label="co-simulation from rest (family band)")
-
-
-def _exact_lines(res: CaseResult) -> list[str]:
-    """The report's line on the exact-FRF column ([] without)."""
-    if not res.case.exact:
-        return []
-    return [f"Exact FRF (chamber equations, `drymount/validation_exact.py`): HBM "
-            f"{100 * res.max_err_exact_hbm:.2e} % and co-simulation "
-            f"{100 * res.max_err_exact_cosim:.2e} % of its peak at most (<= "
-            f"{100 * TOL_REL_PEAK:g} % each); column `amp_exact` of `points.csv`.",
-            ""]
-
-
-def _family_lines(res: CaseResult) -> list[str]:
-    """The report's table of the family-band points ([] without)."""
-    if not res.family:
-        return []
-    lines = ["Where a surface of the inclined element sticks for the whole period "
-             "the periodic state is a family: the member reached depends on the "
-             "start (stuck: 1 the inclined surface, 2 the flat one). Started on the "
-             f"HBM orbit the co-simulation must stay on it (<= "
-             f"{100 * TOL_FAMILY_ORBIT:g} % of peak); started at rest it settles on "
-             f"the member its history selects, {100 * res.max_err_rest:.2f} % of "
-             "peak away at most (reported, not judged). In-process backend (the "
-             "FMU's law), from rest at the engine lowered onto the mount.", "",
-             "| f [Hz] | DOF | stuck | A HBM | A from orbit | error | A from rest | "
-             "spread | mean HBM | mean from orbit | mean from rest |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for fp in res.family:
-        lines.append(f"| {fp.freq_hz:g} | {fp.dof} | {','.join(map(str, fp.stuck))} "
-                     f"| {fp.amp_hbm:.6g} | {fp.amp_orbit:.6g} | "
-                     f"{100 * fp.err_orbit:.3f} % | {fp.amp_rest:.6g} | "
-                     f"{100 * fp.err_rest:.2f} % | {fp.mean_hbm:.6g} | "
-                     f"{fp.mean_orbit:.6g} | {fp.mean_rest:.6g} |")
-    return lines + [""]
-
-
-def _plot_case(res: CaseResult, path: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from drymount.hbm.plot import plain_log_ticks
-
-    dofs = next(iter(res.curves.values()))["dofs"]
-    ncol = min(3, len(dofs))
-    nrow = -(-len(dofs) // ncol)
-    size = (max(4.2 * ncol, 6.4), 3.2 * nrow + 0.6)
-    fig, axes = plt.subplots(nrow, ncol, figsize=size, squeeze=False)
-    dof_names = res.dof_names
-    for ax, i in zip(axes.flat, dofs, strict=False):
-        _plot_dense(ax, res, i)
-        for k, (direction, c) in enumerate(res.curves.items()):
-            mark = "o" if direction == "up" else "s"
-            ax.plot(c["freq_hz"], c["hbm"][:, i], ".", color="C0", ms=4,
-                    label=None if k else f"HBM H={res.case.harmonics}, compared")
-            ax.plot(c["freq_hz"], c["cosim"][:, i], mark, mfc="none", color="C3",
-                    label=f"co-simulation, FMU ({direction})")
-        _plot_family(ax, res, dof_names[i])
-        unit = "rad" if dof_names[i] in _ROTATIONS else "m"
-        ax.set_title(dof_names[i])
-        ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel(f"fundamental amplitude [{unit}]")
-        ax.set_yscale("log")
-        plain_log_ticks(ax)
-        ax.grid(True, which="both", alpha=0.3)
-    for ax in list(axes.flat)[len(dofs):]:
-        ax.axis("off")
-    axes.flat[0].legend(fontsize=7)
-    verdict = "PASS" if res.passed else "FAIL"
-    fig.suptitle(f"{res.case.name} ({res.case.preset}):\nmax error "
-                 f"{100 * res.max_err:.3g} % of peak, {verdict}", fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path)
-    plt.close(fig)
-
-
-def write_report(results: list[CaseResult], out: Path, quick: bool,
-                 inject: str | None) -> Path:
-    """Write ``points.csv``, one PNG per case and ``validation.md``; returns the md."""
-    out.mkdir(parents=True, exist_ok=True)
-    header = ["system", "preset", "direction", "freq_hz", "dof", "amp_cosim",
-              "amp_hbm", "amp_hbm1", "err_rel_peak", "err_rel_peak_h1", "stable",
-              "compared", "amp_exact"]
-    rows = [[r.case.name, r.case.preset, p["direction"], p["freq_hz"], p["dof"],
-             p["amp_cosim"], p["amp_hbm"], p["amp_hbm1"], p["err"], p["err_h1"],
-             p["stable"], p["compared"], p.get("amp_exact", float("nan"))]
-            for r in results for p in r.rows]
-    write_csv(out / "points.csv", header, rows,
-              comment="freq_hz [Hz]; amp_* fundamental amplitude [m] (translations) or "
-                      "[rad] (alpha, beta, gamma); err_* = |A_cosim - A_hbm| / peak "
-                      "HBM amplitude of the DOF [1]; cosim = mount FMU through fmpy; "
-                      "amp_exact: the exact FRF of a linear SDOF (nan: not computed)")
-    lines = ["# drymount validation: co-simulation (mount FMU) vs harmonic balance", "",
-             f"Mode: {'quick' if quick else 'full'}. Tolerance: largest error "
-             f"<= {100 * TOL_REL_PEAK:g} % of the peak amplitude (HBM H >= 7, stable "
-             "points). H = 1 (the thesis's single-harmonic method) is shown for "
-             "reference and does not count.", ""]
-    if inject:
-        lines += [f"**Injected error**: HBM side mount parameter `{inject}`.", ""]
-    lines += ["| system | preset | points | H | AFT samples | max error (H) | "
-              "max error (H=1) | time [s] | result |",
-              "|---|---|---|---|---|---|---|---|---|"]
-    for r in results:
-        n = len({(p['direction'], p['freq_hz']) for p in r.rows})
-        nsamp = r.case.n_samples or default_n_samples(r.case.harmonics)
-        lines.append(f"| {r.case.name} | {r.case.preset} | {n} | {r.case.harmonics} | "
-                     f"{nsamp} | {100 * r.max_err:.3f} % | "
-                     f"{100 * r.max_err_h1:.2f} % | {r.seconds:.1f} | "
-                     f"{'PASS' if r.passed else 'FAIL'} |")
-    lines.append("")
-    for r in results:
-        lines += [f"## {r.case.name}", ""]
-        if r.message:
-            lines += [f"Note: {r.message.strip()}", ""]
-        lines += _exact_lines(r)
-        lines += _family_lines(r)
-        lines += [f"![{r.case.name}]({r.case.name}.png)", ""]
-        _plot_case(r, out / f"{r.case.name}.png")
-    lines += ["Every point is in `points.csv`."]
-    return atomic_write_text(out / "validation.md", "\n".join(lines) + "\n")
-
-
 def run_validation(*, quick: bool = False, out="validation", inject: str | None = None,
                    cases=None, progress: bool = True,
                    fmu_path=None) -> list[CaseResult]:
@@ -658,6 +349,8 @@ def run_validation(*, quick: bool = False, out="validation", inject: str | None 
             print(f"validate: {case.name} ({case.preset})", file=sys.stderr)
         results.append(run_case(case, quick=quick, inject=inject, fmu_path=fmu_path,
                                 progress=progress))
+    from drymount.validation_report import write_report
+
     write_report(results, Path(out), quick, inject)
     return results
 
