@@ -19,62 +19,6 @@ int ml_has_branches(const ml_axis_params *p)
     return ml_has_maxwell(p) || ml_has_hydraulic(p);
 }
 
-/* CPython's math_fsum (Shewchuk's partials, then the half-even correction); the
- * summands here are finite (a non-finite one: the plain sum). */
-double ml_fsum(const double *xs, int n)
-{
-    double partials[64], x, y, t, hi, yr, lo = 0.0, plain = 0.0;
-    int i, j, k, m = 0;
-    for (k = 0; k < n; ++k) {
-        x = xs[k];
-        plain += x;
-        for (i = j = 0; j < m; ++j) {
-            y = partials[j];
-            if (fabs(x) < fabs(y)) {
-                t = x;
-                x = y;
-                y = t;
-            }
-            hi = x + y;
-            yr = hi - x;
-            lo = y - yr;
-            if (lo != 0.0)
-                partials[i++] = lo;
-            x = hi;
-        }
-        m = i;
-        if (x != 0.0) {
-            if (!isfinite(x))
-                return plain;
-            partials[m++] = x;
-        }
-    }
-    if (!isfinite(plain))
-        return plain;
-    hi = 0.0;
-    if (m > 0) {
-        hi = partials[--m];
-        while (m > 0) {   /* sum_exact(ps, hi) from the top, stop when inexact */
-            x = hi;
-            y = partials[--m];
-            hi = x + y;
-            yr = hi - x;
-            lo = y - yr;
-            if (lo != 0.0)
-                break;
-        }
-        if (m > 0 && ((lo < 0.0 && partials[m - 1] < 0.0)
-                      || (lo > 0.0 && partials[m - 1] > 0.0))) {
-            y = lo * 2.0;   /* half-even rounding across several partials */
-            x = hi + y;
-            yr = x - hi;
-            if (y == yr)
-                hi = x;
-        }
-    }
-    return hi;
-}
-
 /* linear_branches.fluid_matrices */
 static void fluid_matrices(const ml_axis_params *p, double a[4][4], double b[4])
 {

@@ -29,8 +29,6 @@ ML_DECL int ml_has_hydraulic(const ml_axis_params *p);
  * the fluid path; mount_law has_branches). */
 ML_DECL int ml_has_branches(const ml_axis_params *p);
 
-/* math.fsum of x[0..n-1] (CPython's algorithm: exactly rounded). */
-ML_DECL double ml_fsum(const double *x, int n);
 
 /* linear_branches.fluid_propagator of axis p's fluid over dt > 0 seconds. */
 ML_DECL void ml_fluid_propagator(const ml_axis_params *p, double dt, ml_fluid_prop *out);

@@ -73,64 +73,6 @@ ml_axis_result ml_iwan_update(double u, const double *w, const ml_axis_params *p
     return r;
 }
 
-/* math.fsum (CPython's Shewchuk summation with its half-even correction) of n <=
- * ML_MAX_SLIDERS finite values; a non-finite term or an intermediate overflow (where
- * Python raises) gives the plain sum. */
-static double exact_sum(const double *values, int n)
-{
-    double part[ML_MAX_SLIDERS + 1], x, y, t, hi = 0.0, lo = 0.0, yr, plain = 0.0;
-    int np = 0, i, j, k;
-    for (k = 0; k < n; ++k)
-        plain += values[k];
-    if (!isfinite(plain))
-        return plain;
-    for (k = 0; k < n; ++k) {
-        x = values[k];
-        for (i = j = 0; j < np; ++j) {
-            y = part[j];
-            if (fabs(x) < fabs(y)) {
-                t = x;
-                x = y;
-                y = t;
-            }
-            hi = x + y;
-            yr = hi - x;
-            lo = y - yr;
-            if (lo != 0.0)
-                part[i++] = lo;
-            x = hi;
-        }
-        np = i;
-        if (x != 0.0) {
-            if (!isfinite(x))
-                return plain;
-            part[np++] = x;
-        }
-    }
-    hi = 0.0;
-    if (np > 0) {
-        hi = part[--np];
-        while (np > 0) {
-            x = hi;
-            y = part[--np];
-            hi = x + y;
-            yr = hi - x;
-            lo = y - yr;
-            if (lo != 0.0)
-                break;
-        }
-        if (np > 0 && ((lo < 0.0 && part[np - 1] < 0.0)
-                       || (lo > 0.0 && part[np - 1] > 0.0))) {
-            y = lo * 2.0;
-            x = hi + y;
-            yr = x - hi;
-            if (y == yr)
-                hi = x;
-        }
-    }
-    return hi;
-}
-
 double ml_mean_slider(const double *w, int n)
 {
     int i;
@@ -138,7 +80,7 @@ double ml_mean_slider(const double *w, int n)
         return w[0];
     for (i = 1; i < n; ++i)
         if (!(w[i] == w[0]))
-            return exact_sum(w, n) / n;
+            return ml_fsum(w, n) / n;
     return w[0];
 }
 

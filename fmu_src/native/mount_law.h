@@ -160,6 +160,9 @@ void ml_contact_normal_forces(const ml_axis_params *p, const double *w, double f
 
 /* mount_law.mean_slider of the n positions w: the common position when all are
  * equal, else their exactly rounded sum (math.fsum) / n. */
+/* math.fsum of x[0..n-1] (CPython's algorithm: exactly rounded; mount_law.c). */
+ML_DECL double ml_fsum(const double *x, int n);
+
 ML_DECL double ml_mean_slider(const double *w, int n);
 
 /* mount_law.axis_force for every friction element of p (macro-slip, non-symmetric,
