@@ -16,8 +16,9 @@ with ``oms_getReal``: 1500 steps of the random motion of ``tests/test_ssp.py``.
 
 Found: every force and ``E_fr`` equals fmpy's bit for bit when the host advances with
 ``oms_doStep`` (one master step per call) or with ``oms_stepUntil`` at the master's own
-sums (t += h). Advanced with ``oms_stepUntil((k + 1) * h)``, 5 of the 13 500 forces
-differ (up to 27.6 N, from host step 49) and ``E_fr`` of all three mounts: OMSimulator's
+sums (t += h), with the native and with the PythonFMU build inside. Advanced with
+``oms_stepUntil((k + 1) * h)``, 5 of the 13 500 forces differ (up to 27.6 N, from host
+step 49) and ``E_fr`` of all three mounts: OMSimulator's
 master keeps its time as a sum (``tNext = time + h``, SystemWC::doStep) and steps
 ``while (time < stopTime)`` (SystemWC::stepUntil); where the sum falls an ulp short of
 (k + 1) h it takes a second ``doStep`` with the same inputs, where it runs an ulp ahead
@@ -25,7 +26,7 @@ it takes none and the inputs set for that host step never reach a ``doStep`` (at
 h = 1e-4: two at host steps 23, 92, 1482, none at 48 and 357). The FMU is not at fault:
 fmpy making the same calls (the FMI call log of ``tests/importers/fmi2_call_log.c``,
 replayed) gives OMSimulator's outputs bit for bit.
-Runtime about 20 s (one host compile, six OMSimulator runs).
+Runtime about 30 s (one host compile, seven OMSimulator runs).
 """
 
 from __future__ import annotations
@@ -275,6 +276,22 @@ def master_steps(targets) -> list[int]:
             t, n = t + H, n + 1
         counts.append(n)
     return counts
+
+
+def test_pythonfmu_archive_forces_equal_fmpy(host, cfg, mounts, trajectories,
+                                            tmp_path):
+    """The archive with the PythonFMU build inside (``drymount export-ssp
+    six_dof_halved``) under oms_doStep: every F_<axis> and E_fr equals fmpy's on the
+    same FMU bit for bit, and the host exits cleanly (0) after oms_delete."""
+    pytest.importorskip("pythonfmu", reason="the PythonFMU build needs pythonfmu")
+    from drymount.fmu_build import build_fmu
+
+    fmu = build_fmu(tmp_path / "FrictionMount.fmu")
+    ssp = export_ssp(cfg, tmp_path / "six_dof.ssp", fmu_path=fmu).path
+    got = run_omsimulator(host, ssp, "dostep", mounts, trajectories, tmp_path / "run")
+    reference = run_fmpy(fmu, ssp, mounts, trajectories)
+    for m in mounts:
+        assert np.abs(got[m] - reference[m]).max() <= TOL, m
 
 
 @pytest.fixture(scope="module")
