@@ -21,6 +21,7 @@ References: thesis Sec. 3.1 (Fourier approximation, eq. 3.8-3.10); Cameron and G
 
 from __future__ import annotations
 
+import os
 import weakref
 from dataclasses import dataclass
 
@@ -294,9 +295,11 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     (:func:`_subtract_slip_memory`). Equal to the dense products to round-off."""
     P = basis.P
     plan = _plan(ax)
-    if plan.codes is not None and plan.friction.size and \
-            _chosen(None, U.size // U.shape[-2] * basis.N) == "numba":
-        return _aft_harmonic_compiled(U, plan, basis)
+    if plan.codes is not None and plan.friction.size:
+        if _native_wanted():
+            return _aft_harmonic_compiled(U, plan, basis, _native_kernels())
+        if _chosen(None, U.size // U.shape[-2] * basis.N) == "numba":
+            return _aft_harmonic_compiled(U, plan, basis)
     plan, u, f, kt = _samples(U, ax, basis)
     if f is None:
         f = np.zeros_like(u)
@@ -319,12 +322,33 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     return F, dF
 
 
-def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis
-                           ) -> tuple[np.ndarray, np.ndarray]:
+def _native_wanted() -> bool:
+    """Whether the C kernels of :mod:`hbm.aft_native` take the compiled harmonic
+    AFT: under the ``auto`` march (``$DRYMOUNT_MARCH`` unset or ``auto``) when the
+    library is there; an explicit backend keeps its own path."""
+    return _AUTO_REQUESTED and _native_kernels() is not None
+
+
+def _native_kernels():
+    """:mod:`hbm.aft_native` if its library loads, else None."""
+    from drymount.hbm import aft_native
+
+    return aft_native if aft_native.library() is not None else None
+
+
+#: the march left to ``auto`` (the C kernels may then replace numba's)
+_AUTO_REQUESTED = os.environ.get("DRYMOUNT_MARCH", "auto") == "auto"
+
+
+def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis,
+                           nb=None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_aft_harmonic` with the samples (elastic remainders, Jenkins march, the
     tangent's sums) and the slip memory compiled
-    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``): the same
-    operations in the same order, the same numbers."""
+    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``; or ``nb`` =
+    :mod:`hbm.aft_native`, the same kernels in C): the same operations in the same
+    order, the same numbers."""
+    if nb is not None:
+        return _aft_harmonic_native(U, plan, basis, nb)
     import drymount.hbm.friction_march_numba as nb
 
     u = basis.E @ U
@@ -336,6 +360,20 @@ def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis
     dF = basis.gram(kt.reshape(u.shape))
     nb.slip_memory(dF.reshape(-1, *dF.shape[-3:]), stuck, last, plan.friction_i8,
                    plan.kf, basis.cumulative_projection(), basis.E)
+    return F, dF
+
+
+def _aft_harmonic_native(U: np.ndarray, plan: _Plan, basis: FourierBasis, native
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_aft_harmonic_compiled` through the C kernels bound once to ``plan``
+    and ``basis`` (:func:`hbm.aft_native.bound`): the same numbers."""
+    u = basis.E @ U
+    u3 = u.reshape(-1, *u.shape[-2:])
+    kern = native.bound(plan, basis, u3.shape[0])
+    f, kt, _, _ = kern.samples(u3)
+    F = basis.P @ f.reshape(u.shape)
+    dF = basis.gram(kt.reshape(u.shape))
+    kern.slip_memory(dF.reshape(-1, *dF.shape[-3:]))
     return F, dF
 
 

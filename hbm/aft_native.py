@@ -1,0 +1,188 @@
+"""The compiled harmonic-form AFT's kernels in C (``hbm/aft_native.c``), through ctypes.
+
+:func:`aft_samples` and :func:`slip_memory` are those of
+:mod:`hbm.friction_march_numba` (the same operations in the same order, so the same
+numbers bit for bit: tests/test_hbm_aft_native.py), without numba's start: loading
+the library costs about a millisecond, where numba's import and the load of its cached
+kernels cost about 1 s CPU per process (issue 27). :func:`hbm.aft._aft_harmonic`
+uses them under the ``auto`` march whenever the library is there.
+
+The library is compiled at first use with the system C compiler (about 0.3 s, once)
+into the native cache (:func:`hbm.c_build.shared_library`), keyed by the source, the
+flags and the compiler (its path and modification time: no ``--version`` subprocess
+per process).
+Without a compiler, or with ``$DRYMOUNT_NATIVE_AFT`` set to ``0``, :func:`library`
+is None and the AFT takes the numba or the NumPy path as before.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+from drymount.hbm.c_build import compiler, shared_library
+
+__all__ = ["library", "aft_samples", "slip_memory", "bound", "Bound", "SOURCE"]
+
+SOURCE = Path(__file__).with_name("aft_native.c")
+FLAGS = ("-std=c11", "-O3", "-ffp-contract=off", "-fno-fast-math", "-shared", "-fPIC")
+_i64, _vp = ctypes.c_int64, ctypes.c_void_p
+
+
+def _identity(cc: list[str]) -> str:
+    """The compiler's path and modification time (a ``--version`` subprocess would
+    cost more than the library's load, in every process)."""
+    exe = shutil.which(cc[0]) or cc[0]
+    try:
+        return f"{os.path.realpath(exe)} {os.stat(exe).st_mtime_ns}"
+    except OSError:
+        return exe
+
+
+@functools.cache
+def library():
+    """The loaded library (argument types set), or None (no compiler, the build
+    failed, or ``$DRYMOUNT_NATIVE_AFT=0``)."""
+    if os.environ.get("DRYMOUNT_NATIVE_AFT", "1") == "0":
+        return None
+    cc = compiler()
+    if cc is None:
+        return None
+    try:
+        lib = ctypes.CDLL(str(shared_library(SOURCE, "aft", FLAGS, cc, _identity(cc))))
+    except (OSError, subprocess.SubprocessError):
+        return None
+    lib.dm_aft_samples.restype = None
+    lib.dm_aft_samples.argtypes = [_i64, _i64, _i64, _vp, _vp, _vp, _vp, _vp, _i64,
+                                   _vp, _vp, _vp, _vp, _vp, _vp, _vp, _vp, _vp, _vp,
+                                   _vp, _vp]
+    lib.dm_slip_memory.restype = None
+    lib.dm_slip_memory.argtypes = [_i64, _i64, _i64, _i64, _i64, _vp, _vp, _vp, _vp,
+                                   _vp, _vp, _vp]
+    return lib
+
+
+def _ptr(a: np.ndarray) -> int:
+    return a.__array_interface__["data"][0]
+
+
+def _checked(a: np.ndarray, dtype) -> np.ndarray:
+    """``a`` as a C-ordered array of ``dtype`` (no copy when it is one already)."""
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+class Bound:
+    """The two kernels bound to one plan of :func:`hbm.aft._plan` and one
+    :class:`hbm.aft.FourierBasis`, for batches of ``nb`` motions: the parameters'
+    addresses taken once and the outputs' buffers kept (the AFT's per-call Python:
+    the checks and allocations of :func:`aft_samples` cost more than the kernels at
+    H = 7, N = 1024). The arrays of a call are overwritten by the next call."""
+
+    def __init__(self, plan, basis, nb: int):
+        self.lib = library()
+        N, m = basis.E.shape
+        n_ax = plan.codes[0].size
+        C = plan.friction_i8.size
+        self.keep = (plan, basis)   # the addresses below stay valid
+        self.shape = (nb, N, n_ax)
+        self.f, self.kt = np.empty(self.shape), np.empty(self.shape)
+        self.stuck = np.empty((nb, N, C), dtype=np.bool_)
+        self.last = np.empty((nb, N, C), dtype=np.int64)
+        self.scratch = (np.empty(N), np.empty(N, dtype=np.bool_),
+                        np.empty(N, dtype=np.int64), np.empty(N))
+        params = (*plan.codes, plan.friction_i8, plan.kf, plan.fs, plan.w_start)
+        for p in params:
+            assert p.flags.c_contiguous and p.dtype in (np.float64, np.int64)
+        code, p1, p2, p3, fr, kf, fs, w0 = (_ptr(p) for p in params)
+        out = (_ptr(self.f), _ptr(self.kt), _ptr(self.stuck), _ptr(self.last),
+               *(_ptr(a) for a in self.scratch))
+        self._samples = (nb, N, n_ax, code, p1, p2, p3, C, fr, kf, fs, w0, *out)
+        cum = basis.cumulative_projection()
+        self._slip = (nb, N, C, n_ax, m, _ptr(self.stuck), _ptr(self.last), fr, kf,
+                      _ptr(cum), _ptr(basis.E))
+
+    def samples(self, u: np.ndarray):
+        """``(f, kt, stuck, last)`` of ``u`` (nb, N, n_ax), C-ordered float64."""
+        if u.shape != self.shape or not u.flags.c_contiguous or u.dtype != np.float64:
+            raise ValueError(f"motion of shape {u.shape} (C-ordered float64 "
+                             f"{self.shape} expected)")
+        a = self._samples
+        self.lib.dm_aft_samples(a[0], a[1], a[2], _ptr(u), *a[3:])
+        return self.f, self.kt, self.stuck, self.last
+
+    def slip_memory(self, dF: np.ndarray) -> None:
+        """Subtract the slip memory of the last :meth:`samples` from ``dF`` (nb,
+        n_ax, m, m), in place."""
+        nb, N, C, n_ax, m = self._slip[:5]
+        if dF.shape != (nb, n_ax, m, m) or not dF.flags.c_contiguous:
+            raise ValueError(f"dF of shape {dF.shape} (C-ordered {(nb, n_ax, m, m)} "
+                             f"expected)")
+        a = self._slip
+        self.lib.dm_slip_memory(*a[:5], _ptr(dF), *a[5:])
+
+
+def bound(plan, basis, nb: int) -> Bound:
+    """The :class:`Bound` kernels of ``plan`` and ``basis`` for ``nb`` motions (kept
+    on ``basis``)."""
+    cache = basis.__dict__.setdefault("_native", {})
+    key = (id(plan), nb)
+    got = cache.get(key)
+    if got is None:
+        got = cache[key] = Bound(plan, basis, nb)
+    return got
+
+
+def aft_samples(u: np.ndarray, code: np.ndarray, p1: np.ndarray, p2: np.ndarray,
+                p3: np.ndarray, fr: np.ndarray, kf: np.ndarray, fs: np.ndarray,
+                w_start: np.ndarray):
+    """:func:`hbm.friction_march_numba.aft_samples` in C: ``(f, kt, stuck, last)``
+    of the samples ``u`` (nb, N, n_ax)."""
+    lib = library()
+    u = _checked(u, np.float64)
+    nb, N, n_ax = u.shape
+    code, fr = _checked(code, np.int64), _checked(fr, np.int64)
+    p1, p2, p3 = (_checked(p, np.float64) for p in (p1, p2, p3))
+    kf, fs, w_start = (_checked(p, np.float64) for p in (kf, fs, w_start))
+    if not (code.size == p1.size == p2.size == p3.size == n_ax
+            and fr.size == kf.size == fs.size == w_start.size) or (
+            fr.size and not (0 <= fr.min() and fr.max() < n_ax)):
+        raise ValueError(f"aft_samples: parameters do not fit {n_ax} axes and "
+                         f"{fr.size} friction axes")
+    C = fr.size
+    f = np.empty_like(u)
+    kt = np.empty_like(u)
+    stuck = np.empty((nb, N, C), dtype=np.bool_)
+    last = np.empty((nb, N, C), dtype=np.int64)
+    force, col = np.empty(N), np.empty(N)
+    cstuck, clast = np.empty(N, dtype=np.bool_), np.empty(N, dtype=np.int64)
+    lib.dm_aft_samples(nb, N, n_ax, _ptr(u), _ptr(code), _ptr(p1), _ptr(p2),
+                       _ptr(p3), C, _ptr(fr), _ptr(kf), _ptr(fs), _ptr(w_start),
+                       _ptr(f), _ptr(kt), _ptr(stuck), _ptr(last), _ptr(force),
+                       _ptr(cstuck), _ptr(clast), _ptr(col))
+    return f, kt, stuck, last
+
+
+def slip_memory(dF: np.ndarray, stuck: np.ndarray, last: np.ndarray, fr: np.ndarray,
+                kf: np.ndarray, cum: np.ndarray, E: np.ndarray) -> None:
+    """:func:`hbm.friction_march_numba.slip_memory` in C: subtract in place the
+    Jenkins slip memory from ``dF`` (nb, n_ax, m, m), C-ordered."""
+    lib = library()
+    nb, N, C = stuck.shape
+    m = E.shape[1]
+    if not (dF.flags.c_contiguous and dF.dtype == np.float64 and dF.ndim == 4
+            and dF.shape[0] == nb and dF.shape[2:] == (m, m)
+            and cum.shape == (N + 1, m) and E.shape[0] == N
+            and last.shape == stuck.shape and len(fr) == C == len(kf)):
+        raise ValueError("slip_memory: arrays of inconsistent shapes or a dF that is "
+                         "not C-ordered float64")
+    stuck, last = _checked(stuck, np.bool_), _checked(last, np.int64)
+    fr, kf = _checked(fr, np.int64), _checked(kf, np.float64)
+    cum, E = _checked(cum, np.float64), _checked(E, np.float64)
+    lib.dm_slip_memory(nb, N, C, dF.shape[1], m, _ptr(dF), _ptr(stuck), _ptr(last),
+                       _ptr(fr), _ptr(kf), _ptr(cum), _ptr(E))
