@@ -21,7 +21,6 @@ References: thesis Sec. 3.1 (Fourier approximation, eq. 3.8-3.10); Cameron and G
 
 from __future__ import annotations
 
-import os
 import weakref
 from dataclasses import dataclass
 
@@ -296,10 +295,9 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     P = basis.P
     plan = _plan(ax)
     if plan.codes is not None and plan.friction.size:
-        if _native_wanted():
-            return _aft_harmonic_compiled(U, plan, basis, _native_kernels())
-        if _chosen(None, U.size // U.shape[-2] * basis.N) == "numba":
-            return _aft_harmonic_compiled(U, plan, basis)
+        backend = _chosen(None, U.size // U.shape[-2] * basis.N)
+        if backend in ("numba", "c"):
+            return _aft_harmonic_compiled(U, plan, basis, backend)
     plan, u, f, kt = _samples(U, ax, basis)
     if f is None:
         f = np.zeros_like(u)
@@ -322,33 +320,16 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     return F, dF
 
 
-def _native_wanted() -> bool:
-    """Whether the C kernels of :mod:`hbm.aft_native` take the compiled harmonic
-    AFT: under the ``auto`` march (``$DRYMOUNT_MARCH`` unset or ``auto``) when the
-    library is there; an explicit backend keeps its own path."""
-    return _AUTO_REQUESTED and _native_kernels() is not None
-
-
-def _native_kernels():
-    """:mod:`hbm.aft_native` if its library loads, else None."""
-    from drymount.hbm import aft_native
-
-    return aft_native if aft_native.library() is not None else None
-
-
-#: the march left to ``auto`` (the C kernels may then replace numba's)
-_AUTO_REQUESTED = os.environ.get("DRYMOUNT_MARCH", "auto") == "auto"
-
-
 def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis,
-                           nb=None) -> tuple[np.ndarray, np.ndarray]:
+                           backend: str = "numba") -> tuple[np.ndarray, np.ndarray]:
     """:func:`_aft_harmonic` with the samples (elastic remainders, Jenkins march, the
     tangent's sums) and the slip memory compiled
-    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``; or ``nb`` =
-    :mod:`hbm.aft_native`, the same kernels in C): the same operations in the same
-    order, the same numbers."""
-    if nb is not None:
-        return _aft_harmonic_native(U, plan, basis, nb)
+    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``; with ``backend``
+    "c" the same kernels in C, :mod:`hbm.aft_native`): the same operations in the
+    same order, the same numbers."""
+    if backend == "c":
+        from drymount.hbm import aft_native
+        return _aft_harmonic_native(U, plan, basis, aft_native)
     import drymount.hbm.friction_march_numba as nb
 
     u = basis.E @ U

@@ -159,3 +159,50 @@ void dm_slip_memory(i64 nb, i64 N, i64 C, i64 n_ax, i64 m, double *restrict dF,
         }
     }
 }
+
+/* hbm.friction_march_numba._march: every column c of every motion b of u (nb, N, C)
+ * marched (through contiguous copies: the same operations) */
+void dm_march(i64 nb, i64 N, i64 C, const double *restrict u,
+              const double *restrict kf, const double *restrict fs,
+              const double *restrict w_start, double *restrict force,
+              unsigned char *restrict stuck, i64 *restrict last,
+              double *restrict col, double *restrict cforce,
+              unsigned char *restrict cstuck, i64 *restrict clast)
+{
+    for (i64 b = 0; b < nb; b++) {
+        for (i64 c = 0; c < C; c++) {
+            i64 o = b * N * C + c;
+            for (i64 n = 0; n < N; n++) col[n] = u[o + n * C];
+            column(col, N, kf[c], fs[c], w_start[c], cforce, cstuck, clast);
+            for (i64 n = 0; n < N; n++) {
+                force[o + n * C] = cforce[n];
+                stuck[o + n * C] = cstuck[n];
+                last[o + n * C] = clast[n];
+            }
+        }
+    }
+}
+
+/* hbm.friction_march_numba._samples: Z (nb, C, N, m) with dF = P Z */
+void dm_samples(i64 nb, i64 N, i64 C, i64 m, const double *restrict E,
+                const double *restrict kf, const unsigned char *restrict stuck,
+                const i64 *restrict last, double *restrict Z)
+{
+    for (i64 b = 0; b < nb; b++) {
+        for (i64 c = 0; c < C; c++) {
+            double k = kf[c];
+            for (i64 n = 0; n < N; n++) {
+                double *z = Z + ((b * C + c) * N + n) * m;
+                i64 at = (b * N + n) * C + c;
+                if (stuck[at]) {
+                    for (i64 g = 0; g < m; g++) z[g] = k * E[n * m + g];
+                    i64 j = last[at];
+                    if (j >= 0)
+                        for (i64 g = 0; g < m; g++) z[g] -= k * E[j * m + g];
+                } else {
+                    for (i64 g = 0; g < m; g++) z[g] = 0.0;
+                }
+            }
+        }
+    }
+}

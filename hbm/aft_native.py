@@ -28,7 +28,8 @@ import numpy as np
 
 from drymount.hbm.c_build import compiler, shared_library
 
-__all__ = ["library", "aft_samples", "slip_memory", "bound", "Bound", "SOURCE"]
+__all__ = ["library", "aft_samples", "slip_memory", "bound", "Bound", "march",
+           "jacobian_samples", "march_and_samples", "SOURCE"]
 
 SOURCE = Path(__file__).with_name("aft_native.c")
 FLAGS = ("-std=c11", "-O3", "-ffp-contract=off", "-fno-fast-math", "-shared", "-fPIC")
@@ -62,6 +63,10 @@ def library():
     lib.dm_aft_samples.argtypes = [_i64, _i64, _i64, _vp, _vp, _vp, _vp, _vp, _i64,
                                    _vp, _vp, _vp, _vp, _vp, _vp, _vp, _vp, _vp, _vp,
                                    _vp, _vp]
+    lib.dm_march.restype = None
+    lib.dm_march.argtypes = [_i64, _i64, _i64] + [_vp] * 11
+    lib.dm_samples.restype = None
+    lib.dm_samples.argtypes = [_i64, _i64, _i64, _i64] + [_vp] * 5
     lib.dm_slip_memory.restype = None
     lib.dm_slip_memory.argtypes = [_i64, _i64, _i64, _i64, _i64, _vp, _vp, _vp, _vp,
                                    _vp, _vp, _vp]
@@ -186,3 +191,46 @@ def slip_memory(dF: np.ndarray, stuck: np.ndarray, last: np.ndarray, fr: np.ndar
     cum, E = _checked(cum, np.float64), _checked(E, np.float64)
     lib.dm_slip_memory(nb, N, C, dF.shape[1], m, _ptr(dF), _ptr(stuck), _ptr(last),
                        _ptr(fr), _ptr(kf), _ptr(cum), _ptr(E))
+
+
+def march(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarray):
+    """:func:`hbm.friction_march_numba.march` in C: ``(force, stuck, last_slip)`` of
+    the periodic march of ``u`` (nb, N, C)."""
+    lib = library()
+    u = _checked(u, np.float64)
+    nb, N, C = u.shape
+    kf, fs, w_start = (_checked(p, np.float64) for p in (kf, fs, w_start))
+    if not kf.size == fs.size == w_start.size == C:
+        raise ValueError(f"march: parameters do not fit {C} columns")
+    force = np.empty_like(u)
+    stuck = np.empty(u.shape, dtype=np.bool_)
+    last = np.empty(u.shape, dtype=np.int64)
+    scratch = (np.empty(N), np.empty(N), np.empty(N, dtype=np.bool_),
+               np.empty(N, dtype=np.int64))
+    lib.dm_march(nb, N, C, _ptr(u), _ptr(kf), _ptr(fs), _ptr(w_start), _ptr(force),
+                 _ptr(stuck), _ptr(last), *(_ptr(a) for a in scratch))
+    return force, stuck, last
+
+
+def jacobian_samples(E: np.ndarray, kf: np.ndarray, stuck: np.ndarray,
+                     last: np.ndarray) -> np.ndarray:
+    """:func:`hbm.friction_march_numba.jacobian_samples` in C: ``Z`` (nb, C, N, m)
+    with ``dF = P Z``."""
+    lib = library()
+    nb, N, C = stuck.shape
+    E, kf = _checked(E, np.float64), _checked(kf, np.float64)
+    stuck, last = _checked(stuck, np.bool_), _checked(last, np.int64)
+    if E.shape[0] != N or kf.size != C or last.shape != stuck.shape:
+        raise ValueError("jacobian_samples: arrays of inconsistent shapes")
+    Z = np.empty((nb, C, N, E.shape[1]))
+    lib.dm_samples(nb, N, C, E.shape[1], _ptr(E), _ptr(kf), _ptr(stuck), _ptr(last),
+                   _ptr(Z))
+    return Z
+
+
+def march_and_samples(u: np.ndarray, kf: np.ndarray, fs: np.ndarray,
+                      w_start: np.ndarray, E: np.ndarray):
+    """``(force, Z)``: :func:`march` and :func:`jacobian_samples` (as
+    :func:`hbm.friction_march_numba.march_and_samples`)."""
+    force, stuck, last = march(u, kf, fs, w_start)
+    return force, jacobian_samples(E, kf, stuck, last)

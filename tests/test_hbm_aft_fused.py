@@ -31,7 +31,7 @@ def _both(U, ax, basis, monkeypatch):
     """(NumPy code with the compiled march, the compiled AFT: numba's kernels, not
     the C ones of tests/test_hbm_aft_native.py)."""
     monkeypatch.setattr(fm, "_DEFAULT", "numba")
-    monkeypatch.setattr(aft, "_AUTO_REQUESTED", False)
+    monkeypatch.setattr(fm, "C_IN_AUTO", False)
     plan = aft._plan(ax)
     aft._PLANS[ax] = dataclasses.replace(plan, codes=None)
     try:

@@ -61,6 +61,14 @@ def test_c_kernels_equal_numba_kernels_bit_for_bit(laws, kf, N):
     cum = basis.cumulative_projection()
     for U in _motions(ax, basis, rng):
         u = (basis.E @ U).reshape(-1, N, ax.n)
+        for kernel in ("march", "march_and_samples"):
+            more = (basis.E,) if kernel != "march" else ()
+            fr = plan.friction_i8
+            a = getattr(nb, kernel)(u[..., fr].copy(), plan.kf, plan.fs, plan.w_start,
+                                    *more)
+            b = getattr(aft_native, kernel)(u[..., fr], plan.kf, plan.fs,
+                                            plan.w_start, *more)
+            assert all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
         ref, got = nb.aft_samples(u, *args), aft_native.aft_samples(u, *args)
         for a, b in zip(ref, got, strict=True):
             assert a.dtype == b.dtype and np.array_equal(a, b)
@@ -73,44 +81,67 @@ def test_c_kernels_equal_numba_kernels_bit_for_bit(laws, kf, N):
         assert not np.array_equal(d1, dF) or not np.any(ref[2] & (ref[3] >= 0))
 
 
+def _numpy_and_c(U, ax, basis, monkeypatch):
+    """The AFT by the NumPy code (its reference march) and through the C kernels."""
+    monkeypatch.setattr(fm, "_DEFAULT", "numpy")
+    plan = aft._plan(ax)
+    monkeypatch.setattr(fm, "C_IN_AUTO", False)
+    aft._PLANS[ax] = dataclasses.replace(plan, codes=None)
+    try:
+        ref = aft._aft_harmonic(U, ax, basis), aft._aft_dense(U, ax, basis, True)
+    finally:
+        aft._PLANS[ax] = plan
+    monkeypatch.setattr(fm, "C_IN_AUTO", True)
+    assert fm._chosen(None) == "c"
+    return ref, (aft._aft_harmonic(U, ax, basis), aft._aft_dense(U, ax, basis, True))
+
+
 @pytest.mark.parametrize("laws, kf", CASES)
 def test_native_aft_equals_numpy_aft_bit_for_bit(laws, kf, monkeypatch):
-    monkeypatch.setattr(aft, "_AUTO_REQUESTED", True)
-    monkeypatch.setattr(fm, "_DEFAULT", "numpy")   # the reference march
     rng = np.random.default_rng(7 * len(laws))
     ax = _axes(laws, kf, rng)
-    basis = FourierBasis(7, 1024)
-    plan = aft._plan(ax)
-    for U in _motions(ax, basis, rng):
-        aft._PLANS[ax] = dataclasses.replace(plan, codes=None)   # the NumPy code
-        try:
-            F1, d1 = aft._aft_harmonic(U, ax, basis)
-        finally:
-            aft._PLANS[ax] = plan
-        F2, d2 = aft._aft_harmonic(U, ax, basis)
-        assert np.array_equal(F1, F2) and np.array_equal(d1, d2)
+    for N in (64, 1024):
+        basis = FourierBasis(7, N)
+        for U in _motions(ax, basis, rng):
+            ref, got = _numpy_and_c(U, ax, basis, monkeypatch)
+            for (F1, d1), (F2, d2) in zip(ref, got, strict=True):
+                assert np.array_equal(F1, F2) and np.array_equal(d1, d2)
 
 
 def test_native_aft_on_the_six_dof_preset(monkeypatch):
     from drymount.config.loading import load_preset
     from drymount.hbm.problem import build_problem
 
-    monkeypatch.setattr(aft, "_AUTO_REQUESTED", True)
-    monkeypatch.setattr(fm, "_DEFAULT", "numpy")
     prob = build_problem(load_preset("six_dof_halved").system, 2.0, 25.0, 7, 1024)
     hb = prob.hb
-    plan = aft._plan(hb.axes)
     X, _ = prob.x_of(prob.linear_guess(9.5, stuck=False))
     rng = np.random.default_rng(3)
     for scale in (0.5, 1.0, 3.0, 8.0):
         U = hb.axis_coefficients(X * scale * (1 + 0.2 * rng.standard_normal(X.size)))
-        aft._PLANS[hb.axes] = dataclasses.replace(plan, codes=None)
-        try:
-            F1, d1 = aft._aft_harmonic(U, hb.axes, hb.basis)
-        finally:
-            aft._PLANS[hb.axes] = plan
-        F2, d2 = aft._aft_harmonic(U, hb.axes, hb.basis)
-        assert np.array_equal(F1, F2) and np.array_equal(d1, d2)
+        ref, got = _numpy_and_c(U, hb.axes, hb.basis, monkeypatch)
+        for (F1, d1), (F2, d2) in zip(ref, got, strict=True):
+            assert np.array_equal(F1, F2) and np.array_equal(d1, d2)
+
+
+def test_c_march_equals_the_scalar_march():
+    from drymount.hbm.elements import jenkins_periodic
+
+    rng = np.random.default_rng(11)
+    N = 128
+    th = 2 * np.pi * np.arange(N) / N
+    kf, fs = np.array([6e4, 3e4, 1e5]), np.array([20.0, 5.0, 250.0])
+    for _ in range(30):
+        U = rng.standard_normal((7, 3)) * 3e-3 * rng.uniform(0.02, 2)
+        u = np.column_stack([sum(U[k, c] * np.cos(k * th + c) for k in range(7))
+                             for c in range(3)])
+        w0 = rng.uniform(-1e-4, 1e-4, 3)
+        got = fm.jenkins_march(np.asfortranarray(u), kf, fs, w0, backend="c")
+        assert got.backend == "c"
+        for c in range(3):
+            ref = jenkins_periodic(u[:, c], kf[c], fs[c], w0[c])
+            assert np.array_equal(got.force[:, c], ref.force)
+            assert np.array_equal(got.stuck[:, c], ref.stuck)
+            assert np.array_equal(got.last_slip[:, c], ref.last_slip)
 
 
 def test_bad_arguments_are_refused_before_c_sees_them():
