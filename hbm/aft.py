@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drymount.hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
-from drymount.hbm.friction_march import _chosen, jenkins_aft, jenkins_march
+from drymount.hbm.friction_march import _chosen, c_in_auto, jenkins_aft, jenkins_march
 from drymount.hbm.generic_march import generic_aft
 from drymount.hbm.inclined import inclined_aft
 
@@ -348,12 +348,12 @@ def _aft_harmonic_native(U: np.ndarray, plan: _Plan, basis: FourierBasis, native
                          ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_aft_harmonic_compiled` through the C kernels bound once to ``plan``
     and ``basis`` (:func:`hbm.aft_native.bound`): the same numbers."""
-    u = basis.E @ U
-    u3 = u.reshape(-1, *u.shape[-2:])
-    kern = native.bound(plan, basis, u3.shape[0])
-    f, kt, _, _ = kern.samples(u3)
-    F = basis.P @ f.reshape(u.shape)
-    dF = basis.gram(kt.reshape(u.shape))
+    shape = (*U.shape[:-2], basis.N, U.shape[-1])
+    kern = native.bound(plan, basis, int(np.prod(shape[:-2], dtype=np.int64)),
+                        shape[-1])
+    f, kt, _, _ = kern.samples(U, basis.E)
+    F = basis.P @ f.reshape(shape)
+    dF = basis.gram(kt.reshape(shape))
     kern.slip_memory(dF.reshape(-1, *dF.shape[-3:]))
     return F, dF
 
@@ -367,8 +367,11 @@ def _aft_dense(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     dF_fr = None
     if plan.friction.size:
         fr = plan.friction
-        ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
-                                plan.fs, plan.w_start, E, P, jacobian)
+        if jacobian and c_in_auto():   # the C kernels bound to the plan
+            ff, dF_fr = _jenkins_native(u, plan, basis)
+        else:
+            ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
+                                    plan.fs, plan.w_start, E, P, jacobian)
         if f is None and plan.all_friction:
             f = ff
         else:
@@ -393,6 +396,21 @@ def _aft_dense(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         if dF_fr is not None:
             dF[..., fr, :, :] = dF_fr
     return F, dF
+
+
+def _jenkins_native(u: np.ndarray, plan: _Plan, basis: FourierBasis):
+    """:func:`hbm.friction_march.jenkins_aft` of the friction columns of ``u`` (...,
+    N, n_ax) through the C kernels bound to ``plan`` and ``basis``: the same
+    numbers (the march and ``Z`` of :mod:`hbm.aft_native`, ``dF = P Z``)."""
+    from drymount.hbm import aft_native
+
+    u3 = u.reshape(-1, *u.shape[-2:])
+    kern = aft_native.bound(plan, basis, *u3.shape[::2])
+    force, Z = kern.march_samples(u3 if plan.all_friction else u3[..., plan.friction])
+    dF = basis.P @ Z
+    C = plan.friction.size
+    return (force.reshape(*u.shape[:-1], C),
+            dF.reshape(*u.shape[:-2], *dF.shape[-3:]))
 
 
 def _subtract_slip_memory(dF: np.ndarray, march, plan: _Plan,

@@ -83,43 +83,71 @@ def _checked(a: np.ndarray, dtype) -> np.ndarray:
 
 
 class Bound:
-    """The two kernels bound to one plan of :func:`hbm.aft._plan` and one
-    :class:`hbm.aft.FourierBasis`, for batches of ``nb`` motions: the parameters'
-    addresses taken once and the outputs' buffers kept (the AFT's per-call Python:
-    the checks and allocations of :func:`aft_samples` cost more than the kernels at
-    H = 7, N = 1024). The arrays of a call are overwritten by the next call."""
+    """The kernels bound to one plan of :func:`hbm.aft._plan` and one
+    :class:`hbm.aft.FourierBasis`, for batches of ``nb`` motions: the addresses of
+    the parameters and of kept input and output buffers taken once (the AFT's
+    per-call Python: an address costs 1-4 us, the checks and allocations of
+    :func:`aft_samples` more than the kernels at H = 7, N = 1024). The arrays a call
+    returns are overwritten by the next call (but ``force``)."""
 
-    def __init__(self, plan, basis, nb: int):
+    def __init__(self, plan, basis, nb: int, n_ax: int):
         self.lib = library()
         N, m = basis.E.shape
-        n_ax = plan.codes[0].size
         C = plan.friction_i8.size
         self.keep = (plan, basis)   # the addresses below stay valid
         self.shape = (nb, N, n_ax)
+        self.u = np.empty(self.shape)
+        self._dense = None
+        self._E = _ptr(basis.E)
         self.f, self.kt = np.empty(self.shape), np.empty(self.shape)
         self.stuck = np.empty((nb, N, C), dtype=np.bool_)
         self.last = np.empty((nb, N, C), dtype=np.int64)
         self.scratch = (np.empty(N), np.empty(N, dtype=np.bool_),
                         np.empty(N, dtype=np.int64), np.empty(N))
-        params = (*plan.codes, plan.friction_i8, plan.kf, plan.fs, plan.w_start)
+        # without compiled laws (plan.codes None) only march_samples is usable
+        codes = plan.codes or (np.zeros(n_ax, np.int64),) + (np.zeros(n_ax),) * 3
+        params = (*codes, plan.friction_i8, plan.kf, plan.fs, plan.w_start)
         for p in params:
             assert p.flags.c_contiguous and p.dtype in (np.float64, np.int64)
+        assert codes[0].size == n_ax and plan.kf.size == C
+        self._params = params
         code, p1, p2, p3, fr, kf, fs, w0 = (_ptr(p) for p in params)
         out = (_ptr(self.f), _ptr(self.kt), _ptr(self.stuck), _ptr(self.last),
                *(_ptr(a) for a in self.scratch))
-        self._samples = (nb, N, n_ax, code, p1, p2, p3, C, fr, kf, fs, w0, *out)
+        self._samples = (nb, N, n_ax, _ptr(self.u), code, p1, p2, p3, C, fr, kf, fs,
+                         w0, *out)
         cum = basis.cumulative_projection()
         self._slip = (nb, N, C, n_ax, m, _ptr(self.stuck), _ptr(self.last), fr, kf,
                       _ptr(cum), _ptr(basis.E))
 
-    def samples(self, u: np.ndarray):
-        """``(f, kt, stuck, last)`` of ``u`` (nb, N, n_ax), C-ordered float64."""
-        if u.shape != self.shape or not u.flags.c_contiguous or u.dtype != np.float64:
-            raise ValueError(f"motion of shape {u.shape} (C-ordered float64 "
-                             f"{self.shape} expected)")
-        a = self._samples
-        self.lib.dm_aft_samples(a[0], a[1], a[2], _ptr(u), *a[3:])
+    def samples(self, U: np.ndarray, E: np.ndarray):
+        """``(f, kt, stuck, last)`` of the motion ``u = E U`` (U: (..., m, n_ax),
+        nb motions; ``u`` computed into the kept buffer by the same product)."""
+        np.matmul(E, U, out=self.u.reshape(*U.shape[:-2], *self.shape[1:]))
+        self.lib.dm_aft_samples(*self._samples)
         return self.f, self.kt, self.stuck, self.last
+
+    def march_samples(self, u_fr: np.ndarray):
+        """``(force, Z)`` of :func:`march_and_samples` for the friction columns'
+        motion ``u_fr`` (nb, N, C) (copied into a kept buffer; ``force`` a copy)."""
+        if self._dense is None:
+            nb, N, _ = self.shape
+            C, m = self._slip[2], self._slip[4]
+            buf = (np.empty((nb, N, C)), np.empty((nb, N, C)),
+                   np.empty((nb, N, C), dtype=np.bool_),
+                   np.empty((nb, N, C), dtype=np.int64), np.empty((nb, C, N, m)),
+                   np.empty(N), np.empty(N), np.empty(N, dtype=np.bool_),
+                   np.empty(N, dtype=np.int64))
+            u, force, stuck, last, Z = buf[:5]
+            kf, fs, w0 = self._samples[10:13]
+            self._dense = (buf, (nb, N, C, _ptr(u), kf, fs, w0, _ptr(force),
+                                 _ptr(stuck), _ptr(last), *(_ptr(a) for a in buf[5:])),
+                           (nb, N, C, m, self._E, kf, _ptr(stuck), _ptr(last), _ptr(Z)))
+        buf, a_march, a_samples = self._dense
+        np.copyto(buf[0], u_fr)
+        self.lib.dm_march(*a_march)
+        self.lib.dm_samples(*a_samples)
+        return buf[1].copy(), buf[4]
 
     def slip_memory(self, dF: np.ndarray) -> None:
         """Subtract the slip memory of the last :meth:`samples` from ``dF`` (nb,
@@ -132,14 +160,14 @@ class Bound:
         self.lib.dm_slip_memory(*a[:5], _ptr(dF), *a[5:])
 
 
-def bound(plan, basis, nb: int) -> Bound:
-    """The :class:`Bound` kernels of ``plan`` and ``basis`` for ``nb`` motions (kept
-    on ``basis``)."""
+def bound(plan, basis, nb: int, n_ax: int) -> Bound:
+    """The :class:`Bound` kernels of ``plan`` and ``basis`` for ``nb`` motions of
+    ``n_ax`` axes (kept on ``basis``)."""
     cache = basis.__dict__.setdefault("_native", {})
-    key = (id(plan), nb)
+    key = (id(plan), nb, n_ax)
     got = cache.get(key)
     if got is None:
-        got = cache[key] = Bound(plan, basis, nb)
+        got = cache[key] = Bound(plan, basis, nb, n_ax)
     return got
 
 

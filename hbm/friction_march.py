@@ -107,9 +107,15 @@ AUTO = AutoMarch(_HAVE_NUMBA)
 C_IN_AUTO = os.environ.get("DRYMOUNT_MARCH", "auto") == "auto"
 
 
+def c_in_auto() -> bool:
+    """Whether a march left to the default takes the C kernels (:data:`C_IN_AUTO`
+    and they load)."""
+    return C_IN_AUTO and _c_loads()
+
+
 def _chosen(backend: str | None, size: int = 0) -> str:
     """The backend of a march of ``size`` samples x columns (x batch)."""
-    if backend is None and C_IN_AUTO and _c_loads():
+    if backend is None and c_in_auto():
         return "c"
     backend = _DEFAULT if backend is None else resolve_backend(backend)
     return AUTO.choose(size) if backend == "auto" else backend

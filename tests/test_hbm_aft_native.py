@@ -93,7 +93,15 @@ def _numpy_and_c(U, ax, basis, monkeypatch):
         aft._PLANS[ax] = plan
     monkeypatch.setattr(fm, "C_IN_AUTO", True)
     assert fm._chosen(None) == "c"
-    return ref, (aft._aft_harmonic(U, ax, basis), aft._aft_dense(U, ax, basis, True))
+    got = aft._aft_harmonic(U, ax, basis), aft._aft_dense(U, ax, basis, True)
+    # a law without a compiled form (plan.codes None): the march still in C
+    aft._PLANS[ax] = dataclasses.replace(plan, codes=None)
+    try:
+        no_codes = aft._aft_dense(U, ax, basis, True)
+    finally:
+        aft._PLANS[ax] = plan
+    assert all(np.array_equal(a, b) for a, b in zip(ref[1], no_codes, strict=True))
+    return ref, got
 
 
 @pytest.mark.parametrize("laws, kf", CASES)
