@@ -349,8 +349,8 @@ def _aft_harmonic_native(U: np.ndarray, plan: _Plan, basis: FourierBasis, native
     """:func:`_aft_harmonic_compiled` through the C kernels bound once to ``plan``
     and ``basis`` (:func:`hbm.aft_native.bound`): the same numbers."""
     shape = (*U.shape[:-2], basis.N, U.shape[-1])
-    kern = native.bound(plan, basis, int(np.prod(shape[:-2], dtype=np.int64)),
-                        shape[-1])
+    kern = native.bound(plan, basis, U.size // (U.shape[-2] * U.shape[-1]),
+                        U.shape[-1])
     f, kt, _, _ = kern.samples(U, basis.E)
     F = basis.P @ f.reshape(shape)
     dF = basis.gram(kt.reshape(shape))
