@@ -132,7 +132,12 @@ def newton_vs_floor(n_calls: int = 20) -> tuple[float, float]:
     A = np.vstack([J[:, :-1], np.ones((1, n))])
     A = np.hstack([A, np.append(J[:, -1], 1.0)[:, None]])
     b = np.append(-R, 0.0)
-    t_floor = (_cpu_per_call(lambda: jenkins_march(uf, kf, fs, w0), 10 * n_calls)
+    # the floor's march: numba's where installed (as in the earlier passes; its
+    # call has less Python than the unbound C wrapper), else the default
+    from drymount.hbm.friction_march import _HAVE_NUMBA
+    floor = "numba" if _HAVE_NUMBA else None
+    t_floor = (_cpu_per_call(lambda: jenkins_march(uf, kf, fs, w0, backend=floor),
+                             10 * n_calls)
                + _cpu_per_call(lambda: np.linalg.solve(A, b), 10 * n_calls))
     return t_newton, t_floor
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from drymount.hbm.elements import NonlinearAxes, elastic_remainder, jenkins_periodic
-from drymount.hbm.friction_march import _chosen, jenkins_aft, jenkins_march
+from drymount.hbm.friction_march import _chosen, c_in_auto, jenkins_aft, jenkins_march
 from drymount.hbm.generic_march import generic_aft
 from drymount.hbm.inclined import inclined_aft
 
@@ -294,9 +294,10 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     (:func:`_subtract_slip_memory`). Equal to the dense products to round-off."""
     P = basis.P
     plan = _plan(ax)
-    if plan.codes is not None and plan.friction.size and \
-            _chosen(None, U.size // U.shape[-2] * basis.N) == "numba":
-        return _aft_harmonic_compiled(U, plan, basis)
+    if plan.codes is not None and plan.friction.size:
+        backend = _chosen(None, U.size // U.shape[-2] * basis.N)
+        if backend in ("numba", "c"):
+            return _aft_harmonic_compiled(U, plan, basis, backend)
     plan, u, f, kt = _samples(U, ax, basis)
     if f is None:
         f = np.zeros_like(u)
@@ -319,12 +320,16 @@ def _aft_harmonic(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis
     return F, dF
 
 
-def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis
-                           ) -> tuple[np.ndarray, np.ndarray]:
+def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis,
+                           backend: str = "numba") -> tuple[np.ndarray, np.ndarray]:
     """:func:`_aft_harmonic` with the samples (elastic remainders, Jenkins march, the
     tangent's sums) and the slip memory compiled
-    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``): the same
-    operations in the same order, the same numbers."""
+    (:func:`hbm.friction_march_numba.aft_samples`, ``slip_memory``; with ``backend``
+    "c" the same kernels in C, :mod:`hbm.aft_native`): the same operations in the
+    same order, the same numbers."""
+    if backend == "c":
+        from drymount.hbm import aft_native
+        return _aft_harmonic_native(U, plan, basis, aft_native)
     import drymount.hbm.friction_march_numba as nb
 
     u = basis.E @ U
@@ -339,6 +344,20 @@ def _aft_harmonic_compiled(U: np.ndarray, plan: _Plan, basis: FourierBasis
     return F, dF
 
 
+def _aft_harmonic_native(U: np.ndarray, plan: _Plan, basis: FourierBasis, native
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_aft_harmonic_compiled` through the C kernels bound once to ``plan``
+    and ``basis`` (:func:`hbm.aft_native.bound`): the same numbers."""
+    shape = (*U.shape[:-2], basis.N, U.shape[-1])
+    kern = native.bound(plan, basis, U.size // (U.shape[-2] * U.shape[-1]),
+                        U.shape[-1])
+    f, kt, _, _ = kern.samples(U, basis.E)
+    F = basis.P @ f.reshape(shape)
+    dF = basis.gram(kt.reshape(shape))
+    kern.slip_memory(dF.reshape(-1, *dF.shape[-3:]))
+    return F, dF
+
+
 def _aft_dense(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
                jacobian: bool) -> tuple[np.ndarray, np.ndarray | None]:
     """:func:`_aft_jenkins` by the dense products ``P diag(kt) E`` and ``P Z``
@@ -348,8 +367,11 @@ def _aft_dense(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
     dF_fr = None
     if plan.friction.size:
         fr = plan.friction
-        ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
-                                plan.fs, plan.w_start, E, P, jacobian)
+        if jacobian and c_in_auto():   # the C kernels bound to the plan
+            ff, dF_fr = _jenkins_native(u, plan, basis)
+        else:
+            ff, dF_fr = jenkins_aft(u if plan.all_friction else u[..., fr], plan.kf,
+                                    plan.fs, plan.w_start, E, P, jacobian)
         if f is None and plan.all_friction:
             f = ff
         else:
@@ -374,6 +396,21 @@ def _aft_dense(U: np.ndarray, ax: NonlinearAxes, basis: FourierBasis,
         if dF_fr is not None:
             dF[..., fr, :, :] = dF_fr
     return F, dF
+
+
+def _jenkins_native(u: np.ndarray, plan: _Plan, basis: FourierBasis):
+    """:func:`hbm.friction_march.jenkins_aft` of the friction columns of ``u`` (...,
+    N, n_ax) through the C kernels bound to ``plan`` and ``basis``: the same
+    numbers (the march and ``Z`` of :mod:`hbm.aft_native`, ``dF = P Z``)."""
+    from drymount.hbm import aft_native
+
+    u3 = u.reshape(-1, *u.shape[-2:])
+    kern = aft_native.bound(plan, basis, *u3.shape[::2])
+    force, Z = kern.march_samples(u3 if plan.all_friction else u3[..., plan.friction])
+    dF = basis.P @ Z
+    C = plan.friction.size
+    return (force.reshape(*u.shape[:-1], C),
+            dF.reshape(*u.shape[:-2], *dF.shape[-3:]))
 
 
 def _subtract_slip_memory(dF: np.ndarray, march, plan: _Plan,

@@ -201,10 +201,27 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
         f"no convergence in {settings.max_newton} iterations (residual {r:.3g})"))
 
 
-def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False):
+class _Polyline(NamedTuple):
+    """The vertices ``a`` of a polyline, its segments ``d`` and their squared
+    lengths ``dd`` (:func:`_polyline`)."""
+
+    a: np.ndarray
+    d: np.ndarray
+    dd: np.ndarray
+
+
+def _polyline(pts: list) -> _Polyline:
+    a = np.asarray(pts)
+    d = a[1:] - a[:-1]
+    return _Polyline(a, d, np.einsum("ij,ij->i", d, d))
+
+
+def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False,
+                          geometry: _Polyline | None = None):
     """Distance of ``p`` to the polyline through ``pts`` (one point: to that point);
     with ``with_segment`` also the length of the nearest segment (0 when the last
-    point is nearest). The first nearest segment wins.
+    point is nearest). The first nearest segment wins. ``geometry``: ``pts``'s
+    :func:`_polyline`, if the caller keeps it.
 
     All segments are measured at once; the few within round-off of the nearest are
     measured again one by one (:func:`_segment_distance`), so that ties (a vertex
@@ -215,10 +232,8 @@ def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False):
     seg = 0.0
     if len(pts) < 2:
         return (best, seg) if with_segment else best
-    a = np.asarray(pts)
-    d = a[1:] - a[:-1]
+    a, d, dd = _polyline(pts) if geometry is None else geometry
     pa = p - a[:-1]
-    dd = np.einsum("ij,ij->i", d, d)
     with np.errstate(divide="ignore", invalid="ignore"):
         s = np.where(dd == 0.0, 0.0, np.clip(np.einsum("ij,ij->i", pa, d) / dd, 0, 1))
     r = pa - s[:, None] * d
@@ -514,6 +529,10 @@ def _land(fun: Callable, y, step: _Step, t, lam_end: float,
     return _Step(y_c, tg.t, J_end, its, det_sign=tg.det_sign)
 
 
+#: ``{id(branch): (old points, their _polyline)}`` of :func:`_retraced`
+_RETRACE_POLYLINE: dict = {}
+
+
 def _retraced(br: Branch) -> bool:
     """Whether the last point fell back onto the part traced before the last turning
     point; if so, the retraced points are dropped and ``br`` says so.
@@ -529,7 +548,16 @@ def _retraced(br: Branch) -> bool:
     old = br.y[max(0, k - 400):k - 2]
     if len(old) < 2 or _norm(br.y[-1] - br.y[k]) <= 0.2:
         return False
-    dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True)
+    # the old points do not change while the branch grows past turning point k:
+    # their polyline is built once (kept with the points it was built from)
+    kept = _RETRACE_POLYLINE.get(id(br))
+    if kept is None or len(kept[0]) != len(old) or any(
+            x is not y for x, y in zip(kept[0], old, strict=True)):
+        kept = (old, _polyline(old))
+        _RETRACE_POLYLINE.clear()   # one branch grows at a time
+        _RETRACE_POLYLINE[id(br)] = kept
+    dist, seg = _distance_to_polyline(br.y[-1], old, with_segment=True,
+                                      geometry=kept[1])
     if not dist < 0.05 * seg + 1e-9:
         return False
     f_tp = br.y[k][-1]

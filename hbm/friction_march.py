@@ -61,8 +61,8 @@ from drymount.hbm.march_choice import AutoMarch
 __all__ = ["BACKENDS", "JenkinsMarch", "jenkins_march", "jenkins_jacobian",
            "jenkins_aft", "resolve_backend"]
 
-#: Names of the march implementations.
-BACKENDS = ("numpy", "numba", "scan", "scalar")
+#: Names of the march implementations ("c": the C kernels of :mod:`hbm.aft_native`).
+BACKENDS = ("numpy", "numba", "scan", "scalar", "c")
 #: Samples x columns from which the ``"numpy"`` backend scans instead of looping.
 SCAN_FROM = 192
 _HAVE_NUMBA = importlib.util.find_spec("numba") is not None
@@ -83,7 +83,17 @@ def resolve_backend(backend: str | None = None) -> str:
     if name == "numba" and not _HAVE_NUMBA:
         raise ValueError("march backend 'numba' needs numba: pip install "
                          "'drymount[fast]' (or use 'numpy')")
+    if name == "c" and not _c_loads():
+        raise ValueError("march backend 'c' needs a C compiler ($CC, cc or gcc) to "
+                         "build hbm/aft_native.c (or use 'numpy')")
     return name
+
+
+def _c_loads() -> bool:
+    """Whether the C kernels of :mod:`hbm.aft_native` load (built at first use)."""
+    from drymount.hbm import aft_native
+
+    return aft_native.library() is not None
 
 
 _DEFAULT = resolve_backend()
@@ -91,10 +101,35 @@ _DEFAULT = resolve_backend()
 AUTO = AutoMarch(_HAVE_NUMBA)
 
 
+#: The march left to ``auto`` (``$DRYMOUNT_MARCH`` unset or ``auto``) takes the C
+#: kernels whenever they load: they give the compiled march's numbers without numba's
+#: start (about 1 s CPU per process), so no size or time rule is needed (issue 27).
+C_IN_AUTO = os.environ.get("DRYMOUNT_MARCH", "auto") == "auto"
+
+
+def c_in_auto() -> bool:
+    """Whether a march left to the default takes the C kernels (:data:`C_IN_AUTO`
+    and they load)."""
+    return C_IN_AUTO and _c_loads()
+
+
 def _chosen(backend: str | None, size: int = 0) -> str:
     """The backend of a march of ``size`` samples x columns (x batch)."""
+    if backend is None and c_in_auto():
+        return "c"
     backend = _DEFAULT if backend is None else resolve_backend(backend)
     return AUTO.choose(size) if backend == "auto" else backend
+
+
+def _compiled(backend: str):
+    """The kernels' module of a compiled backend ("numba" or "c"), else None."""
+    if backend == "c":
+        from drymount.hbm import aft_native
+        return aft_native
+    if backend == "numba":
+        import drymount.hbm.friction_march_numba as friction_march_numba
+        return friction_march_numba
+    return None
 
 
 @dataclass(frozen=True)
@@ -296,9 +331,9 @@ def jenkins_march(u, kf, fs, w_start=None, backend: str | None = None
         raise ValueError(f"`kf` must be > 0 and `fs` >= 0, got kf={kf.tolist()}, "
                          f"fs={fs.tolist()}")
     u3 = u.reshape(-1, shape[-2], C)
-    if backend == "numba":
-        import drymount.hbm.friction_march_numba as friction_march_numba
-        force, stuck, last = friction_march_numba.march(u3, kf, fs, w_start)
+    kernels = _compiled(backend)
+    if kernels is not None:
+        force, stuck, last = kernels.march(u3, kf, fs, w_start)
         n_bad = 0
     else:
         t0 = AUTO.clock()
@@ -330,11 +365,11 @@ def jenkins_jacobian(march: JenkinsMarch, kf, E: np.ndarray, P: np.ndarray
         ``dF[..., c, h, g] = dF[h, c] / dU[g, c]``.
     """
     kf = np.asarray(kf, dtype=float)
-    if march.backend == "numba":
-        import drymount.hbm.friction_march_numba as friction_march_numba
+    kernels = _compiled(march.backend)
+    if kernels is not None:
         shape = march.stuck.shape
         s3 = march.stuck.reshape(-1, *shape[-2:])
-        Z = friction_march_numba.jacobian_samples(
+        Z = kernels.jacobian_samples(
             E, kf, s3, march.last_slip.reshape(s3.shape))
         return (P @ Z).reshape(*shape[:-2], shape[-1], *P.shape[:1], E.shape[1])
     t0 = AUTO.clock()
@@ -374,12 +409,11 @@ def jenkins_aft(u: np.ndarray, kf: np.ndarray, fs: np.ndarray, w_start: np.ndarr
     backend = _chosen(backend, u.size)
     shape = u.shape
     u3 = u.reshape(-1, *shape[-2:])
-    if backend == "numba":
-        import drymount.hbm.friction_march_numba as friction_march_numba
+    kernels = _compiled(backend)
+    if kernels is not None:
         if not jacobian:
-            return friction_march_numba.march(u3, kf, fs, w_start)[0].reshape(
-                shape), None
-        force, Z = friction_march_numba.march_and_samples(u3, kf, fs, w_start, E)
+            return kernels.march(u3, kf, fs, w_start)[0].reshape(shape), None
+        force, Z = kernels.march_and_samples(u3, kf, fs, w_start, E)
         dF = P @ Z
         return force.reshape(shape), dF.reshape(*shape[:-2], *dF.shape[-3:])
     t0 = AUTO.clock()

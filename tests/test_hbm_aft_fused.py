@@ -18,25 +18,20 @@ import pytest
 from drymount.hbm import aft
 from drymount.hbm import friction_march as fm
 from drymount.hbm.aft import FourierBasis
-from drymount.hbm.elements import NonlinearAxes, jenkins_periodic
+from drymount.hbm.elements import jenkins_periodic
+from aft_axes import random_axes
 
 pytest.importorskip("numba")
 
 
-def _axes(laws, kf, rng):
-    n = len(laws)
-    k1 = rng.uniform(5e4, 1e5, n)
-    return NonlinearAxes(
-        labels=tuple(f"a{i}" for i in range(n)), index=tuple((0, i) for i in range(n)),
-        B=np.eye(n), G=np.zeros((n, 1)), law=tuple(laws), k1=k1,
-        kc=rng.uniform(1e8, 1e10, n), k2=k1 * rng.uniform(2, 6, n),
-        delta=rng.uniform(2e-4, 1e-3, n), delta_neg=rng.uniform(2e-4, 1e-3, n),
-        kf=np.asarray(kf, float), fs=rng.uniform(5, 50, n) * (np.asarray(kf) > 0))
+_axes = random_axes
 
 
 def _both(U, ax, basis, monkeypatch):
-    """(NumPy code with the compiled march, the compiled AFT)."""
+    """(NumPy code with the compiled march, the compiled AFT: numba's kernels, not
+    the C ones of tests/test_hbm_aft_native.py)."""
     monkeypatch.setattr(fm, "_DEFAULT", "numba")
+    monkeypatch.setattr(fm, "C_IN_AUTO", False)
     plan = aft._plan(ax)
     aft._PLANS[ax] = dataclasses.replace(plan, codes=None)
     try:

@@ -16,7 +16,7 @@ import drymount.hbm as hbm
 import drymount.hbm.aft as aft
 from drymount.config.loading import load_preset
 from drymount.hbm.aft import FourierBasis, aft_forces
-from drymount.hbm.continuation import _distance_to_polyline
+from drymount.hbm.continuation import _distance_to_polyline, _polyline
 from drymount.hbm.elements import elastic_remainder
 from drymount.hbm.friction_march import jenkins_march
 from drymount.hbm.problem import build_problem
@@ -141,3 +141,21 @@ def test_distance_to_polyline_equals_loop():
         assert _distance_to_polyline(p, pts, with_segment=True) == \
             _loop_distance(p, pts)
         assert _distance_to_polyline(p, pts) == _loop_distance(p, pts)[0]
+        if k >= 2:   # with the polyline built once (hbm.continuation._retraced)
+            assert _distance_to_polyline(p, pts, True, _polyline(pts)) == \
+                _loop_distance(p, pts)
+
+
+def test_retrace_check_rebuilds_its_polyline_when_the_points_change():
+    from drymount.hbm.continuation import Branch, _retraced
+
+    # up to the fold at lam = 1 on one curve, back on another 0.5 away
+    up = [np.array([np.sin(3 * x), x]) for x in np.linspace(0, 1, 31)]
+    back = [np.array([np.sin(3 * x) + 0.5, x]) for x in np.linspace(1, 0.4, 13)[1:]]
+    br = Branch(y=up + back[:6], tangent=[None] * 37, jacobian=[None] * 37,
+                det_sign=[0.0] * 37, n_iter=[0] * 37, turning_points=[30])
+    for _ in range(2):   # the second time with the polyline kept
+        assert not _retraced(br)
+    # the old part changes (new point objects onto the way back): seen at once
+    br.y[:28] = [y + [0.5, 0.0] for y in br.y[:28]]
+    assert _retraced(br) and br.status.value == "retraced"

@@ -165,7 +165,7 @@ def test_bad_input_names_the_field():
         jenkins_march(np.zeros((8, 2)), [1.0], [1.0])
     with pytest.raises(ValueError, match="must be one of auto, numpy, numba"):
         resolve_backend("fortran")
-    assert set(BACKENDS) == {"numpy", "numba", "scan", "scalar"}
+    assert set(BACKENDS) == {"numpy", "numba", "scan", "scalar", "c"}
 
 
 def test_auto_is_numpy_without_numba(monkeypatch):

@@ -24,15 +24,14 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import hashlib
 import logging
 import os
-import shutil
 import subprocess
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from drymount.hbm.c_build import compiler, shared_library
 
 __all__ = ["CLoop", "for_backend", "library", "CHUNK"]
 
@@ -57,39 +56,18 @@ class _Fail(ctypes.Structure):
     _fields_ = [("k", _i64), ("e", _i64), ("which", _i64), ("status", _i64)]
 
 
-def _compiler() -> list[str] | None:
-    cc = os.environ.get("CC") or shutil.which("cc") or shutil.which("gcc")
-    return cc.split() if cc else None
-
-
 def _compile(cc: list[str]) -> Path:
     """The shared library in the native cache (compiled when missing)."""
-    from drymount.fmu_build.native import cache_folder
-
-    src = SOURCE.read_bytes()
     ver = subprocess.run([cc[0], "--version"], capture_output=True, text=True,
                          check=False).stdout
-    flags = ["-std=c11", "-O2", "-shared", "-fPIC"]
-    key = hashlib.sha256(src + ver.encode() + " ".join(cc + flags).encode())
-    folder = cache_folder()
-    folder = (folder / "c_loop") if folder is not None else Path(
-        tempfile.mkdtemp(prefix="drymount_c_loop_"))
-    out = folder / f"c_loop-{key.hexdigest()[:16]}.so"
-    if not out.exists():
-        folder.mkdir(parents=True, exist_ok=True)
-        tmp = out.with_suffix(f".{os.getpid()}.tmp")
-        proc = subprocess.run([*cc, *flags, "-o", str(tmp), str(SOURCE)],
-                              capture_output=True, text=True, timeout=120)
-        if proc.returncode != 0:
-            raise OSError(f"{cc[0]} failed: {proc.stderr.strip()[:300]}")
-        os.replace(tmp, out)
-    return out
+    return shared_library(SOURCE, "c_loop", ["-std=c11", "-O2", "-shared", "-fPIC"],
+                          cc, ver)
 
 
 @functools.cache
 def library():
     """``(ctypes library, "")`` or ``(None, why not)``."""
-    cc = _compiler()
+    cc = compiler()
     if cc is None:
         return None, "no C compiler ($CC, cc or gcc)"
     try:
