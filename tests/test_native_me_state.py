@@ -323,9 +323,12 @@ def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
     to 2.9e-4 at 1 ms).
 
     Energies (docs/fmu.md 7a), relative to the largest: ME's equals the fine-step
-    integration :func:`bank_energy` to 1e-6 (measured ...); CS's, the slip force at
-    the step's end times the step's slip, is first order: its difference to ME and
-    to the integration shrinks in proportion to the step (measured ...)."""
+    integration :func:`bank_energy` to 1e-6 (measured 2.7e-7, 3.3e-7, 2.8e-7 on
+    axial, radial1, radial2; it was 8e-4 when ME took the slip force at each commit
+    times the slip since the last); CS's, the slip force at the step's end times the
+    step's slip, is first order: its difference to ME and to the integration shrinks
+    in proportion to the step (measured 9.8e-4, 2.9e-4, 8.6e-5 at 1, 0.33, 0.1 ms on
+    every axis, to within 4 %; ME - CS the same to 0.4 %)."""
     params = dict(BASE, radial2_friction=True, radial2_friction_kind=KINDS["jenkins"],
                   radial2_sliders=3, radial2_spread=0.3, radial2_fs_ratio=0.7)
     me, step_events = run_me(native, params)
@@ -348,8 +351,6 @@ def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
         exact = bank_energy(a, np.array(me["time"]))
         scale = np.abs(exact).max()
         err = abs(me[f"E_fr_{a}"] - exact).max() / scale
-        print(a, "ME", err, "CS", [(h, abs(energy[h][a] - exact).max() / scale,
-                                    errs[h][f"E_fr_{a}"]) for h in CS_STEPS])
         assert err < 1e-6, (a, err)
         cs = {h: abs(energy[h][a] - exact).max() / scale for h in energy}
         assert cs[1e-3] > 1e-4, cs  # the step error is seen
