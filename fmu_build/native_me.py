@@ -3,9 +3,10 @@
 Both native FMUs declare Model Exchange beside Co-Simulation, with the same model
 identifier (one binary, ``fmu_src/native/fmi2_me.c`` / ``fmi3_me.c`` on top of
 ``me.c``). The variables below follow the interface table's (and FMI 3.0's ``time``):
-per axis the two continuous states of a Dahl or LuGre element (constant 0 for the other
-elements), their derivatives, and the two event indicators; see ``fmu_src/native/me.h``
-and docs/fmu.md ("Model Exchange").
+per axis the two continuous states of a Dahl or LuGre element (Berg's element: its
+dissipated energy; a Jenkins bank under a varying normal force: its friction work;
+constant 0 otherwise), their derivatives, and the two event indicators; see
+``fmu_src/native/me.h`` and docs/fmu.md ("Model Exchange").
 """
 
 from __future__ import annotations
@@ -44,15 +45,17 @@ def me_variables() -> list[interface.Variable]:
                 f"derivative of zb_{axis}: v - kf |v| z / g(v)", "calculated"),
             interface.Variable(
                 f"Eb_{axis}", "Real", "local", "continuous", None, "J",
-                f"Model Exchange state: energy the {axis} Dahl or LuGre element "
-                f"dissipated (in E_fr_{axis}); 0 for other elements", "calculated"),
+                f"Model Exchange state: energy the {axis} Dahl, LuGre or Berg "
+                f"element dissipated (in E_fr_{axis}); a Jenkins bank's friction "
+                f"work once n_{axis} varies; 0 for other elements", "calculated"),
             interface.Variable(
                 f"der(Eb_{axis})", "Real", "local", "continuous", None, "W",
                 f"derivative of Eb_{axis}: the dissipated power", "calculated"),
             interface.Variable(
                 f"zs_{axis}", "Real", "local", "continuous", None, "N",
                 f"event indicator: margin of the {axis} stuck slider (or surface) "
-                f"nearest to its slip limit; negative once it slips", "calculated"),
+                f"nearest to its slip limit, negative once it slips (Berg: its force "
+                f"times the sign of v at the last event)", "calculated"),
             interface.Variable(
                 f"zr_{axis}", "Real", "local", "continuous", None, "m/s",
                 f"event indicator: v_{axis} times its sign at the last event while "
@@ -104,8 +107,10 @@ def model_exchange(root: Element, fmi: int, identifier: str, source_file: str) -
     SubElement(root, "ModelExchange", modelIdentifier=identifier, **caps)
 
 
-def _state_depends(axis: str) -> list[str]:
-    return [f"zb_{axis}", f"v_{axis}", f"n_{axis}"]
+def _state_depends(axis: str, state: str) -> list[str]:
+    # Berg's energy rate depends on u (its force and tangent from the committed state)
+    return [f"zb_{axis}", *([f"u_{axis}"] if state == "Eb" else []), f"v_{axis}",
+            f"n_{axis}"]
 
 
 def structure_derivatives(structure: Element, fmi: int, ref: dict[str, str]) -> None:
@@ -113,7 +118,7 @@ def structure_derivatives(structure: Element, fmi: int, ref: dict[str, str]) -> 
     parent = SubElement(structure, "Derivatives") if fmi == 2 else structure
     for axis in AXES:
         for state in STATES:
-            deps = " ".join(ref[d] for d in _state_depends(axis))
+            deps = " ".join(ref[d] for d in _state_depends(axis, state))
             if fmi == 2:
                 SubElement(parent, "Unknown", index=ref[f"der({state}_{axis})"],
                            dependencies=deps)

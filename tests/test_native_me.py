@@ -245,7 +245,8 @@ def test_other_elements_me_equals_cs(native, kind):
     """The inclined element, Berg's and LuGre (sigma1 = sigma2 = 0, no Stribeck: the
     CS increment is then exact too) on radial2: forces equal CS to 1e-6 of Fs (the
     inclined one: of its preload). Berg's energy is compared loosely: its CS
-    bookkeeping clamps a negative increment to 0, so it depends on the steps."""
+    bookkeeping clamps a negative increment to 0, so it depends on the steps (ME
+    gives their limit: test_native_me_state)."""
     params = dict(BASE, radial2_friction=True, radial2_friction_kind=KINDS[kind])
     me, events = run_me(native, params)
     err, _ = compare(native, params, me)

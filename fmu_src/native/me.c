@@ -8,15 +8,16 @@
 #include "friction_table.h"  /* the element names (generated) */
 
 /* How an axis's element is treated in Model Exchange. */
-enum { MX_NONE = 0, MX_BANK, MX_INCLINED, MX_PATH, MX_DAHL, MX_LUGRE };
+enum { MX_NONE = 0, MX_BANK, MX_INCLINED, MX_PATH, MX_DAHL, MX_LUGRE, MX_BERG };
 
 static const char *const MX_STATE_NAMES[5] = {
     "Instantiated", "InitializationMode", "EventMode", "ContinuousTimeMode",
     "Terminated"};
 
 /* The element class of axis p: a Jenkins bank (macro-, micro-slip, non-symmetric),
- * the inclined element, Dahl, LuGre; any other (Berg, elements registered later) is
- * rate independent with a memory of its last reversal: committed at reversals. */
+ * the inclined element, Dahl, LuGre, Berg; any other (elements registered later) is
+ * rate independent with a memory of its last reversal: committed at reversals. Berg
+ * is such an element whose dissipated energy is a continuous state (berg_power). */
 static int mx_kind(const ml_axis_params *p)
 {
     const char *name;
@@ -31,6 +32,8 @@ static int mx_kind(const ml_axis_params *p)
         return MX_DAHL;
     if (strcmp(name, "lugre") == 0)
         return MX_LUGRE;
+    if (strcmp(name, "berg") == 0)
+        return MX_BERG;
     return MX_PATH;
 }
 
@@ -156,6 +159,50 @@ static void bank_indicators(const md_instance *m, int j, double *zs, double *zr)
     *zr = any_slip ? m->d.me.dir[j] * m->d.v[j] : 1.0;
 }
 
+/* The elastic energy sum k_i (u - w_i)^2 / 2 the sliders at w of axis j's bank
+ * store at the present u. */
+static double bank_stored(const md_instance *m, int j, const double *w)
+{
+    const ml_axis_params *p = &m->d.p[j];
+    int i, n = p->sliders > 1 ? p->sliders : 1;
+    double k = n > 1 ? p->kf / n : p->kf, u = m->d.u[j], sum = 0.0;
+    for (i = 0; i < n; ++i)
+        sum += k * (u - w[i]) * (u - w[i]) / 2.0;
+    return sum;
+}
+
+/* The energy axis j's bank dissipated since the last event, at the cached trial
+ * m->res[j] / m->w_new[j]: the integral of F dw over the slip. While n has not
+ * varied, jenkins.c's slip force times the slip (Co-Simulation's increment, exact
+ * at constant n; Eb stays 0, so fmpy's input table, whose derivatives see stale
+ * inputs, is fine); once it has, the work of the friction force since (Eb,
+ * integrated) less the change of the sliders' elastic energy, exact for any path
+ * of u and n (Co-Simulation's increment takes the slip force at the step's end:
+ * first order in the step). */
+static double bank_dissipated(const md_instance *m, int j)
+{
+    const md_me *me = &m->d.me;
+    if (!me->n_varies[j])
+        return m->res[j].dissipated;
+    return (me->x[j][1] - me->work_event[j])
+           - (bank_stored(m, j, m->w_new[j]) - me->stored_event[j]);
+}
+
+/* An event of axis j's bank: the energy since the last one (bank_dissipated) added
+ * to its committed energy e0; whether n varied since (n_last there; by more than
+ * its rounding: fmpy's input table interpolates a constant column to 1 ulp); Eb and
+ * the sliders' elastic energy of the committed state. */
+static void bank_event_energy(md_instance *m, int j, double e0, double diss,
+                              double n_last)
+{
+    md_me *me = &m->d.me;
+    m->d.e[j] = e0 + diss;
+    if (me->iterated && fabs(mx_normal(m, j) - n_last) > 1e-12 * fabs(n_last))
+        me->n_varies[j] = 1;
+    me->work_event[j] = me->x[j][1];
+    me->stored_event[j] = bank_stored(m, j, m->d.w[j]);
+}
+
 /* ------------------------------------------------------------ the inclined element */
 
 /* The regime the inclined element of axis j continues in from its committed state
@@ -200,6 +247,33 @@ static void inclined_indicators(const md_instance *m, int j, double *zs, double 
         any_stuck = 1;
     }
     *zr = mode[0] || mode[1] ? m->d.me.dir[j] * m->d.v[j] : 1.0;
+}
+
+/* ------------------------------------------------------------ Berg's energy */
+
+/* Berg's element of axis j from its committed state to the present u (the
+ * Co-Simulation trial of berg.c): its force and tangent dF/du into *out. */
+static void berg_trial(const md_instance *m, int j, ml_friction_step *out)
+{
+    const ml_axis_params *p = &m->d.p[j];
+    double w_new[ML_MAX_STATE];
+    char msg[8];
+    if (ML_ELEMENTS[p->friction_kind]->step(m->d.u[j], m->d.v[j], m->d.w[j], p,
+                                             ml_slip_force(p, mx_normal(m, j)), 0.0,
+                                             w_new, out, msg, sizeof msg))
+        out->force = out->tangent = 0.0;  /* not reached: Berg never refuses */
+}
+
+/* d Eb / dt of Berg's element (docs/fmu.md 7a): the positive part of its energy
+ * rate at constant n, F v - F dF/dt / kf = F v (1 - kt / kf): the limit of
+ * Co-Simulation's energy, whose increments berg.c clamps at 0. */
+static double berg_power(const md_instance *m, int j)
+{
+    ml_friction_step st;
+    double rate;
+    berg_trial(m, j, &st);
+    rate = st.force * m->d.v[j] * (1.0 - st.tangent / m->d.p[j].kf);
+    return rate > 0.0 ? rate : 0.0;
 }
 
 /* ------------------------------------------------------------ Dahl and LuGre */
@@ -247,6 +321,14 @@ static md_status refresh(md_instance *m, const char *call)
         double f_el, k_el, u = m->d.u[j], v = m->d.v[j], z = m->d.me.x[j][0];
         mx_rates r;
         ml_axis_result *res = &m->res[j];
+        if (kind == MX_BERG || kind == MX_BANK) {  /* the trial, its energy from
+                                                      the state */
+            if (md_evaluate(m, call, j) != MD_OK)
+                return MD_ERROR;
+            res->dissipated = kind == MX_BERG ? m->d.me.x[j][1] - m->d.e[j]
+                              : bank_dissipated(m, j);
+            continue;
+        }
         if (!mx_continuous(kind))
             continue;
         ml_elastic_force(u, p->law, p->k1, p->kc, p->k2, p->delta, p->delta_neg,
@@ -302,6 +384,7 @@ md_status mx_update(md_instance *m, const char *call, int *changed)
     for (j = 0; j < 3; ++j) {
         const ml_axis_params *p = &m->d.p[j];
         int kind = mx_kind(p);
+        double n_last = m->d.me.n_event[j];
         m->d.me.dir[j] = (signed char)mx_sign(m->d.v[j]);
         m->d.me.n_event[j] = mx_normal(m, j);
         if (kind == MX_NONE)
@@ -319,13 +402,35 @@ md_status mx_update(md_instance *m, const char *call, int *changed)
             m->d.w[j][1] = m->d.u[j];
             continue;
         }
+        if (kind == MX_BERG) {
+            double e0 = m->d.e[j];
+            if (commit(m, call, j) != MD_OK)
+                return MD_ERROR;
+            if (ml_slip_force(p, mx_normal(m, j)) <= 0.0 && m->d.e[j] != e0) {
+                /* lost contact: the stored energy is released (berg.c) */
+                m->d.me.x[j][1] += m->d.e[j] - e0;
+                *changed = 1;
+            }
+            m->d.e[j] = m->d.me.x[j][1];
+            continue;
+        }
+        if (kind == MX_BANK) {  /* the energy since the last event (bank_dissipated) */
+            double e0 = m->d.e[j], diss;
+            if (md_evaluate(m, call, j) != MD_OK)
+                return MD_ERROR;
+            diss = bank_dissipated(m, j);
+            if (commit(m, call, j) != MD_OK)
+                return MD_ERROR;
+            bank_event_energy(m, j, e0, diss, n_last);
+            bank_modes(m, j);
+            continue;
+        }
         if (commit(m, call, j) != MD_OK)
             return MD_ERROR;
-        if (kind == MX_BANK)
-            bank_modes(m, j);
-        else if (kind == MX_INCLINED)
+        if (kind == MX_INCLINED)
             inclined_modes(m, j);
     }
+    m->d.me.iterated = 1;
     mx_invalidate(m);
     return MD_OK;
 }
@@ -349,7 +454,13 @@ md_status mx_indicators(md_instance *m, const char *call, double *z, size_t n)
             bank_indicators(m, j, zs, zr);
         else if (kind == MX_INCLINED)
             inclined_indicators(m, j, zs, zr);
-        else if (kind != MX_NONE)
+        if (kind == MX_BERG && m->d.me.dir[j] != 0) {
+            /* the sign of the energy rate: F against the motion after a reversal */
+            ml_friction_step st;
+            berg_trial(m, j, &st);
+            *zs = m->d.me.dir[j] * st.force;
+        }
+        if (kind != MX_NONE && kind != MX_BANK && kind != MX_INCLINED)
             *zr = m->d.me.dir[j] != 0 ? m->d.me.dir[j] * m->d.v[j] : m->d.v[j];
     }
     return MD_OK;
@@ -444,6 +555,13 @@ md_status mx_derivatives(md_instance *m, const char *call, double *dx, size_t n)
         int kind = m->params_ok ? mx_kind(&m->d.p[j]) : MX_NONE;
         mx_rates r;
         dx[2 * j] = dx[2 * j + 1] = 0.0;
+        if (kind == MX_BERG)
+            dx[2 * j + 1] = berg_power(m, j);
+        if (kind == MX_BANK && m->d.me.n_varies[j]) {  /* its friction's power */
+            if (md_evaluate(m, call, j) != MD_OK)
+                return MD_ERROR;
+            dx[2 * j + 1] = m->res[j].friction * m->d.v[j];
+        }
         if (!mx_continuous(kind))
             continue;
         continuous_rates(m, j, kind, &r);

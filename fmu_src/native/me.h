@@ -10,9 +10,12 @@
  *    surface starts to slip;
  *  - continuous (Dahl, LuGre): the bristle deflection z (Dahl's force / kf) with
  *    dz/dt = v - kf |v| z / g(v) (g = Fc for Dahl, the Stribeck curve for LuGre) and
- *    the dissipated energy E, integrated by the importer.
+ *    the dissipated energy E, integrated by the importer; the energy E is also
+ *    continuous for Berg (the positive part of its rate) and for a bank once its
+ *    normal force varies (the friction force's work; docs/fmu.md 7a).
  * Event indicators per axis: zs, the margin [N] of the stuck slider (surface) nearest
- * to its slip limit (negative: slipping), and zr = sign(v at the last event) * v
+ * to its slip limit (negative: slipping; Berg: its force times the sign of v at the
+ * last event, the sign of its energy rate), and zr = sign(v at the last event) * v
  * [m/s] while anything slips (or for Dahl, LuGre, Berg: always), negative once the
  * motion reverses. The importer supplies u and v = du/dt of the same motion: the
  * reversals are read from the sign of v.

@@ -10,7 +10,8 @@ extern "C" {
 #endif
 
 /* Continuous states per axis: the bristle deflection z [m] and the energy E [J] the
- * Dahl or LuGre element dissipated (both constant 0 for the other elements). */
+ * Dahl, LuGre or Berg element dissipated (a Jenkins bank: its friction force's work;
+ * both constant 0 for the other elements). */
 #define MX_STATES_PER_AXIS 2
 /* Event indicators per axis: the margin of the stuck slider (or surface) nearest to
  * slipping [N], and the velocity reversal of the slipping ones [m/s]. */
@@ -34,6 +35,14 @@ typedef struct {
     signed char mode[3][ML_MAX_SLIDERS];
     signed char dir[3];   /* sign of v at the last event (0: at rest) */
     double n_event[3];    /* normal force at the last event */
+    /* the Jenkins bank's energy under a varying normal force (docs/fmu.md 7a): once
+     * n_varies (n changed between two events), Eb_<axis> integrates the work of its
+     * friction force and E_fr_<axis> adds to the energy at the last event the work
+     * since less the change of the sliders' elastic energy; at the last event: Eb and
+     * that elastic energy; iterated: an event iteration was done since
+     * initialization */
+    double work_event[3], stored_event[3];
+    int n_varies[3], iterated;
 } md_me;
 
 #ifdef __cplusplus

@@ -175,6 +175,19 @@ ML_DECL double md_get_field(const ml_axis_params *p, md_field field);
 ML_DECL void md_invalidate(md_instance *m);
 ML_DECL md_status md_check_parameters(md_instance *m, const char *call, md_status level);
 
+/* Shared by model.c and model_vars.c (the variables' get/set): a parameter field
+ * set; w_<axis> before the parameters are checked (one untagged position) and after
+ * (the element relaxed there); the committed state's position; the normal force in
+ * use (n_<axis> once set, else <axis>_n0); the trial return map of axis j at the
+ * current inputs (cached in m->res, commits nothing); E_fr, the axes' sum. */
+ML_DECL void md_set_field(ml_axis_params *p, md_field field, double value);
+ML_DECL void md_put_sliders(md_data *d, int j, double value);
+ML_DECL void md_initial_state(md_data *d, int j, double value);
+ML_DECL double md_mean_state(const md_data *d, int j);
+ML_DECL double md_normal_force(const md_instance *m, int j);
+ML_DECL md_status md_evaluate(md_instance *m, const char *call, int j);
+ML_DECL md_status md_energy_total(md_instance *m, const char *call, double *value);
+
 ML_DECL md_status md_get_state(md_instance *m, const char *call, void **state);
 ML_DECL md_status md_set_state(md_instance *m, const char *call, const void *state);
 ML_DECL void md_free_state(md_instance *m, void *state);
