@@ -384,7 +384,7 @@ def test_native_equals_python_on_random_trajectories_and_restores(fmi, native_fm
         get_state = a.fmu.getFMUstate if fmi == 2 else a.fmu.getFMUState
         ser = a.fmu.serializeFMUstate if fmi == 2 else a.fmu.serializeFMUState
         blob = ser(get_state())
-        assert bytes(blob[:8]) == b"DMNTST06"
+        assert bytes(blob[:8]) == b"DMNTST07"
         a.run(traj, 1500, 3000, got)
         b.start(axes)
         de = b.fmu.deSerializeFMUstate if fmi == 2 else b.fmu.deserializeFMUState

@@ -72,7 +72,7 @@ def _check(path, seed, magic, steps=STEPS):
 @pytest.mark.parametrize("fmi", [2, 3])
 def test_native_fmu_with_the_fluid_equals_the_law(fmi, native_fmus):
     pytest.importorskip("fmpy")
-    _check(native_fmus[fmi], 2830 + fmi, b"DMNTST06")
+    _check(native_fmus[fmi], 2830 + fmi, b"DMNTST07")
 
 
 def test_pythonfmu_with_the_fluid_equals_the_law(python_fmu):

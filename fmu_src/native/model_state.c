@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '6'};
+static const char STATE_MAGIC[8] = {'D', 'M', 'N', 'T', 'S', 'T', '0', '7'};
 
 /* ------------------------------------------------------------------ FMU state */
 

@@ -145,7 +145,7 @@ def corrupt(blob: bytes, kind: str, *args) -> bytes:
 
 def fix_checksum(blob: bytes) -> bytes:
     """``blob`` with its checksum recomputed (docs/fmu.md "FMU state"), so that a
-    corrupted field reaches the range checks: native ``DMNTST06`` + data + FNV-1a
+    corrupted field reaches the range checks: native ``DMNTST07`` + data + FNV-1a
     64 (little endian) of the data; PythonFMU ``DMPYST01`` + SHA-256 hex + payload."""
     import hashlib
 
