@@ -64,12 +64,12 @@ def _compiler() -> list[str] | None:
 
 def _compile(cc: list[str]) -> Path:
     """The shared library in the native cache (compiled when missing)."""
-    from drymount.fmu_build.native import cache_folder
+    from drymount.fmu_build.native import cache_folder, debug_cflags
 
     src = SOURCE.read_bytes()
     ver = subprocess.run([cc[0], "--version"], capture_output=True, text=True,
                          check=False).stdout
-    flags = ["-std=c11", "-O2", "-shared", "-fPIC"]
+    flags = ["-std=c11", "-O2", "-shared", "-fPIC", *debug_cflags()]
     key = hashlib.sha256(src + ver.encode() + " ".join(cc + flags).encode())
     folder = cache_folder()
     folder = (folder / "c_loop") if folder is not None else Path(
