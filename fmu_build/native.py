@@ -425,18 +425,29 @@ def cache_folder() -> Path | None:
     return Path(base) / "drymount" / "native"
 
 
+def debug_cflags() -> tuple[str, ...]:
+    """``$DRYMOUNT_NATIVE_CFLAGS`` split (debugging only, e.g. ``-fsanitize=address
+    -fno-omit-frame-pointer -g``): added to the host's binary (compiled with gcc then,
+    not stripped) and to the C stepping loop (vehicle/c_loop.py); () when unset."""
+    return tuple(os.environ.get("DRYMOUNT_NATIVE_CFLAGS", "").split())
+
+
 def _job(target: NativeTarget, folder: Path, platform: str,
          sources: dict[str, bytes]) -> _Job | str:
     """The compile of ``platform`` in ``folder``, or why it cannot be built."""
     plat = PLATFORMS[target.fmi][platform]
+    debug = debug_cflags() if platform == next(iter(PLATFORMS[target.fmi])) else ()
     compiler, why = _compiler(plat)
+    if debug and plat.fallback and shutil.which(plat.fallback):
+        compiler = (plat.fallback,)  # zig cc has no AddressSanitizer
     if compiler is None:
         return why
     out = folder / platform / (target.model_identifier + plat.suffix)
     # relative names in the build folder: no temporary path ends up in the binary
     c_files = [UNITY]
     flags = plat.flags + (plat.fallback_flags if compiler == (plat.fallback,) else ())
-    strip = () if "-s" in flags else ("-s",)
+    flags += debug
+    strip = () if "-s" in flags or debug else ("-s",)
     cmd = (*compiler, *CFLAGS, *flags, *strip, "-o",
            f"{platform}/{out.name}", *c_files, "-lm")
     h = hashlib.sha256(_compiler_identity(compiler).encode() + b"\0")

@@ -41,7 +41,10 @@ def shared_library(source: Path, stem: str, flags: list[str] | tuple[str, ...],
     """The shared library of ``source`` compiled by ``cc`` with ``flags`` in the
     cache's folder ``stem`` (a temporary folder without a cache); compiled when
     missing. ``identity`` names the compiler's version in the key (a compiler
-    upgrade builds anew). Raises OSError if the compiler fails."""
+    upgrade builds anew). ``$DRYMOUNT_NATIVE_CFLAGS`` (debugging only, e.g.
+    ``-fsanitize=address -g``; see docs/fmu.md) is appended to ``flags``. Raises
+    OSError if the compiler fails."""
+    flags = [*flags, *os.environ.get("DRYMOUNT_NATIVE_CFLAGS", "").split()]
     src = source.read_bytes()
     key = hashlib.sha256(src + identity.encode() + " ".join([*cc, *flags]).encode())
     folder = cache_folder()

@@ -41,12 +41,13 @@ def law(tmp_path_factory):
     """The C law compiled with the FMU's flags (as test_native_maxwell's)."""
     from native_helpers import need_gcc, run
 
-    from drymount.fmu_build.native import CFLAGS, write_law_sources
+    from drymount.fmu_build.native import CFLAGS, debug_cflags, write_law_sources
 
     need_gcc()
     folder = tmp_path_factory.mktemp("hydraulic_law")
     lib = folder / "libmountlaw.so"
-    proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
+    proc = run(["gcc", *CFLAGS, *debug_cflags(), "-fPIC", "-fvisibility=default",
+                "-o", lib,
                 *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(lib))

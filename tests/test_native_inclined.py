@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, run
 
-from drymount.fmu_build.native import CFLAGS, write_law_sources
+from drymount.fmu_build.native import CFLAGS, debug_cflags, write_law_sources
 from drymount.fmu_src.inclined import (
     ContactLost,
     InclinedParameters,
@@ -50,7 +50,8 @@ def lib(tmp_path_factory):
     need_gcc()
     folder = tmp_path_factory.mktemp("inclined")
     out = folder / "libinclined.so"
-    proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", out,
+    proc = run(["gcc", *CFLAGS, *debug_cflags(), "-fPIC", "-fvisibility=default",
+                "-o", out,
                 *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(out))

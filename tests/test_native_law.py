@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from native_helpers import need_gcc, random_axis, run
 
-from drymount.fmu_build.native import CFLAGS, write_law_sources
+from drymount.fmu_build.native import CFLAGS, debug_cflags, write_law_sources
 from drymount.fmu_src import mount_law
 from drymount.fmu_src.mount_law import (LAWS, AxisParameters, axis_force,
                                         initial_sliders, mean_slider)
@@ -60,7 +60,8 @@ def law(tmp_path_factory):
     need_gcc()
     folder = tmp_path_factory.mktemp("law")
     lib = folder / "libmountlaw.so"
-    proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
+    proc = run(["gcc", *CFLAGS, *debug_cflags(), "-fPIC", "-fvisibility=default",
+                "-o", lib,
                 *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(lib))

@@ -16,7 +16,7 @@ import pytest
 from native_helpers import need_gcc, random_axis, run
 from test_native_law import Params, Result
 
-from drymount.fmu_build.native import CFLAGS, write_law_sources
+from drymount.fmu_build.native import CFLAGS, debug_cflags, write_law_sources
 from drymount.fmu_src.mount_law import (LAWS, AxisParameters, axis_force,
                                         initial_sliders, slider_position)
 
@@ -32,7 +32,8 @@ def law(tmp_path_factory):
     need_gcc()
     folder = tmp_path_factory.mktemp("maxwell_law")
     lib = folder / "libmountlaw.so"
-    proc = run(["gcc", *CFLAGS, "-fPIC", "-fvisibility=default", "-o", lib,
+    proc = run(["gcc", *CFLAGS, *debug_cflags(), "-fPIC", "-fvisibility=default",
+                "-o", lib,
                 *write_law_sources(folder), "-lm"])
     assert proc.returncode == 0, proc.stderr
     dll = ctypes.CDLL(str(lib))

@@ -240,6 +240,22 @@ def test_sweep_me_equals_cs_and_locates_the_events(native):
     assert miss < TOL_EVENT and extra < TOL_EVENT, (miss, extra)
 
 
+
+def test_maxwell_branch_leaves_the_bank_events(native):
+    """A Maxwell branch beside the micro-slip bank (radial1) puts uc and its strokes
+    after the 8 sliders in the axis's state; the bank's modes and event indicators
+    read the sliders only, so the events are the bank's analytic ones as without the
+    branch (me.c took uc and the strokes for more sliders, and with 64 sliders wrote
+    their modes past the bank's row of ML_MAX_SLIDERS)."""
+    params = dict(BASE, radial2_friction=True, radial2_friction_kind=KINDS["dahl"],
+                  radial1_maxwell_k1=2e4, radial1_maxwell_c1=50.0)
+    _, events = run_me(native, params)
+    analytic = bank_events()
+    assert len(events) == len(analytic)
+    miss, extra = match_events(events, analytic)
+    assert miss < TOL_EVENT and extra < TOL_EVENT, (miss, extra)
+
+
 @pytest.mark.parametrize("kind", ["inclined", "berg", "lugre"])
 def test_other_elements_me_equals_cs(native, kind):
     """The inclined element, Berg's and LuGre (sigma1 = sigma2 = 0, no Stribeck: the

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "maxwell.h"
 #include "friction_table.h"  /* the element names (generated) */
 
 /* How an axis's element is treated in Model Exchange. */
@@ -126,7 +127,9 @@ static void bank_modes(md_instance *m, int j)
 {
     const ml_axis_params *p = &m->d.p[j];
     double fs = ml_slip_force(p, mx_normal(m, j)), u = m->d.u[j];
-    int i, n = ml_state_size(p), dir = m->d.me.dir[j];
+    /* the sliders only: not uc and the Maxwell strokes after them (mode[j] holds
+     * ML_MAX_SLIDERS entries) */
+    int i, n = ml_inner_size(p, ml_state_size(p)), dir = m->d.me.dir[j];
     for (i = 0; i < n; ++i) {
         double k, fp, fn, w = m->d.w[j][i], trial, tol;
         bank_slider(p, fs, i, &k, &fp, &fn);
@@ -141,7 +144,7 @@ static void bank_indicators(const md_instance *m, int j, double *zs, double *zr)
 {
     const ml_axis_params *p = &m->d.p[j];
     double fs = ml_slip_force(p, mx_normal(m, j)), u = m->d.u[j];
-    int i, n = ml_state_size(p), any_stuck = 0, any_slip = 0;
+    int i, n = ml_inner_size(p, ml_state_size(p)), any_stuck = 0, any_slip = 0;
     *zs = 1.0;
     for (i = 0; i < n; ++i) {
         double k, fp, fn, w = m->d.w[j][i], trial, margin;
