@@ -50,8 +50,8 @@ from fmpy.fmi2 import FMU2Model, FMU2Slave  # noqa: E402
 from fmpy.fmi3 import FMU3Model, FMU3Slave  # noqa: E402
 
 N_DROP = 0.6  # n(t) = n0 (1 - N_DROP t / T)
-#: the varying-n run's length (a step event at every integrator step keeps CVode's
-#: steps short: 0.15 s holds the first slip of every slider and two reversals)
+#: the varying-n run's length (0.15 s holds the first slip of every slider and two
+#: reversals, after each of which the falling slip force keeps sliders slipping)
 T_N = 0.15
 NX = NZ = 6
 H_LOOP = 1e-3
@@ -310,7 +310,6 @@ def bank_energy(axis, times, dt=2e-6):
     return e[np.searchsorted(t, times)]
 
 
-@pytest.mark.slow  # about 150 s per FMI version: a step event at every CVode step
 def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
     """Jenkins (axial), the 8-slider bank (radial1), a non-symmetric 3-slider bank
     (radial2), every normal force ramping down: ME (a commit at every integrator
@@ -323,8 +322,9 @@ def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
     to 2.9e-4 at 1 ms).
 
     Energies (docs/fmu.md 7a), relative to the largest: ME's equals the fine-step
-    integration :func:`bank_energy` to 1e-6 (measured 2.7e-7, 3.3e-7, 2.8e-7 on
-    axial, radial1, radial2; it was 8e-4 when ME took the slip force at each commit
+    integration :func:`bank_energy` to 1e-7 (measured 8.7e-9, 1.3e-8, 1.3e-8 on
+    axial, radial1, radial2; 2.7e-7 to 3.3e-7 while a slider at its limit after a
+    reversal was taken as stuck, 8e-4 when ME took the slip force at each commit
     times the slip since the last); CS's, the slip force at the step's end times the
     step's slip, is first order: its difference to ME and to the integration shrinks
     in proportion to the step (measured 9.8e-4, 2.9e-4, 8.6e-5 at 1, 0.33, 0.1 ms on
@@ -335,6 +335,9 @@ def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
     rev = reversal_times()
     assert len(me) == round(T_N / GRID) + 1 and np.count_nonzero(rev < T_N) == 2
     assert step_events > 50  # n changed at every integrator step
+    # the falling limit after a reversal: sliders slip on (bank_modes) instead of an
+    # event chatter between stick and slip (392,000 events by 0.06 s before; 205 now)
+    assert step_events < 1000, step_events
     errs, energy = {}, {}
     for h in CS_STEPS:  # each holds the output grid
         times = np.union1d(np.arange(0, round(T_N / h) + 1) * h, rev[rev < T_N])
@@ -351,7 +354,7 @@ def test_varying_normal_force_me_converges_to_cs(native):  # noqa: F811
         exact = bank_energy(a, np.array(me["time"]))
         scale = np.abs(exact).max()
         err = abs(me[f"E_fr_{a}"] - exact).max() / scale
-        assert err < 1e-6, (a, err)
+        assert err < 1e-7, (a, err)
         cs = {h: abs(energy[h][a] - exact).max() / scale for h in energy}
         assert cs[1e-3] > 1e-4, cs  # the step error is seen
         for big, small in zip(CS_STEPS[:-1], CS_STEPS[1:], strict=True):  # order 1

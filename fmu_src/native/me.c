@@ -123,21 +123,51 @@ static double bank_slack(double k, double fp, double fn, double u, double w)
     return 1e-9 * (fp + fn) + 64.0 * DBL_EPSILON * k * (fabs(u) + fabs(w));
 }
 
+/* Which sliders of axis j's bank slip from the committed state on: a slider at its
+ * limit slips on while its force, held, would pass the limit: k v > dFp/dt (towards
+ * +u), k v < -dFn/dt (towards -u). At constant n that is the sign of v; under a
+ * varying n a falling limit keeps a slider slipping after a reversal (fs_rate, the
+ * estimate of mx_update). */
 static void bank_modes(md_instance *m, int j)
 {
     const ml_axis_params *p = &m->d.p[j];
-    double fs = ml_slip_force(p, mx_normal(m, j)), u = m->d.u[j];
+    double fs = ml_slip_force(p, mx_normal(m, j)), u = m->d.u[j], v = m->d.v[j];
+    double rate = m->d.me.n_varies[j] ? m->d.me.fs_rate[j] : 0.0;
     /* the sliders only: not uc and the Maxwell strokes after them (mode[j] holds
      * ML_MAX_SLIDERS entries) */
-    int i, n = ml_inner_size(p, ml_state_size(p)), dir = m->d.me.dir[j];
+    int i, n = ml_inner_size(p, ml_state_size(p));
     for (i = 0; i < n; ++i) {
-        double k, fp, fn, w = m->d.w[j][i], trial, tol;
+        double k, fp, fn, rp, rn, w = m->d.w[j][i], trial, tol;
         bank_slider(p, fs, i, &k, &fp, &fn);
+        bank_slider(p, rate, i, &k, &rp, &rn);  /* the limits' rates (linear in fs) */
         trial = k * (u - w);
         tol = bank_slack(k, fp, fn, u, w);
-        m->d.me.mode[j][i] = (signed char)(dir > 0 && trial >= fp - tol ? 1
-                                           : dir < 0 && trial <= -fn + tol ? -1 : 0);
+        m->d.me.mode[j][i] = (signed char)(trial >= fp - tol && k * v > rp ? 1
+                                           : trial <= -fn + tol && k * v < -rn ? -1
+                                           : 0);
     }
+}
+
+/* Under a varying n: the least slip rate of the slipping sliders of axis j, in the
+ * direction of their slip (v - dFp/dt / k towards +u, -v - dFn/dt / k towards -u,
+ * with mx_update's estimate of dFs/dt) [m/s]; its sign change is where bank_modes
+ * lets the slider stick. */
+static double bank_slip_rate(const md_instance *m, int j)
+{
+    const ml_axis_params *p = &m->d.p[j];
+    double least = 0.0, v = m->d.v[j];
+    int i, n = ml_inner_size(p, ml_state_size(p)), any = 0;
+    for (i = 0; i < n; ++i) {
+        double k, rp, rn, g;
+        if (m->d.me.mode[j][i] == 0)
+            continue;
+        bank_slider(p, m->d.me.fs_rate[j], i, &k, &rp, &rn);
+        g = m->d.me.mode[j][i] > 0 ? v - rp / k : -v - rn / k;
+        if (!any || g < least)
+            least = g;
+        any = 1;
+    }
+    return least;
 }
 
 static void bank_indicators(const md_instance *m, int j, double *zs, double *zr)
@@ -160,6 +190,8 @@ static void bank_indicators(const md_instance *m, int j, double *zs, double *zr)
         any_stuck = 1;
     }
     *zr = any_slip ? m->d.me.dir[j] * m->d.v[j] : 1.0;
+    if (any_slip && m->d.me.n_varies[j])
+        *zr = bank_slip_rate(m, j);
 }
 
 /* The elastic energy sum k_i (u - w_i)^2 / 2 the sliders at w of axis j's bank
@@ -204,6 +236,21 @@ static void bank_event_energy(md_instance *m, int j, double e0, double diss,
         me->n_varies[j] = 1;
     me->work_event[j] = me->x[j][1];
     me->stored_event[j] = bank_stored(m, j, m->d.w[j]);
+}
+
+/* The estimate of axis j's dFs/dt at an event: the change of the slip force since
+ * the last event at an earlier time (n_last there) over the time between (kept
+ * through an event iteration's repeated updates at one time). */
+static void bank_rate(md_instance *m, int j, double n_last)
+{
+    md_me *me = &m->d.me;
+    const ml_axis_params *p = &m->d.p[j];
+    double t = m->d.time;
+    if (!(t > me->t_event[j]))
+        return;
+    me->fs_rate[j] = (ml_slip_force(p, mx_normal(m, j)) - ml_slip_force(p, n_last))
+                     / (t - me->t_event[j]);
+    me->t_event[j] = t;
 }
 
 /* ------------------------------------------------------------ the inclined element */
@@ -425,6 +472,7 @@ md_status mx_update(md_instance *m, const char *call, int *changed)
             if (commit(m, call, j) != MD_OK)
                 return MD_ERROR;
             bank_event_energy(m, j, e0, diss, n_last);
+            bank_rate(m, j, n_last);
             bank_modes(m, j);
             continue;
         }

@@ -35,6 +35,10 @@ typedef struct {
     signed char mode[3][ML_MAX_SLIDERS];
     signed char dir[3];   /* sign of v at the last event (0: at rest) */
     double n_event[3];    /* normal force at the last event */
+    /* once n varies: the slip force's rate dFs/dt [N/s] from the last two events at
+     * different times (t_event: the time of the last), which decides whether a
+     * slider at its limit slips on against the motion (a falling Fs) or sticks */
+    double fs_rate[3], t_event[3];
     /* the Jenkins bank's energy under a varying normal force (docs/fmu.md 7a): once
      * n_varies (n changed between two events), Eb_<axis> integrates the work of its
      * friction force and E_fr_<axis> adds to the energy at the last event the work
