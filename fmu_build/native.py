@@ -277,7 +277,8 @@ def write_law_sources(folder) -> list[Path]:
     (folder / "friction_table.h").write_text(friction_table_header())
     # not the instance, its variables, its FMU state, its Model Exchange
     return [folder / n for n in COMMON_SOURCES if n.endswith(".c")
-            and n not in ("model.c", "model_vars.c", "model_state.c", "me.c")]
+            and n not in ("model.c", "model_vars.c", "model_state.c", "me.c",
+                            "me_bank.c")]
 
 
 def _variables(target: NativeTarget) -> list[tuple[int, interface.Variable]]:

@@ -75,6 +75,20 @@ ML_DECL md_status mx_update(md_instance *m, const char *call, int *changed);
  * Co-Simulation one with the integrator's steps). */
 ML_DECL md_status mx_completed_step(md_instance *m, const char *call, int *enter_event);
 
+/* Internal to me.c and me_bank.c. The normal force of axis j (n_<axis> once set,
+ * else <axis>_n0). */
+ML_DECL double mx_normal(const md_instance *m, int j);
+/* The Jenkins bank of axis j (me_bank.c): its modes from the committed state, its
+ * indicators zs and zr, the energy dissipated since the last event, the energies
+ * kept at an event (e0: the committed energy, diss: mx_bank_dissipated's, n_last:
+ * the normal force at the last event), the estimate of dFs/dt at an event. */
+ML_DECL void mx_bank_modes(md_instance *m, int j);
+ML_DECL void mx_bank_indicators(const md_instance *m, int j, double *zs, double *zr);
+ML_DECL double mx_bank_dissipated(const md_instance *m, int j);
+ML_DECL void mx_bank_event_energy(md_instance *m, int j, double e0, double diss,
+                                  double n_last);
+ML_DECL void mx_bank_rate(md_instance *m, int j, double n_last);
+
 #ifdef __cplusplus
 }
 #endif
