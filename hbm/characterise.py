@@ -42,13 +42,13 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import brentq
 
 from drymount.fmu_src.linear_branches import (hydraulic_complex_stiffness,
                                               maxwell_complex_stiffness)
 from drymount.fmu_src.mount_law import AxisParameters, axis_force, initial_sliders
 from drymount.hbm.aft import FourierBasis, aft_forces
 from drymount.hbm.elements import NonlinearAxes, friction_columns
+from drymount.hbm.roots import brentq
 
 __all__ = ["DEFAULT_SAMPLES", "DynamicStiffnessMap", "axis_as_nonlinear",
            "rate_independent_stiffness", "working_deflection", "dynamic_stiffness",

@@ -24,10 +24,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from drymount.hbm.continuation import (Branch, ContinuationSettings, continue_branch,
                                        newton, tangent_at)
+from drymount.hbm.roots import brentq
 
 __all__ = ["FREQ_TOL_HZ", "EventKind", "CurveEvent", "locate_folds", "locate_peaks",
            "locate_maximum", "merge_spurious_pairs", "ZigzagReport"]

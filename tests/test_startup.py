@@ -150,3 +150,16 @@ def test_bad_set_value_loads_no_solver(tmp_path, command):
         "drymount.api", "drymount.hbm.analysis", "drymount.hbm.continuation",
         "drymount.hbm.folds", "drymount.vehicle.master", "drymount.vehicle.sweep"))
     assert not solvers, solvers
+
+
+def test_an_hbm_curve_loads_no_scipy_optimize(tmp_path):
+    """A frequency-response curve (and the fold and peak location it runs) loads no
+    ``scipy.optimize`` (0.15 s of every curve's start: ``hbm.roots`` is its
+    Brent)."""
+    out = tmp_path / "c.csv"
+    code, err, modules = _run(["hbm", "sdof_halved", "--harmonics", "3",
+                               "--n-samples", "64", "--quiet", "--out", str(out)],
+                              tmp_path)
+    assert code == 0, err
+    assert "drymount.hbm.folds" in modules and "scipy.linalg" in modules
+    assert not [m for m in modules if m.startswith("scipy.optimize")]
