@@ -94,12 +94,22 @@ class _Arc:
         self.cache = {}
 
     def guess(self, s: float) -> np.ndarray:
-        """Cubic Hermite interpolant at chord parameter ``s``."""
-        x = s / self.h
+        """Cubic Hermite interpolant at chord parameter ``s`` between the nearest
+        points solved on either side (the arc's ends until the bisection has solved
+        points inside: its error shrinks as the fourth power of their distance, so
+        the re-solves of a narrowing bracket start next to their solution)."""
+        lo, hi = (0.0, self.y_a, self.t_a), (self.h, self.y_b, self.t_b)
+        for sk, p in self.cache.items():
+            if p is not None and lo[0] < sk < s:
+                lo = (sk, *p)
+            elif p is not None and s < sk < hi[0]:
+                hi = (sk, *p)
+        x = (s - lo[0]) / (hi[0] - lo[0])
+        span = float(np.linalg.norm(hi[1] - lo[1]))
         h00, h10 = 2 * x**3 - 3 * x**2 + 1, x**3 - 2 * x**2 + x
         h01, h11 = -2 * x**3 + 3 * x**2, x**3 - x**2
-        return (h00 * self.y_a + h10 * self.h * self.t_a + h01 * self.y_b
-                + h11 * self.h * self.t_b)
+        return (h00 * lo[1] + h10 * span * lo[2] + h01 * hi[1]
+                + h11 * span * hi[2])
 
     def point(self, s: float):
         """``(y, tangent)`` at chord parameter ``s``; None if the re-solve failed."""
