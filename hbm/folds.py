@@ -132,14 +132,15 @@ class _Arc:
 def _bisect(arc: _Arc, g: Callable, to_hz: Callable, s_tol: float):
     """Root of ``g(y, t)`` on the arc (Brent, then a last check of the frequency
     spread of the bracket). Returns ``(s, converged)``."""
-    failed = []
+    values = {}   # g at the ends is asked for here and again by brentq: once each
 
     def sign_fun(s):
-        p = arc.point(s)
-        if p is None:
-            failed.append(s)
-            raise _ReSolveFailed
-        return g(*p)
+        if s not in values:
+            p = arc.point(s)
+            if p is None:
+                raise _ReSolveFailed
+            values[s] = g(*p)
+        return values[s]
 
     g0, g1 = sign_fun(0.0), sign_fun(arc.h)
     if g0 == 0.0:

@@ -122,10 +122,11 @@ def _feasible_limit(obj: _Objective, grid: np.ndarray, limit: float,
                     xatol: float) -> float | None:
     """Largest n0 with ``obj(n0) <= limit``, for an objective that grows with n0.
 
-    The crossing is bracketed on the grid and found with :func:`scipy.optimize.brentq`.
+    The crossing is bracketed on the grid and found by Brent's method
+    (:func:`hbm.roots.brentq`, SciPy's iterates).
     Returns None when even ``grid[0]`` is above the limit.
     """
-    from scipy.optimize import brentq
+    from drymount.hbm.roots import brentq
 
     values = [obj(g) for g in grid]
     if values[0] > limit:
