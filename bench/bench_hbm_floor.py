@@ -41,6 +41,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import timeit
 from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
@@ -50,20 +51,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 from yardstick import time_once  # noqa: E402
 
-ARGS = ["six_dof_halved", "--harmonics", "7", "--n-samples", "1024"]
+HBM_ARGS = ["hbm", "six_dof_halved", "--harmonics", "7", "--n-samples", "1024"]
 TARGET_ROW = 0.008
 
 
 def _best(fn, n: int = 200, rounds: int = 5) -> float:
     """Smallest mean wall time of ``fn()`` over ``rounds`` batches of ``n`` calls, s."""
     fn()
-    best = np.inf
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / n)
-    return best
+    return min(timeit.repeat(fn, number=n, repeat=rounds)) / n
 
 
 def start_time(repeat: int = 5) -> float:
@@ -99,7 +94,7 @@ class _Counting:
 class RunCounts:
     """What one in-process run of the curve called: evaluations, solves by shape,
     LAPACK calls of the continuation and of Hill's operator by shape, ARPACK's own
-    time, the CSV rows and the run's wall time."""
+    time and the CSV rows."""
 
     def __init__(self):
         self.n_eval = collections.Counter()   # by (H, N)
@@ -108,7 +103,6 @@ class RunCounts:
         self.lapack = collections.Counter()
         self.arpack_s = 0.0
         self.rows = 0
-        self.wall_s = 0.0
 
 
 def count_run() -> RunCounts:
@@ -157,11 +151,9 @@ def count_run() -> RunCounts:
     try:
         with tempfile.TemporaryDirectory() as tmp:
             out = Path(tmp) / "curve.csv"
-            t0 = time.perf_counter()
             with contextlib.redirect_stdout(io.StringIO()), \
                     contextlib.redirect_stderr(io.StringIO()):
-                main([*_hbm_args(), "--quiet", "--out", str(out)])
-            rc.wall_s = time.perf_counter() - t0
+                main([*HBM_ARGS, "--quiet", "--out", str(out)])
             rc.rows = sum(1 for ln in out.read_text().splitlines()
                           if ln and not ln.startswith("#")) - 1
     finally:
@@ -173,10 +165,6 @@ def count_run() -> RunCounts:
             setattr(_arpacklib, name, fn)
     rc.lapack = lap_c.calls + lap_h.calls
     return rc
-
-
-def _hbm_args() -> list[str]:
-    return ["hbm", *ARGS]
 
 
 def converged_point(H: int = 7, N: int = 1024):
@@ -295,7 +283,7 @@ def command_wall(repeat: int = 3) -> float:
         for _ in range(repeat):
             t0 = time.perf_counter()
             subprocess.run([sys.executable, "-c", "import sys; from drymount.cli "
-                            "import main; sys.exit(main())", *_hbm_args(), "--quiet",
+                            "import main; sys.exit(main())", *HBM_ARGS, "--quiet",
                             "--out", str(Path(tmp) / "c.csv")], check=True,
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             times.append(time.perf_counter() - t0)
@@ -304,9 +292,11 @@ def command_wall(repeat: int = 3) -> float:
 
 def floor_parts(rc: RunCounts, t_start: float) -> tuple[dict[str, float], list[str]]:
     """The floor's parts, s, and a line per resolution on its evaluation's kernels."""
-    lines, t_evals, n_evals = [], 0.0, 0
+    lines, t_evals, n_evals, size = [], 0.0, 0, 0
     for (H, N), count in sorted(rc.n_eval.items()):
         prob, y = converged_point(H, N)
+        if (H, N) == (7, 1024):   # the curve's own: the one Hill's operator is of
+            size = prob.hb.size
         kern = evaluation_kernels(prob, y)
         per_eval = sum(kern.values())
         t_eval = _best(lambda prob=prob, y=y: (setattr(prob, "_last", None),
@@ -319,7 +309,6 @@ def floor_parts(rc: RunCounts, t_start: float) -> tuple[dict[str, float], list[s
                      + ", ".join(f"{k} {1e6 * v:.1f}" for k, v in kern.items()) + ")")
     t_solve = solve_times(rc.solves)
     t_lap = lapack_times(rc.lapack)
-    size = converged_point()[0].hb.size
     B, v = np.ones((size, 2 * size)), np.ones(2 * size)
     parts = {
         "start (interpreter, NumPy, scipy.sparse.linalg)": t_start,
