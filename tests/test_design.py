@@ -401,6 +401,22 @@ quantity = "transmissibility"
     assert (tmp_path / "w2" / "history.csv").read_text() == "\n".join(history) + "\n"
 
 
+def test_optimize_progress_bar_ends_at_the_evaluations_done(tmp_path, capsys):
+    """The bar's total is an estimate (DE may stop on its tolerance, the polish
+    re-visits the DE's best, which is not evaluated again): a finished run's bar
+    ends at n/n, n the evaluations of the history, not short of its estimate."""
+    cfg = sdof_config(samples=4)
+    settings = OptimizeSettings(popsize=2, maxiter=1, polish_maxfev=6)
+    res = optimize(cfg, design_space(cfg), tmp_path, settings=settings,
+                   progress=True)
+    n = res.n_evaluations
+    estimate = (settings.maxiter + 1) * settings.popsize * len(
+        design_space(cfg).variables) + settings.polish_maxfev
+    last = capsys.readouterr().err.replace("\r", "\n").strip().splitlines()[-1]
+    assert f" {n}/{n} " in last, (last, n, estimate)
+    assert "100%" in last
+
+
 def test_cli_optimize_with_constraint_and_unknown_objective(tmp_path, capsys):
     design = tmp_path / "d.toml"
     design.write_text(preset_text("sdof_halved") + DESIGN_SDOF.format(samples=4))

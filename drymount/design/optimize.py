@@ -190,6 +190,9 @@ class _Problem:
         for phase, r in self.resumed.values():
             w.writerow([phase, *table_row(r)])
         atomic_write_text(self.path, buf.getvalue())
+        if partial is None:  # the total was an estimate: the run ends at 100 %
+            self.bar.total = self.bar.n
+            self.bar.refresh()
         self.bar.close()
 
 
