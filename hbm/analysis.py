@@ -310,6 +310,8 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
                              lam_start=2 * np.pi * fmin_hz / prob.ws, callback=callback,
                              chord_error=chord)
         br.n_newton += its0
+        if bar is not None and br.status is Status.DONE:  # full, not short by the
+            bar.update(bar.total - bar.n)                  # round-off of its steps
         br.message = _lam_to_hz(br.message, prob)
         if br.n_iter:
             br.n_iter[0] = its0

@@ -97,6 +97,15 @@ def test_hbm_defaults_and_peak_match_the_cli(tmp_path, capsys):
         curve.peak("z")
 
 
+def test_hbm_progress_bar_ends_full(capsys):
+    """The bar counts Hz by the continuation's steps: a curve that reaches fmax ends
+    at 100 % with a full bar (its steps' sum fell short by round-off: 13 of 13 Hz
+    shown with a bar one ninth of a cell short)."""
+    hbm(load("sdof_halved"), 2.0, 15.0, harmonics=5, n_samples=64)
+    last = capsys.readouterr().err.replace("\r", "\n").strip().splitlines()[-1]
+    assert re.search(r"100%\|[#\u2588]{10}\| 13\.00/13\.00 Hz", last), last
+
+
 def test_sweep_and_cosim_default_to_the_configured_backend(monkeypatch):
     """Like the CLI, the backend comes from ``[cosim] backend`` (default ``fmu``),
     not from ``vehicle.sweep``'s own default."""
