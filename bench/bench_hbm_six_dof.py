@@ -40,6 +40,7 @@ from __future__ import annotations
 import argparse
 import os
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -109,11 +110,14 @@ def _original_tree() -> str | None:
         archive = subprocess.run(["git", "-C", str(repo), "archive", ORIGINAL],
                                  capture_output=True, check=True).stdout
         subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive, check=True)
+        tmp.rename(tree)
     except (OSError, subprocess.CalledProcessError) as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        if (tree / "pyproject.toml").is_file():  # another run extracted it meanwhile
+            return str(tree)
         print(f"no tree of {ORIGINAL} ({exc}): figure 2 only against the stored "
               f"figure")
         return None
-    tmp.rename(tree)
     return str(tree)
 
 
