@@ -224,13 +224,17 @@ def _chord_error_fn(prob: _Problem, tol: float, floor: np.ndarray | None):
     (at least ``floor``). The curve's midpoint is the cubic Hermite interpolant's;
     the error is measured at fixed frequency, or normal to the chord (x10) where the
     chord is steep (near folds)."""
-    amplitude = _amplitude_fn(prob)
-    top = np.zeros(prob.hb.n) if floor is None else np.array(floor, float)
+    n = prob.hb.n
+    xc, xs = prob.xs[n:2 * n], prob.xs[2 * n:3 * n]
+
+    def amplitude(y):  # _amplitude_fn's amplitudes, without their derivative
+        return np.hypot(xc * y[n:2 * n], xs * y[2 * n:3 * n])
+    top = np.zeros(n) if floor is None else np.array(floor, float)
 
     def chord_error(y0, t0, y1, t1):
         h = float(np.linalg.norm(y1 - y0))
         ym = 0.5 * (y0 + y1) + h * (t0 - t1) / 8.0
-        a0, a1, am = amplitude(y0)[0], amplitude(y1)[0], amplitude(ym)[0]
+        a0, a1, am = amplitude(y0), amplitude(y1), amplitude(ym)
         np.maximum(top, np.maximum(a0, a1), out=top)
         ref = np.where(top > 0, top, 1.0)
         da, dl = (a1 - a0) / ref, y1[-1] - y0[-1]
