@@ -126,13 +126,19 @@ def _norm(a):
 
 def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
            fixed: int | None = None, tangent: np.ndarray | None = None,
-           y_pred: np.ndarray | None = None):
+           y_pred: np.ndarray | None = None, jacobian_at_root: bool = True):
     """Newton iterations for ``R(y) = 0`` closed by one extra equation.
 
     With ``fixed`` = index, that unknown is held (natural parametrisation, eq. 3.53);
     with ``tangent`` and ``y_pred`` the pseudo-arclength equation
     ``tangent . (y - y_pred) = 0`` (the linearised form of the thesis's sphere,
     eq. 3.58-3.65) closes the system.
+
+    ``jacobian_at_root`` False (a caller that keeps only the root) with a ``fun``
+    that has ``residual_only(y)``: a trial point reached by a step within
+    ``tol_step`` is evaluated without its Jacobian first; if it converges, none is
+    made (the re-solves of the error estimate: about half an evaluation saved each),
+    else it is evaluated in full. The same iterates and root, bit for bit.
 
     Returns a :class:`NewtonResult` ``(y, converged, n_iter, message)``.
     """
@@ -151,6 +157,17 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
         if not np.all(np.isfinite(R)):
             return None, None, "non-finite residual"
         return R, J, ""
+
+    r_only = None if jacobian_at_root else getattr(fun, "residual_only", None)
+
+    def evaluate_r(yy):
+        try:
+            R = r_only(yy)
+        except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
+            return None, f"evaluation failed: {exc}"
+        if not np.all(np.isfinite(R)):
+            return None, "non-finite residual"
+        return R, ""
 
     def closing(yy):
         """Value and gradient of the closing equation."""
@@ -185,18 +202,28 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
         # full Newton steps can cycle between two pieces around a kink.
         phi0 = merit(y, R)
         alpha = 1.0
+        size = _norm(step)
         while True:
             y_try = y + alpha * step
-            R_try, J_try, msg = evaluate(y_try)
+            if r_only is not None and alpha * size <= settings.tol_step:
+                (R_try, msg), J_try = evaluate_r(y_try), None
+            else:
+                R_try, J_try, msg = evaluate(y_try)
             if R_try is not None and (merit(y_try, R_try) <= (1 - 1e-4 * alpha) * phi0
                                       or alpha <= settings.min_damping):
-                break
+                if J_try is not None:
+                    break
+                if _norm(R_try) <= settings.tol_residual:  # converged: no Jacobian
+                    return NewtonResult(y_try, True, it + 1, "")
+                R_try, J_try, msg = evaluate(y_try)  # it goes on: its Jacobian
+                if R_try is not None:
+                    break
             if R_try is None and alpha <= settings.min_damping:
                 return NewtonResult(y, False, it + 1, msg)
             alpha *= 0.5
         y, R, J = y_try, R_try, J_try
         r = _norm(R)
-        last = alpha * _norm(step)
+        last = alpha * size
     return NewtonResult(y, False, settings.max_newton, (
         f"no convergence in {settings.max_newton} iterations (residual {r:.3g})"))
 

@@ -107,10 +107,11 @@ def _resolve(prob_ref, X_guess, omega, t_dir, settings):
     if t_dir is not None:
         t = np.append(t_dir[0] / prob_ref.xs, t_dir[1] / prob_ref.ws)
         t /= np.linalg.norm(t)
-        y, ok, _, _ = newton(prob_ref, y0, settings, tangent=t, y_pred=y0)
+        y, ok, _, _ = newton(prob_ref, y0, settings, tangent=t, y_pred=y0,
+                             jacobian_at_root=False)
         if ok:
             return prob_ref.x_of(y)
-    y, ok, _, _ = newton(prob_ref, y0, settings, fixed=n)
+    y, ok, _, _ = newton(prob_ref, y0, settings, fixed=n, jacobian_at_root=False)
     return prob_ref.x_of(y) if ok else None
 
 

@@ -85,6 +85,17 @@ class _Problem:
         self._last = (np.array(y, dtype=float), self.hb.exc_scale, R, Jy)
         return R.copy(), Jy.copy()
 
+    def residual_only(self, y):
+        """The scaled residual of ``self(y)`` without its Jacobian (the same numbers:
+        :meth:`HarmonicBalance.residual`'s ``R`` does not depend on ``jacobian``)."""
+        last = self._last
+        if last is not None and last[1] == self.hb.exc_scale and \
+                np.array_equal(last[0], y):
+            return last[2].copy()
+        self.n_eval += 1
+        X, w = self.x_of(y)
+        return self.hb.residual(X, w, jacobian=False).R / self.rs
+
     def _evaluate(self, y):
         self.n_eval += 1
         X, w = self.x_of(y)
