@@ -487,3 +487,21 @@ quantity = "transmissibility"
         design_space(load_config(bad))
     with pytest.raises(ConfigError, match="`design.variables\\[0\\].mode` must be"):
         design_space(load_config(text.replace('"scale"', '"times"')))
+
+
+def test_explore_is_the_function_whatever_was_imported_first():
+    """``drymount.design.explore`` is the function even after its module was imported
+    (its module was once ``drymount.design.explore``: importing it, as ``drymount
+    optimize`` does, bound the package's ``explore`` to the module, and ``from
+    drymount.design import explore`` then gave a module: "'module' object is not
+    callable")."""
+    import subprocess
+    code = ("import importlib, pkgutil, types\n"
+            "import drymount.design as d\n"
+            "for m in pkgutil.iter_modules(d.__path__):\n"
+            "    importlib.import_module('drymount.design.' + m.name)\n"
+            "for name in d.__all__:\n"
+            "    assert not isinstance(getattr(d, name), types.ModuleType), name\n"
+            "from drymount.design import explore\n"
+            "assert explore.__name__ == 'explore'\n")
+    subprocess.run([sys.executable, "-c", code], check=True)

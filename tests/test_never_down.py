@@ -15,7 +15,7 @@ import pytest
 
 from drymount import cli
 from drymount.design.backends import BackendKind, BackendSpec
-from drymount.design.explore import expected_duration
+from drymount.design.exploration import expected_duration
 from drymount.design.space import MAX_DESIGNS
 from drymount.fit import bin_means
 from drymount.config import ConfigError, load_config

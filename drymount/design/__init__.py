@@ -3,7 +3,8 @@
 - :func:`design_space` - the checked ``[design]`` section (:mod:`.space`,
   :mod:`.check`);
 - :func:`explore` - a grid / Latin hypercube / Sobol sample, one HBM curve per design,
-  a streamed CSV table, a Pareto plot and a summary (:mod:`.explore`);
+  a streamed CSV table, a Pareto plot and a summary (:mod:`.exploration`: not
+  ``explore``, whose import would bind the package's ``explore`` to the module);
 - :func:`optimize` - differential evolution with a local polish (:mod:`.optimize`);
 - :func:`parse_backend` - serial, local processes or Dask (:mod:`.backends`).
 
@@ -15,7 +16,7 @@ import importlib
 
 #: Public name -> the submodule defining it. Imported on first use (PEP 562):
 #: every ``drymount`` command registers ``explore``/``optimize`` through
-#: :mod:`drymount.design.commands`, and :mod:`.explore` imports scipy.stats (seconds
+#: :mod:`drymount.design.commands`, and :mod:`.exploration` imports scipy.stats (seconds
 #: on a loaded machine), which a usage error must not wait for (issue 11: exit 2
 #: within a second).
 _WHERE = {
@@ -23,7 +24,7 @@ _WHERE = {
     "design_space": "check",
     "DesignResult": "evaluate", "DesignStatus": "evaluate",
     "evaluate_design": "evaluate",
-    "ExploreResult": "explore", "explore": "explore",
+    "ExploreResult": "exploration", "explore": "exploration",
     "DesignSpace": "space",
 }
 

@@ -96,7 +96,7 @@ def cmd_explore(args, load, usage_error) -> int:
     out = args.out or Path(f"explore-{cfg.name}")
     check_out_dir(out, "--out")
     from drymount.design.backends import BackendError  # scipy.stats: after the checks
-    from drymount.design.explore import explore
+    from drymount.design.exploration import explore
     from drymount.design.table import TableError
 
     print(f"{cfg.name}: {space.size()} designs ({space.method.value}), "

@@ -32,7 +32,7 @@ from scipy.optimize import differential_evolution, minimize
 
 from drymount.design.backends import BackendSpec, Runner
 from drymount.design.evaluate import DesignResult, DesignStatus, evaluate_chunk
-from drymount.design.explore import chunks
+from drymount.design.exploration import chunks
 from drymount.design.space import DesignSpace
 from drymount.design.table import (TableError, columns, fingerprint, parse_row,
                                    table_row)
