@@ -32,7 +32,7 @@ from drymount.hbm.problem import (
     build_problem,
     resolve_options,
 )
-from drymount.hbm.resolution import next_resolution, probe
+from drymount.hbm.resolution import first_samples, next_resolution, probe
 from drymount.hbm.result import FrequencyResponse, finite_max
 from drymount.hbm.segments import Restart, clip, join
 from drymount.hbm.system import System
@@ -75,7 +75,8 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
         error is below ``tol / 2``, :mod:`hbm.error_estimate`).
     n_samples : int, optional
         AFT samples per period, fixed (default ``max(64, 8H)`` rounded to a power of
-        2, raised by ``tol``); doubled up to ``options.refine_samples`` times when the
+        2, for more than 3 DOF with ``tol`` ``max(64, 16H)``
+        (:func:`hbm.resolution.first_samples`), raised by ``tol``); doubled up to ``options.refine_samples`` times when the
         continuation stalls, dead-ends at a kink of the sampled residual or finds no
         start.
     closed_form : bool, optional
@@ -116,6 +117,8 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     H, N, opts = resolve_options(options, harmonics, n_samples)
     pin_h = harmonics is not None or closed_form is True
     pin_n = n_samples is not None
+    if N is None and opts.tol is not None and closed_form is not True:
+        N = first_samples(system.n_dof, H)  # None: the default
     # curves traced only to estimate their error skip stability and events; the last
     # one gets them (_finish)
     light = opts.tol is not None and opts.max_restarts == 0

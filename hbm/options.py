@@ -91,7 +91,9 @@ class HBMOptions:
     harmonics : int
         Number of harmonics H (default 7).
     n_samples : int or None
-        AFT samples per period; None: ``max(64, 8H)`` rounded up to a power of 2.
+        AFT samples per period; None: ``max(64, 8H)`` rounded up to a power of 2
+        (the ``tol`` adaptation's first curve of a system of more than 3 DOF:
+        ``max(64, 16H)``, :func:`hbm.resolution.first_samples`).
     ds_initial, ds_min, ds_max : float
         Initial, smallest and largest arc-length step (scaled units). ``ds_max`` =
         0.1 is what every shipped result used (``hbm.continuation`` once had its own,

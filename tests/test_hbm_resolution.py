@@ -137,3 +137,35 @@ def test_cli_max_harmonics_bounded_by_the_config_cap(capsys):
     err = capsys.readouterr().err
     assert code == 2
     assert f"1..{MAX_HARMONICS}" in err and str(MAX_HARMONICS + 1) in err, err
+
+
+def test_first_samples_of_the_adaptation():
+    """More than 3 DOF: the first curve of the ``tol`` adaptation at ``max(64, 16H)``
+    samples (a power of 2); smaller systems keep the default (None)."""
+    assert [resolution.first_samples(6, H) for H in (1, 3, 5, 7, 13)] == \
+        [64, 64, 128, 128, 256]
+    assert resolution.first_samples(3, 5) is None
+    assert resolution.first_samples(1, 7) is None
+
+
+def test_the_first_curve_takes_first_samples(monkeypatch):
+    """The adaptation's first curve is traced at ``first_samples`` unless the caller
+    fixed N (then at that N), and the samples stay free to rise."""
+    seen = []
+    trace = analysis._trace
+
+    def spy(prob, *args, **kwargs):
+        seen.append(prob.hb.n_samples)
+        return trace(prob, *args, **kwargs)
+    monkeypatch.setattr(analysis, "_trace", spy)
+    monkeypatch.setattr(resolution, "MULTI_DOF", 0)  # the 1-DOF system as a big one
+    opts = hbm.HBMOptions(harmonics=5, max_harmonics=5, max_samples=128)
+    hbm.frequency_response(friction_system(), 2.0, 12.0, options=opts)
+    assert seen[0] == 128
+    seen.clear()
+    hbm.frequency_response(friction_system(), 2.0, 12.0, n_samples=64, options=opts)
+    assert set(seen) == {64}
+    seen.clear()
+    monkeypatch.setattr(resolution, "MULTI_DOF", 3)
+    hbm.frequency_response(friction_system(), 2.0, 12.0, options=opts)
+    assert seen[0] == 64
