@@ -26,7 +26,8 @@ import numpy as np
 def read(path: Path) -> tuple[list[str], np.ndarray]:
     """Header and numeric rows of a drymount CSV (comment lines skipped; empty
     fields NaN)."""
-    lines = [ln for ln in path.read_text().splitlines() if ln and not ln.startswith("#")]
+    lines = [ln for ln in path.read_text().splitlines()
+             if ln and not ln.startswith("#")]
     rows = list(csv.reader(lines))
     head, body = rows[0], rows[1:]
 
@@ -127,8 +128,9 @@ def main(argv=None) -> int:
     for cols, rr in (("every amplitude column", r),
                      ("the fundamentals (*_amp)", compare_curves(args.old, args.new,
                                                                 True))):
-        for key, freq, what in (("new_to_old", rr["freq_new"], "NEW's points to OLD's"),
-                                ("old_to_new", rr["freq_old"], "OLD's points to NEW's")):
+        for key, freq, what in (
+                ("new_to_old", rr["freq_new"], "NEW's points to OLD's"),
+                ("old_to_new", rr["freq_old"], "OLD's points to NEW's")):
             d = rr[key]
             k = int(np.argmax(d))
             print(f"  {what} curve, {cols}: largest {d[k]:.1e} (row {k + 1}, "

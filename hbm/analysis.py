@@ -76,9 +76,9 @@ def frequency_response(system: System, fmin_hz: float, fmax_hz: float, *,
     n_samples : int, optional
         AFT samples per period, fixed (default ``max(64, 8H)`` rounded to a power of
         2, for more than 3 DOF with ``tol`` ``max(64, 16H)``
-        (:func:`hbm.resolution.first_samples`), raised by ``tol``); doubled up to ``options.refine_samples`` times when the
-        continuation stalls, dead-ends at a kink of the sampled residual or finds no
-        start.
+        (:func:`hbm.resolution.first_samples`), raised by ``tol``); doubled up to
+        ``options.refine_samples`` times when the continuation stalls, dead-ends at
+        a kink of the sampled residual or finds no start.
     closed_form : bool, optional
         H = 1 closed forms (default: when H == 1 and every law has one).
     options : HBMOptions, optional
