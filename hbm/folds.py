@@ -38,6 +38,15 @@ FREQ_TOL_HZ = 1e-6
 #: than 1 Hz, so the located frequency is within 1e-9 Hz of the root, far inside
 #: FREQ_TOL_HZ (1e-13 took 1.6 times as long on six_dof_halved).
 ARC_TOL = 1e-9
+#: Where the sign change is a jump of the sampled (AFT) residual (a stick-slip
+#: transition crossing a sample point), not a root, the bisection stops once the
+#: bracket is this small relative to the chord (within 1e-7 Hz, 10x inside
+#: FREQ_TOL_HZ; to 1e-9 a jump took about 35 re-solves instead of 25) ...
+JUMP_TOL = 1e-7
+#: ... and the slope of ``g`` across the bracket exceeds the arc's mean slope this
+#: many times (at a root of a smooth ``g`` it is of the mean's order; across a jump
+#: it grows as 1 / bracket, to about 1e7 times the mean at ``JUMP_TOL``).
+JUMP_SLOPE = 1e4
 
 
 class EventKind(enum.Enum):
@@ -133,6 +142,7 @@ def _bisect(arc: _Arc, g: Callable, to_hz: Callable, s_tol: float):
     """Root of ``g(y, t)`` on the arc (Brent, then a last check of the frequency
     spread of the bracket). Returns ``(s, converged)``."""
     values = {}   # g at the ends is asked for here and again by brentq: once each
+    bracket = [0.0, arc.h]   # the sign change, narrowed with every Brent point
 
     def sign_fun(s):
         if s not in values:
@@ -140,6 +150,8 @@ def _bisect(arc: _Arc, g: Callable, to_hz: Callable, s_tol: float):
             if p is None:
                 raise _ReSolveFailed
             values[s] = g(*p)
+            if len(values) > 2:
+                _narrow(bracket, values, s, arc.h)
         return values[s]
 
     g0, g1 = sign_fun(0.0), sign_fun(arc.h)
@@ -149,9 +161,33 @@ def _bisect(arc: _Arc, g: Callable, to_hz: Callable, s_tol: float):
         return arc.h, True
     if g0 * g1 > 0:
         raise _ReSolveFailed
-    s = brentq(sign_fun, 0.0, arc.h, xtol=s_tol, rtol=4 * np.finfo(float).eps,
-               maxiter=200)
+    try:
+        s = brentq(sign_fun, 0.0, arc.h, xtol=s_tol, rtol=4 * np.finfo(float).eps,
+                   maxiter=200)
+    except _AtJump as jump:
+        s = jump.s
     return s, True
+
+
+def _narrow(bracket: list, values: dict, s: float, h: float) -> None:
+    """Put the new point ``s`` (inside the bracket, as Brent's points are) on the
+    side of its sign; raise :class:`_AtJump` with the end of smaller ``|g|`` (the
+    point Brent would return) once the bracket holds a jump of ``g`` to
+    ``JUMP_TOL``."""
+    bracket[0 if np.sign(values[s]) == np.sign(values[0.0]) else 1] = s
+    lo, hi = bracket
+    g_lo, g_hi = values[lo], values[hi]
+    mean = abs(values[h] - values[0.0]) / h
+    if hi - lo <= JUMP_TOL * h and abs(g_hi - g_lo) > JUMP_SLOPE * mean * (hi - lo):
+        raise _AtJump(lo if abs(g_lo) <= abs(g_hi) else hi)
+
+
+class _AtJump(Exception):
+    """The bracket holds a jump of ``g`` (``s``: the point to return)."""
+
+    def __init__(self, s: float):
+        super().__init__(s)
+        self.s = s
 
 
 class _ReSolveFailed(Exception):
