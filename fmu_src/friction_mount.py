@@ -92,14 +92,19 @@ _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
 def _same_state(a, b) -> bool:
     """Whether two element states are the same, of the same types and bit for bit
     in every float (-0.0 is not 0.0 here): a float, or a tuple (a NamedTuple, a
-    MaxwellAxisState) of them, nested."""
-    if type(a) is not type(b):
+    MaxwellAxisState) of them, nested. Called on every step of every axis: the
+    law hands back the very state object where nothing moved, and a changed state
+    fails the one (C) comparison ``a == b``; only equal but distinct states are
+    compared value by value."""
+    if a is b:
+        return True
+    if type(a) is not type(b) or not a == b:
         return False
-    if isinstance(a, tuple):
-        return len(a) == len(b) and all(_same_state(x, y) for x, y in zip(a, b))
+    if isinstance(a, tuple):  # equal tuples: of one length
+        return all(_same_state(x, y) for x, y in zip(a, b))
     if isinstance(a, float):
-        return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
-    return a == b
+        return math.copysign(1.0, a) == math.copysign(1.0, b)
+    return True
 
 
 class FrictionMount(Fmi2Slave):
