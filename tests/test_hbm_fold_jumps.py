@@ -4,7 +4,7 @@ A sign change of the tangent's component can be a root of a smooth function or a
 jump (a stick-slip transition crossing an AFT sample point). At a root the Brent
 iteration runs to ``ARC_TOL`` as before (the same points, the same result); at a
 jump it stops once the bracket is within ``JUMP_TOL`` of the chord, with the end of
-smaller ``|g|``, instead of bisecting a step to 1e-9 (about 7 re-solves fewer).
+smaller ``|g|``, instead of bisecting a step to ``ARC_TOL`` (re-solves fewer).
 """
 
 from __future__ import annotations
