@@ -32,6 +32,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
+from child_env import child_env, compile_bytecode, entry_python  # noqa: E402
 from yardstick import yardstick  # noqa: E402
 
 
@@ -68,7 +69,7 @@ def scaling_cases(backend: str) -> list[tuple[str, list[str]]]:
 
 def run_once(exe: str, argv: list[str], cwd: str) -> tuple[float, float, int]:
     """(CPU s, wall s, exit status) of one fresh process."""
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    env = child_env()
     out = [] if argv[0].startswith("--") or argv[:2] == ["presets", "list"] else [
         "--out", os.path.join(cwd, "out" if argv[0] == "explore" else "out.csv")]
     t0 = time.perf_counter()
@@ -92,6 +93,7 @@ def main() -> None:
                     help="labels (substrings) of the cases to run")
     ap.add_argument("--scaling", action="store_true")
     args = ap.parse_args()
+    compile_bytecode(entry_python(args.drymount))  # as installed by pip
     backend = inproc_name(args.drymount)
     todo = cases(backend) + (scaling_cases(backend) if args.scaling else [])
     if args.only:

@@ -27,7 +27,9 @@ run (before and after the curves; the median of those timings):
 
 The original's tree is extracted once into the temporary folder
 (``drymount-bench-<commit>``; Python and numba cache beside its sources) and run
-through :mod:`bench.tree_import`, its numba cache warmed first. ``--baseline TREE``
+through :mod:`bench.tree_import`, its numba cache warmed first. Every timed process
+has Python's bytecode caches, written by a short curve before the timing, for this
+code and the original alike (:mod:`bench.child_env`). ``--baseline TREE``
 (another checkout, e.g. ``git archive main | tar -x -C /tmp/main_tree``) runs the
 default curve from that tree as well, for a change against main.
 
@@ -52,6 +54,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import numpy as np  # noqa: E402
+from child_env import child_env  # noqa: E402
 from yardstick import time_once  # noqa: E402
 
 #: The code issue 27 measured (its figure 2 is against this commit's default curve)
@@ -61,6 +64,10 @@ BEFORE_DEFAULT_CPU = 71.7
 TARGET_ROW = 0.008
 TARGET_SPEEDUP = 3.0
 TARGET_NEWTON = 5.0
+#: A short curve run before the timed ones: it writes the bytecode caches (and numba's)
+#: of the modules a curve imports, as a user's installation has them
+#: (bench/child_env.py)
+WARM_CURVE = ["six_dof_halved", "--harmonics", "3", "--n-samples", "64", "--fmax", "6"]
 
 
 def _yardstick_times(repeat: int) -> tuple[list[float], list[float]]:
@@ -91,7 +98,7 @@ def _run_curve(args: list[str], tree: str | None = None) -> tuple[float, float, 
             cmd = [sys.executable, str(Path(__file__).parent / "tree_import.py"), tree]
         cmd += ["hbm", *args, "--quiet", "--out", str(out)]
         c0, w0 = _child_cpu(), time.perf_counter()
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=child_env())
         wall, cpu = time.perf_counter() - w0, _child_cpu() - c0
         lines = [ln for ln in out.read_text().splitlines()
                  if ln and not ln.startswith("#")]
@@ -130,13 +137,15 @@ def _warm_tree(tree: str) -> None:
          f"{str(Path(__file__).parent)!r}); import tree_import; "
          f"tree_import.use_tree({tree!r}); import "
          "drymount.hbm.friction_march_numba as m; "
-         "sys.exit(0 if hasattr(m, 'warm') and m.warm() is None else 3)"])
+         "sys.exit(0 if hasattr(m, 'warm') and m.warm() is None else 3)"],
+        env=child_env())
     if probe.returncode == 3:
-        _run_curve(["six_dof_halved", "--harmonics", "3", "--n-samples", "64",
-                    "--fmax", "6"], tree)
+        _run_curve(WARM_CURVE, tree)
     elif probe.returncode != 0:
         raise RuntimeError(f"the baseline tree {tree} does not import "
                            f"(exit status {probe.returncode})")
+    else:
+        _run_curve(WARM_CURVE, tree)  # the bytecode caches of what a curve imports
 
 
 def _cpu_per_call(fn, n: int) -> float:
@@ -206,6 +215,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="also run the default curve from this checkout (e.g. main)")
     args = ap.parse_args(argv)
     original = None if args.skip_default else _original_tree()
+    _run_curve(WARM_CURVE)  # this code's caches, as for the trees below
     for tree in (original, args.baseline):
         if tree:
             _warm_tree(tree)

@@ -34,6 +34,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+from child_env import child_env, compile_bytecode, entry_python  # noqa: E402
 from yardstick import yardstick  # noqa: E402
 
 #: (label, drymount arguments)
@@ -50,8 +51,7 @@ MARCHES = ("numpy", "auto", "numba")
 
 def run_once(argv, march: str, cwd: str, cache: str | None) -> tuple[float, float]:
     """(CPU s, wall s) of one fresh ``drymount`` process."""
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
-               DRYMOUNT_MARCH=march)
+    env = child_env(DRYMOUNT_MARCH=march)
     if cache is not None:
         env["NUMBA_CACHE_DIR"] = cache
     t0 = time.perf_counter()
@@ -73,6 +73,7 @@ def main() -> None:
     ap.add_argument("--cold", action="store_true",
                     help="an empty numba cache for every auto/numba run")
     args = ap.parse_args()
+    compile_bytecode(entry_python(shutil.which("drymount")))  # as pip installs
     ys = yardstick()
     print(f"yardstick {ys:.3f} s; CPU s (wall s) of a fresh process, median of "
           f"{args.repeat}; {'cold' if args.cold else 'warm'} numba cache")

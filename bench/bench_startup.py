@@ -23,6 +23,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+from child_env import child_env, compile_bytecode, entry_python  # noqa: E402
 from yardstick import yardstick  # noqa: E402
 
 #: (label, argv): the cases of the issue, each a fresh process.
@@ -45,7 +46,7 @@ LIMIT_S = 0.3
 
 def cpu_seconds(cmd: list[str], cwd: str) -> float:
     """User + system CPU seconds of one run of ``cmd`` (children included)."""
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+    env = child_env()
     p = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.DEVNULL,
                          stderr=subprocess.DEVNULL)
     _, _, ru = os.wait4(p.pid, 0)
@@ -58,6 +59,7 @@ def main() -> None:
     ap.add_argument("--drymount", default=shutil.which("drymount"),
                     help="the drymount entry point to time (default: on PATH)")
     args = ap.parse_args()
+    compile_bytecode(entry_python(args.drymount))  # as installed by pip
     ys = yardstick()
     print(f"yardstick {ys:.3f} s; {args.drymount}; median of {args.repeat} runs")
     print(f"{'case':34s} {'CPU s':>7s} {'/ yardstick':>12s}  within {LIMIT_S} s")

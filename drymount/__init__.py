@@ -16,10 +16,11 @@ The public API (documented in :mod:`drymount.api`, units SI)::
   ``to_csv``, ``plot``); :class:`Peak`;
 - :func:`modes` -> nonlinear modes (EPMC): frequency and damping against amplitude.
 
-The names are imported on first use: ``import drymount`` loads neither NumPy nor SciPy
-(0.04 s measured). The command line does (every command reads a configuration, whose
-checks use the harmonic-balance package): ``drymount --version`` takes 0.6-1 s on 2
-cores.
+The names are imported on first use: ``import drymount`` loads neither NumPy nor SciPy.
+The command line loads the solvers only when it computes: ``--help``, ``--version``,
+``presets list`` and the usage errors load no NumPy, SciPy, Matplotlib or numba
+(``tests/test_startup.py``); a configuration's checks load NumPy, not the solvers
+(0.05-0.14 s CPU in all, ``bench/bench_startup.py``).
 """
 
 import types as _types
