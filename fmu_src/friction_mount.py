@@ -2,8 +2,10 @@
 
 Every force comes from :mod:`mount_law` (imported relatively, so the same file works as
 ``fmu_src.friction_mount`` in the repository and as ``<unique package>.friction_mount``
-inside the FMU, see ``fmu_build``). This module adds the FMI variables, their
-units, the model structure, parameter checks and the co-simulation protocol:
+inside the FMU, see ``fmu_build``). This module registers the FMI variables and runs the co-simulation
+protocol; the model description's units, ranges and structure are
+:mod:`model_description`'s, the parameter checks :mod:`parameter_check`'s,
+getFMUstate/setFMUstate :mod:`fmu_snapshot`'s:
 
 * per communication step t_n -> t_n + h the master sets ``u_<axis>``, ``v_<axis>`` (and
   ``n_<axis>``) at t_n and may read the outputs at once: they are the trial return map
@@ -32,8 +34,7 @@ FMU bundles).
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
-from xml.etree.ElementTree import Element, SubElement
+from xml.etree.ElementTree import Element
 
 from pythonfmu import (
     Boolean,
@@ -47,24 +48,15 @@ from pythonfmu import (
 )
 from pythonfmu.enums import Fmi2Status
 
-from . import state_codec, step_record
-from .fmi_guard import (FMICallError, _drop_repeated_path, _fmi_call, _guarded,
-                        _Rejected, _reject_hook)
+from . import model_description, step_record
+from .fmi_guard import (FMICallError, _drop_repeated_path, _fmi_call, _Rejected,
+                        _reject_hook)
 from .fmi_state import Mode, set_error, setup_error, step_error
-from .interface import (
-    ALL_PARAMETER_FIELDS,
-    BASE_UNITS,
-    CAPABILITIES,
-    DEFAULT_EXPERIMENT,
-    MODEL_NAME,
-    SLIDER_SLOTS,
-    VARIABLES,
-    declared_bounds,
-)
-from .mount_law import (AXES, FRICTION_KINDS, LAWS, AxisParameters, axis_force,
-                        conform_state, friction_kind_code, friction_kind_name,
-                        initial_sliders, law_code, law_name, mean_slider,
+from .fmu_snapshot import SnapshotMixin
+from .interface import DEFAULT_EXPERIMENT, MODEL_NAME, SLIDER_SLOT_NAMES, VARIABLES
+from .mount_law import (AXES, axis_force, conform_state, initial_sliders, mean_slider,
                         normal_forces, slider_position)
+from .parameter_check import ParameterError, checked_axes
 
 try:  # written by fmu_build into the FMU's package; absent in the repository
     from . import FMU_VERSION
@@ -77,13 +69,8 @@ _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean}
 _CAUSALITY = {c.name: c for c in Fmi2Causality}
 _VARIABILITY = {v.name: v for v in Fmi2Variability}
 _INITIAL = {i.name: i for i in Fmi2Initial}
-_PARAMETER_NAMES = tuple(name for name, *_ in ALL_PARAMETER_FIELDS)
 #: the quantities of the slider locals w1_<axis>, w2_<axis> (interface.SLIDER_SLOTS)
-_SLOT_NAMES = tuple(f"w{k}" for k in range(1, SLIDER_SLOTS + 1))
-
-# Declared ranges of the parameters (strict bounds such as delta > 0 and the rule for
-# kf are in the descriptions and checked at initialization).
-_BOUNDS = {name: declared_bounds(name, typ) for name, typ, *_ in ALL_PARAMETER_FIELDS}
+_SLOT_NAMES = SLIDER_SLOT_NAMES
 
 # Indices into the AxisForce result (mount_law.axis_force).
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
@@ -107,7 +94,7 @@ def _same_state(a, b) -> bool:
     return True
 
 
-class FrictionMount(Fmi2Slave):
+class FrictionMount(SnapshotMixin, Fmi2Slave):
     """Friction-damped engine mount, three local axes (FMI 2.0 Co-Simulation).
 
     Variables (names as in docs/fmu.md), for each axis in ``AXES``: parameters
@@ -351,32 +338,12 @@ class FrictionMount(Fmi2Slave):
         return _Rejected(message)
 
     def _prepare(self) -> None:
-        """Check every parameter once; keep the checked AxisParameters per axis."""
-        problems, axes = [], []
-        for axis in AXES:
-            values = {name: getattr(self, f"{axis}_{name}")
-                      for name in _PARAMETER_NAMES}
-            code = values["law"]
-            values["law"] = law_name(code)
-            if values["law"] is None:
-                allowed = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
-                problems.append(f"`{axis}_law` must be one of {allowed}, got {code!r}")
-                values["law"] = LAWS[0]
-            code = values["friction_kind"]
-            values["friction_kind"] = friction_kind_name(code)
-            if values["friction_kind"] is None:
-                allowed = ", ".join(f"{friction_kind_code(name)} = {name}"
-                                    for name in FRICTION_KINDS)
-                problems.append(f"`{axis}_friction_kind` must be one of {allowed}, "
-                                f"got {code!r}")
-                values["friction_kind"] = FRICTION_KINDS[0]
-            # problems() only reads attributes: run it on the raw values so that every
-            # problem of every axis is reported with the FMU variable name.
-            problems += AxisParameters.problems(SimpleNamespace(**values), f"{axis}_")
-            if not problems:
-                axes.append(AxisParameters(**values))
-        if problems:
-            raise self._fail("invalid parameters: " + "; ".join(problems))
+        """Check every parameter once (parameter_check); keep the checked
+        AxisParameters per axis."""
+        try:
+            axes = checked_axes(lambda name: getattr(self, name))
+        except ParameterError as exc:
+            raise self._fail(str(exc)) from None
         # an input n never set follows its parameter <axis>_n0
         for j, axis in enumerate(AXES):
             if not self._n_set[j]:
@@ -486,68 +453,6 @@ class FrictionMount(Fmi2Slave):
     def terminate(self):
         self._mode = Mode.TERMINATED
 
-    # getFMUstate/setFMUstate: everything settable, the committed energy, the FMI
-    # state and the time.
-    @_guarded
-    def _get_fmu_state(self) -> dict:
-        state = {var.name: var.getter() for var in self.vars.values()
-                 if var.setter is not None}
-        state["_E_committed"] = [float(x) for x in self._e]
-        state["_n_set"] = list(self._n_set)
-        # tuples (micro-slip sliders, an inclined element's (w1, w2, uc)) as lists;
-        # _prepare reads them back as the axis's kind (mount_law.conform_state)
-        state["_w"] = [list(w) if isinstance(w, tuple) else w for w in self._w]
-        state["_mode"] = self._mode.value
-        state["_t_next"] = self._t_next
-        state["_dt"] = self._dt
-        state["_step"] = [step_record.record_to_state(r) for r in self._rec]
-        return state
-
-    # Serialized states: bytes with a checksum, decoded without raising (pythonfmu
-    # calls these on the class, outside any guard; fmu_src/state_codec.py).
-    _fmu_state_to_bytes = staticmethod(state_codec.encode)
-    _fmu_state_from_bytes = staticmethod(state_codec.decode)
-
-    @_guarded
-    def _set_fmu_state(self, state: dict) -> None:
-        """Restore ``state`` after checking it whole (state_codec.state_problem);
-        after initialization its parameters and outputs must evaluate too, else the
-        instance is left as it was."""
-        settable = {self._var[vr].name: self._var[vr]
-                    for vr, var in self.vars.items() if var.setter is not None}
-        why = state_codec.state_problem(state, settable)
-        if why is not None:
-            raise _Rejected(f"fmi2SetFMUstate: {why}")
-        before = self._get_fmu_state.__wrapped__(self)
-        self._apply_state(state)
-        if self._mode in (Mode.STEP_COMPLETE, Mode.TERMINATED):
-            try:
-                for j in range(3):
-                    self._axis(j)
-            except Exception as exc:  # noqa: BLE001 - any failure: refuse the state
-                self._apply_state(before)
-                raise _Rejected(f"fmi2SetFMUstate: the state does not evaluate "
-                                f"({exc})") from None
-
-    def _apply_state(self, state: dict) -> None:
-        by_name = {var.name: var for var in self.vars.values()}
-        for name, value in state.items():
-            # the sliders w1_/w2_ are part of the restored friction state `_w`
-            if name in by_name and by_name[name].setter is not None \
-                    and name.partition("_")[0] not in _SLOT_NAMES:
-                by_name[name].setter(value)
-        self._e = [float(x) for x in state["_E_committed"]]
-        self._n_set = [bool(x) for x in state["_n_set"]]
-        self._w = [tuple(float(x) for x in w) if isinstance(w, list) else float(w)
-                   for w in state["_w"]]
-        self._mode, self._t_next = Mode(state["_mode"]), state["_t_next"]
-        self._dt = float(state.get("_dt", 0.0))
-        # in place: the getters hold the list
-        self._rec[:] = [step_record.record_from_state(r) for r in state["_step"]] \
-            if "_step" in state else [step_record.StepRecord() for _ in AXES]
-        self._axes = None
-        self._res = [None, None, None]
-
     def _read(self, vr, kind: str):
         """Value of ``vr`` for fmi2Get<kind>; outputs read in initialization mode
         with invalid parameters are 0 (the error comes at
@@ -651,51 +556,6 @@ class FrictionMount(Fmi2Slave):
 
     # ------------------------------------------------------------------ description
     def to_xml(self, model_options=None) -> Element:
-        """pythonfmu's model description plus units, capabilities, model structure."""
-        root = super().to_xml(model_options or {})
-        cosim = root.find("CoSimulation")
-        for flag, value in CAPABILITIES.items():
-            cosim.set(flag, "true" if value else "false")
-        # UnitDefinitions follows the CoSimulation element (FMI 2.0 schema order).
-        units = Element("UnitDefinitions")
-        for name, exps in BASE_UNITS.items():
-            SubElement(SubElement(units, "Unit", name=name), "BaseUnit",
-                       {k: str(e) for k, e in exps.items()})
-        root.insert(list(root).index(cosim) + 1, units)
-        index = {}
-        unit_of = {var.name: var.unit for var in VARIABLES}
-        for i, sv in enumerate(root.find("ModelVariables"), start=1):
-            index[sv.get("name")] = str(i)
-            unit = unit_of.get(sv.get("name"))
-            if unit is not None:
-                sv.find("Real").set("unit", unit)
-            bounds = _BOUNDS.get(sv.get("name").partition("_")[2])
-            if bounds is not None and sv.get("causality") == "parameter":
-                sv[0].attrib.update(bounds)
-        root.remove(root.find("ModelStructure"))
-        structure = SubElement(root, "ModelStructure")
-        outputs = SubElement(structure, "Outputs")
-        initial = SubElement(structure, "InitialUnknowns")
-        rows = []  # (index, dependencies) of every output, listed in index order
-        for axis in AXES:
-            # a rate-dependent friction element (LuGre) reads v in Ffr, kt and E_fr
-            deps = {"F": ("u", "v", "n"), "Ffr": ("u", "v", "n"), "kt": ("u", "v", "n"),
-                    "E_fr": ("u", "v", "n")}
-            for name in ("F", "Ffr", "kt", "slip", "E_fr", "N", "N2"):
-                rows.append((int(index[f"{name}_{axis}"]), " ".join(
-                    index[f"{d}_{axis}"] for d in deps.get(name, ("u", "n")))))
-        rows.append((int(index["E_fr"]), " ".join(
-            index[f"{d}_{axis}"] for axis in AXES for d in ("u", "v", "n"))))
-        # the records of the last step change only in doStep: no input dependencies
-        rows += [(int(index[f"{name}_{axis}"]), "") for axis in AXES
-                 for name in ("slipped", "dE_fr", "ks")]
-        for i, refs in sorted(rows):
-            SubElement(outputs, "Unknown", index=str(i), dependencies=refs)
-        # Initial values of the outputs depend on inputs, parameters and the start
-        # value of w: no `dependencies` attribute = depends on all knowns (FMI 2.0);
-        # outputs with initial="exact" (slipped_, dE_fr_) are not initial unknowns.
-        exact = {index[v.name] for v in VARIABLES if v.initial == "exact"}
-        for unknown in outputs:
-            if unknown.get("index") not in exact:
-                SubElement(initial, "Unknown", index=unknown.get("index"))
-        return root
+        """pythonfmu's model description plus units, capabilities, model structure
+        (model_description.complete)."""
+        return model_description.complete(super().to_xml(model_options or {}))

@@ -38,7 +38,8 @@ __all__ = ["Variable", "VARIABLES", "BASE_UNITS", "CAPABILITIES",
            "DEFAULT_EXPERIMENT", "MODEL_NAME", "PARAMETER_FIELDS", "variable",
            "by_causality", "parameter_unit", "INCLINED_PARAMETER_FIELDS",
            "ALL_PARAMETER_FIELDS", "LATER_PARAMETER_FIELDS", "declared_bounds",
-           "MAXWELL_PARAMETER_FIELDS", "SLIDER_SLOTS", "HYDRAULIC_PARAMETER_FIELDS"]
+           "MAXWELL_PARAMETER_FIELDS", "SLIDER_SLOTS", "SLIDER_SLOT_NAMES",
+           "HYDRAULIC_PARAMETER_FIELDS"]
 
 MODEL_NAME = "FrictionMount"
 
@@ -108,6 +109,8 @@ DEFAULT_EXPERIMENT: dict[str, float] = {
 #: Slider positions of a friction element the FMU shows and sets as the locals
 #: ``w1_<axis>`` .. ``w<SLIDER_SLOTS>_<axis>`` (``FrictionElement.slider_slots``).
 SLIDER_SLOTS = 2
+#: The quantities of those locals: ``w1``, ``w2`` (``w1_<axis>`` without its axis).
+SLIDER_SLOT_NAMES = tuple(f"w{k}" for k in range(1, SLIDER_SLOTS + 1))
 _SLOT_TEXT = ("the inclined surface's slider w1", "the flat surface's slider w2")
 
 _LAW_TEXT = ", ".join(f"{law_code(name)} = {name}" for name in LAWS)
