@@ -129,9 +129,10 @@ def _original_tree() -> str | None:
 
 
 def _warm_tree(tree: str) -> None:
-    """Compile ``tree``'s numba kernels (cached beside its sources) before timing it:
-    by its ``warm()`` where it has one, else (older trees, e.g. b25b28d, the
-    original of figure 2) by a short curve, which compiles the same signatures."""
+    """Compile ``tree``'s numba kernels (cached beside its sources) by its ``warm()``
+    where it has one, then run :data:`WARM_CURVE` from it, which writes the bytecode
+    caches of what a curve imports (and, in older trees without ``warm()``, e.g.
+    b25b28d, the original of figure 2, compiles the same numba signatures)."""
     probe = subprocess.run(
         [sys.executable, "-c", "import sys; sys.path.insert(0, "
          f"{str(Path(__file__).parent)!r}); import tree_import; "
@@ -139,13 +140,10 @@ def _warm_tree(tree: str) -> None:
          "drymount.hbm.friction_march_numba as m; "
          "sys.exit(0 if hasattr(m, 'warm') and m.warm() is None else 3)"],
         env=child_env())
-    if probe.returncode == 3:
-        _run_curve(WARM_CURVE, tree)
-    elif probe.returncode != 0:
+    if probe.returncode not in (0, 3):
         raise RuntimeError(f"the baseline tree {tree} does not import "
                            f"(exit status {probe.returncode})")
-    else:
-        _run_curve(WARM_CURVE, tree)  # the bytecode caches of what a curve imports
+    _run_curve(WARM_CURVE, tree)
 
 
 def _cpu_per_call(fn, n: int) -> float:
