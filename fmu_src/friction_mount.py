@@ -2,8 +2,8 @@
 
 Every force comes from :mod:`mount_law` (imported relatively, so the same file works as
 ``fmu_src.friction_mount`` in the repository and as ``<unique package>.friction_mount``
-inside the FMU, see ``fmu_build``). This module registers the FMI variables and runs the co-simulation
-protocol; the model description's units, ranges and structure are
+inside the FMU, see ``fmu_build``). This module registers the FMI variables and runs
+the co-simulation protocol; the model description's units, ranges and structure are
 :mod:`model_description`'s, the parameter checks :mod:`parameter_check`'s,
 getFMUstate/setFMUstate :mod:`fmu_snapshot`'s:
 
