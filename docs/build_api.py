@@ -12,15 +12,19 @@ below (``hbm.result.FrequencyResponse``, ``vehicle.sweep.SweepResult``,
 docs/api/ is committed and kept current: ``tests/test_api.py`` rebuilds it and
 compares it page by page with the committed one (pdoc's output is deterministic: two
 builds are byte-identical); after changing a docstring of these modules, run this
-script and commit docs/api/ with the change. The committed pages are pdoc
-``PDOC_VERSION``'s; another pdoc version renders differently, and the test then skips
-the comparison and says why.
+script and commit docs/api/ with the change. ``docs/api/renderer.json`` records the
+versions of pdoc and of what it renders with (markdown2, Pygments) that wrote the
+pages: another version may render differently (markdown2 2.5.6 broke an inline
+literal across a line break that 2.5.5 rendered), and where the pages differ and so
+do the versions, the test skips the comparison and names them.
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import sys
+from importlib import metadata
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
@@ -28,8 +32,13 @@ OUT = REPO / "docs" / "api"
 MODULES = ["drymount", "drymount.api", "drymount.measured", "drymount.spectra",
            "drymount.paths", "drymount.hbm.result", "drymount.vehicle.sweep",
            "drymount.vehicle.results", "drymount.vehicle.sampled"]
-#: The pdoc version the committed docs/api/ was built with.
-PDOC_VERSION = "16.0.0"
+#: The packages whose versions decide how the pages render (docs/api/renderer.json).
+RENDERERS = ("pdoc", "markdown2", "Pygments")
+
+
+def renderer_versions() -> dict[str, str]:
+    """The installed version of each of :data:`RENDERERS`."""
+    return {name: metadata.version(name) for name in RENDERERS}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -50,6 +59,8 @@ def main(argv: list[str] | None = None) -> int:
     tmp = out.with_name(out.name + ".tmp")
     shutil.rmtree(tmp, ignore_errors=True)
     pdoc.pdoc(*MODULES, output_directory=tmp)
+    (tmp / "renderer.json").write_text(json.dumps(renderer_versions(), indent=1) + "\n",
+                                       encoding="utf-8")
     shutil.rmtree(out, ignore_errors=True)
     tmp.rename(out)
     print(f"wrote {out / 'index.html'} ({len(list(out.rglob('*.html')))} pages)")

@@ -470,8 +470,9 @@ def cosim(model, freq_hz: float | None = None, *, duration: float | None = None,
     ----------
     model : Model, or a TOML file or preset name
     freq_hz : float, optional
-        Frequency of the system's harmonic excitation, Hz (default ``[cosim]
-        freq_hz``); needed unless a measured ``road`` or ``engine`` input is given.
+        Frequency of the system's harmonic excitation, Hz (default
+        ``[cosim] freq_hz``); needed unless a measured ``road`` or ``engine`` input
+        is given.
         With a measured input, the harmonic excitation is added only when
         ``freq_hz`` is passed here.
     duration : float, optional

@@ -422,9 +422,10 @@ class FrequencyResponse:
         return root + "_events.csv"
 
     def events_to_csv(self, path: str | os.PathLike) -> None:
-        """Write the located folds, bifurcations and peaks: ``kind, dof, freq_hz,
-        after_row, converged, <dof>_amp, <dof>_peak, ..., transmissibility``;
-        ``after_row`` is the 0-based data row of the curve CSV the event follows.
+        """Write the located folds, bifurcations and peaks: ``kind``, ``dof``,
+        ``freq_hz``, ``after_row``, ``converged``, ``<dof>_amp``, ``<dof>_peak``, ...,
+        ``transmissibility``; ``after_row`` is the 0-based data row of the curve CSV
+        the event follows.
         The transmissibility's peak is the row with ``dof`` = ``transmissibility``;
         the bifurcations (:attr:`bifurcations`) are the rows of kind
         ``period-doubling``, ``neimark-sacker`` and ``branch-point``."""
@@ -459,11 +460,11 @@ class FrequencyResponse:
                 fh.write(",".join(vals) + "\n")
 
     def to_csv(self, path: str | os.PathLike) -> None:
-        """Write ``freq_hz, <dof>_amp, <dof>_peak, ..., transmissibility, stable,
-        err_truncation, err_sampling`` (the estimated errors relative to the peak,
-        :mod:`hbm.error_estimate`; NaN where not estimated), and with inclined
-        elements ``<mount>_<axis>_stuck, ..., family`` (:attr:`stuck`,
-        :attr:`family`; 0/1/2/3 and 0/1).
+        """Write ``freq_hz``, ``<dof>_amp``, ``<dof>_peak``, ..., ``transmissibility``,
+        ``stable``, ``err_truncation``, ``err_sampling`` (the estimated errors
+        relative to the peak, :mod:`hbm.error_estimate`; NaN where not estimated),
+        and with inclined elements ``<mount>_<axis>_stuck``, ..., ``family``
+        (:attr:`stuck`, :attr:`family`; 0/1/2/3 and 0/1).
 
         The first line is a ``# `` comment with units and provenance; ``stable`` is 1
         or 0; amplitudes in m (rad for rotations).
