@@ -13,10 +13,11 @@ docs/api/ is committed and kept current: ``tests/test_api.py`` rebuilds it and
 compares it page by page with the committed one (pdoc's output is deterministic: two
 builds are byte-identical); after changing a docstring of these modules, run this
 script and commit docs/api/ with the change. ``docs/api/renderer.json`` records the
-versions of pdoc and of what it renders with (markdown2, Pygments) that wrote the
-pages: another version may render differently (markdown2 2.5.6 broke an inline
-literal across a line break that 2.5.5 rendered), and where the pages differ and so
-do the versions, the test skips the comparison and names them.
+versions of pdoc and of what it renders with (markdown2, Pygments, Jinja2,
+MarkupSafe) that wrote the pages: another version may render differently (markdown2
+2.5.6 broke an inline literal across a line break that 2.5.5 rendered), and where
+the pages differ and so do the versions, the test skips the comparison and names
+them.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ MODULES = ["drymount", "drymount.api", "drymount.measured", "drymount.spectra",
            "drymount.paths", "drymount.hbm.result", "drymount.vehicle.sweep",
            "drymount.vehicle.results", "drymount.vehicle.sampled"]
 #: The packages whose versions decide how the pages render (docs/api/renderer.json).
-RENDERERS = ("pdoc", "markdown2", "Pygments")
+RENDERERS = ("pdoc", "markdown2", "Pygments", "Jinja2", "MarkupSafe")
 
 
 def renderer_versions() -> dict[str, str]:
