@@ -69,9 +69,6 @@ _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean}
 _CAUSALITY = {c.name: c for c in Fmi2Causality}
 _VARIABILITY = {v.name: v for v in Fmi2Variability}
 _INITIAL = {i.name: i for i in Fmi2Initial}
-#: the quantities of the slider locals w1_<axis>, w2_<axis> (interface.SLIDER_SLOTS)
-_SLOT_NAMES = SLIDER_SLOT_NAMES
-
 # Indices into the AxisForce result (mount_law.axis_force).
 _F, _FFR, _W, _KT, _SLIP, _DISS = range(6)
 
@@ -171,8 +168,8 @@ class FrictionMount(SnapshotMixin, Fmi2Slave):
         if quantity == "w":
             return ((lambda: self._position(j)),
                     (lambda value: self._set_sliders(j, value)))
-        if quantity in _SLOT_NAMES:   # w1_, w2_: one slider of the element
-            slot = _SLOT_NAMES.index(quantity)
+        if quantity in SLIDER_SLOT_NAMES:   # w1_, w2_: one slider of the element
+            slot = SLIDER_SLOT_NAMES.index(quantity)
             return ((lambda: self._slider(j, slot)),
                     (lambda value: self._set_slider(j, slot, value)))
         inputs = {"u": self._u, "v": self._v}
@@ -253,7 +250,7 @@ class FrictionMount(SnapshotMixin, Fmi2Slave):
         a call is set): the parameters must be valid (set them in an earlier call)
         and the axis's element must have slider k."""
         quantity, _, axis = name.rpartition("_")
-        j, slot = AXES.index(axis), _SLOT_NAMES.index(quantity)
+        j, slot = AXES.index(axis), SLIDER_SLOT_NAMES.index(quantity)
         if self._axes is None:
             try:
                 self._prepare()
@@ -520,7 +517,7 @@ class FrictionMount(SnapshotMixin, Fmi2Slave):
                                 f"{var.type}; use fmi2Set{var.type}")
             why = set_error(call, var.name, var.causality, var.variability,
                             self._mode, value)
-            if why is None and var.name.partition("_")[0] in _SLOT_NAMES:
+            if why is None and var.name.partition("_")[0] in SLIDER_SLOT_NAMES:
                 why = self._slot_problem(var.name, value)
             if why is not None:
                 raise _Rejected(why)

@@ -186,15 +186,21 @@ def test_api_reference_builds_offline_with_every_public_name(tmp_path):
     _same_as_committed(tmp_path / "api", REPO / "docs" / "api")
 
 
+def _build_api():
+    """docs/build_api.py as a module (it is a script, not in a package)."""
+    spec = importlib.util.spec_from_file_location("build_api",
+                                                  REPO / "docs" / "build_api.py")
+    build_api = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(build_api)
+    return build_api
+
+
 def _same_as_committed(built: Path, committed: Path) -> None:
     """The rebuilt reference equals the committed docs/api/, page by page (it was
     stale: 7 of 10 pages changed, issue 23 item 5). Pages that differ where the
     renderer's versions differ too (docs/api/renderer.json) skip: CI took markdown2
     2.5.6 the day it came out, which renders differently from 2.5.5."""
-    spec = importlib.util.spec_from_file_location("build_api",
-                                                  REPO / "docs" / "build_api.py")
-    build_api = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(build_api)
+    build_api = _build_api()
     pages = sorted(p.relative_to(built).as_posix() for p in built.rglob("*.html"))
     old = sorted(p.relative_to(committed).as_posix() for p in committed.rglob("*.html"))
     assert pages == old, "pages added or removed: run python docs/build_api.py"
@@ -214,10 +220,7 @@ def test_no_inline_literal_of_the_reference_spans_a_line_break():
     """An inline literal across a line break renders as raw backticks with markdown2
     2.5.6 (CI failed on it); so none of the documented modules' docstrings has one,
     whatever markdown2 renders the reference."""
-    spec = importlib.util.spec_from_file_location("build_api",
-                                                  REPO / "docs" / "build_api.py")
-    build_api = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(build_api)
+    build_api = _build_api()
     broken = []
     for name in build_api.MODULES:
         origin = Path(importlib.util.find_spec(name).origin)
