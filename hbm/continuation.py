@@ -230,17 +230,25 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
 
 class _Polyline(NamedTuple):
     """The vertices ``a`` of a polyline, its segments ``d`` and their squared
-    lengths ``dd`` (:func:`_polyline`)."""
+    lengths ``dd``, and for the screen of :func:`_distance_to_polyline` each
+    segment's start ``a0 = a[:-1]`` with ``a0 . d`` (``ad``) and ``|a0|^2`` (``aa``),
+    and the largest ``|a|^2`` (``scale``) (:func:`_polyline`)."""
 
     a: np.ndarray
     d: np.ndarray
     dd: np.ndarray
+    ad: np.ndarray
+    aa: np.ndarray
+    scale: float
 
 
 def _polyline(pts: list) -> _Polyline:
     a = np.asarray(pts)
-    d = a[1:] - a[:-1]
-    return _Polyline(a, d, np.einsum("ij,ij->i", d, d))
+    a0 = a[:-1]
+    d = a[1:] - a0
+    aa = np.einsum("ij,ij->i", a, a)
+    return _Polyline(a, d, np.einsum("ij,ij->i", d, d), np.einsum("ij,ij->i", a0, d),
+                     aa[:-1], float(aa.max()))
 
 
 def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False,
@@ -250,23 +258,30 @@ def _distance_to_polyline(p: np.ndarray, pts: list, with_segment: bool = False,
     point is nearest). The first nearest segment wins. ``geometry``: ``pts``'s
     :func:`_polyline`, if the caller keeps it.
 
-    All segments are measured at once; the few within round-off of the nearest are
-    measured again one by one (:func:`_segment_distance`), so that ties (a vertex
-    nearest, shared by two segments) are broken as a loop over the segments breaks
-    them, bit for bit.
+    A screen measures all segments at once by two matrix-vector products, the
+    squared distance expanded as ``|p - a0|^2 - 2 s (p - a0) . d + s^2 dd``; the
+    few within its round-off of the nearest are measured again one by one
+    (:func:`_segment_distance`), so that the answer, ties included (a vertex nearest,
+    shared by two segments), is that of a loop over the segments, bit for bit. The
+    screen's error: the expansion's, below ``1e-13 (|p|^2 + max |a|^2)`` for the
+    vectors here, and that of its ``s``, which enters squared (the distance is
+    stationary in ``s`` at the nearest point, and at a clipped end its slope is
+    itself round-off); the margin is ``1e-10 (|p|^2 + max |a|^2)`` above
+    ``1e-9`` of the nearest.
     """
     best = _norm(p - pts[-1])
     seg = 0.0
     if len(pts) < 2:
         return (best, seg) if with_segment else best
-    a, d, dd = _polyline(pts) if geometry is None else geometry
-    pa = p - a[:-1]
+    g = _polyline(pts) if geometry is None else geometry
+    pp = float(np.dot(p, p))
+    pd = g.d @ p - g.ad        # (p - a0) . d
     with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.where(dd == 0.0, 0.0, np.clip(np.einsum("ij,ij->i", pa, d) / dd, 0, 1))
-    r = pa - s[:, None] * d
-    dist = np.einsum("ij,ij->i", r, r)
+        s = np.where(g.dd == 0.0, 0.0, np.clip(pd / g.dd, 0, 1))
+    dist = pp - 2.0 * (g.a[:-1] @ p) + g.aa - s * (2.0 * pd - s * g.dd)
     near = dist.min()
-    for i in np.flatnonzero(dist <= near * (1.0 + 1e-9)):
+    margin = 1e-9 * abs(near) + 1e-10 * (pp + g.scale)
+    for i in np.flatnonzero(dist <= near + margin):
         dist_i, dd_i = _segment_distance(p, pts[i], pts[i + 1])
         if dist_i < best:
             best, seg = dist_i, math.sqrt(dd_i)

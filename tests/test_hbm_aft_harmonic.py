@@ -138,6 +138,12 @@ def test_distance_to_polyline_equals_loop():
         p = rng.standard_normal(n) * 2
         if trial % 3 == 0:  # near a vertex: two segments tie
             p = pts[int(rng.integers(0, k))] + 1e-3 * rng.standard_normal(n)
+        elif trial % 5 == 0 and k > 1:  # all but on a segment, far from the origin
+            # (the screen's expanded squares cancel to 1e-12 of |p|^2 here)
+            shift = 1e3 * rng.standard_normal(n)
+            pts = [q + shift for q in pts]
+            i = int(rng.integers(0, k - 1))
+            p = pts[i] + 0.37 * (pts[i + 1] - pts[i]) + 1e-9 * rng.standard_normal(n)
         assert _distance_to_polyline(p, pts, with_segment=True) == \
             _loop_distance(p, pts)
         assert _distance_to_polyline(p, pts) == _loop_distance(p, pts)[0]
