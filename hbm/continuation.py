@@ -144,40 +144,9 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
     """
     y = np.array(y0, dtype=float)
     last = np.inf
-    n = y.size - 1
-    if fixed is not None:
-        keep = np.ones(n + 1, bool)
-        keep[fixed] = False
-
-    def evaluate(yy):
-        try:
-            R, J = fun(yy)
-        except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
-            return None, None, f"evaluation failed: {exc}"
-        if not np.all(np.isfinite(R)):
-            return None, None, "non-finite residual"
-        return R, J, ""
-
+    closure = _Closure.of(y.size - 1, fixed, tangent, y_pred)
     r_only = None if jacobian_at_root else getattr(fun, "residual_only", None)
-
-    def evaluate_r(yy):
-        try:
-            R = r_only(yy)
-        except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
-            return None, f"evaluation failed: {exc}"
-        if not np.all(np.isfinite(R)):
-            return None, "non-finite residual"
-        return R, ""
-
-    def closing(yy):
-        """Value and gradient of the closing equation."""
-        return float(np.dot(tangent, yy - y_pred)), tangent
-
-    def merit(yy, R):
-        g = 0.0 if fixed is not None else closing(yy)[0]
-        return float(np.dot(R, R)) + g * g
-
-    R, J, msg = evaluate(y)
+    R, J, msg = _evaluate(fun, y)
     if R is None:
         return NewtonResult(y, False, 0, msg)
     r = _norm(R)
@@ -187,45 +156,122 @@ def newton(fun: Callable, y0: np.ndarray, settings: ContinuationSettings,
         if it == settings.max_newton:
             break
         try:
-            if fixed is not None:
-                step = np.zeros(n + 1)
-                step[keep] = np.linalg.solve(J[:, keep], -R)
-            else:
-                g, dg = closing(y)
-                A = np.vstack([J, dg])
-                b = np.append(-R, -g)
-                step = np.linalg.solve(A, b)
+            step = closure.step(y, R, J)
         except np.linalg.LinAlgError:
             return NewtonResult(y, False, it, "singular Jacobian")
-        # Backtracking on |R|^2 (+ the arc-length equation squared): the residual of
-        # the AFT is only piecewise smooth (knees, stick-slip switches at samples), and
-        # full Newton steps can cycle between two pieces around a kink.
-        phi0 = merit(y, R)
-        alpha = 1.0
-        size = _norm(step)
-        while True:
-            y_try = y + alpha * step
-            if r_only is not None and alpha * size <= settings.tol_step:
-                (R_try, msg), J_try = evaluate_r(y_try), None
-            else:
-                R_try, J_try, msg = evaluate(y_try)
-            if R_try is not None and (merit(y_try, R_try) <= (1 - 1e-4 * alpha) * phi0
-                                      or alpha <= settings.min_damping):
-                if J_try is not None:
-                    break
-                if _norm(R_try) <= settings.tol_residual:  # converged: no Jacobian
-                    return NewtonResult(y_try, True, it + 1, "")
-                R_try, J_try, msg = evaluate(y_try)  # it goes on: its Jacobian
-                if R_try is not None:
-                    break
-            if R_try is None and alpha <= settings.min_damping:
-                return NewtonResult(y, False, it + 1, msg)
-            alpha *= 0.5
-        y, R, J = y_try, R_try, J_try
+        trial = _damped(fun, r_only, y, R, step, closure, settings)
+        if trial.R is None:
+            return NewtonResult(y, False, it + 1, trial.message)
+        if trial.J is None:   # converged without its Jacobian
+            return NewtonResult(trial.y, True, it + 1, "")
+        y, R, J = trial.y, trial.R, trial.J
         r = _norm(R)
-        last = alpha * size
+        last = trial.size
     return NewtonResult(y, False, settings.max_newton, (
         f"no convergence in {settings.max_newton} iterations (residual {r:.3g})"))
+
+
+def _evaluate(fun: Callable, y: np.ndarray):
+    """``(R, J, message)`` of ``fun(y)``; R and J None (and why) where the evaluation
+    failed or its residual is not finite."""
+    try:
+        R, J = fun(y)
+    except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
+        return None, None, f"evaluation failed: {exc}"
+    if not np.all(np.isfinite(R)):
+        return None, None, "non-finite residual"
+    return R, J, ""
+
+
+def _evaluate_residual(r_only: Callable, y: np.ndarray):
+    """``(R, message)`` of ``r_only(y)`` (the residual alone), as :func:`_evaluate`."""
+    try:
+        R = r_only(y)
+    except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
+        return None, f"evaluation failed: {exc}"
+    if not np.all(np.isfinite(R)):
+        return None, "non-finite residual"
+    return R, ""
+
+
+class _Closure(NamedTuple):
+    """The equation that closes Newton's system (:func:`newton`): unknown ``fixed``
+    held (``keep``: the others), or ``tangent . (y - y_pred) = 0``."""
+
+    fixed: int | None
+    keep: np.ndarray | None
+    tangent: np.ndarray | None
+    y_pred: np.ndarray | None
+
+    @classmethod
+    def of(cls, n: int, fixed, tangent, y_pred) -> _Closure:
+        keep = None
+        if fixed is not None:
+            keep = np.ones(n + 1, bool)
+            keep[fixed] = False
+        return cls(fixed, keep, tangent, y_pred)
+
+    def value(self, y: np.ndarray) -> float:
+        """The arc-length equation's value at ``y``."""
+        return float(np.dot(self.tangent, y - self.y_pred))
+
+    def merit(self, y: np.ndarray, R: np.ndarray) -> float:
+        """``|R|^2`` plus the arc-length equation squared."""
+        g = 0.0 if self.fixed is not None else self.value(y)
+        return float(np.dot(R, R)) + g * g
+
+    def step(self, y: np.ndarray, R: np.ndarray, J: np.ndarray) -> np.ndarray:
+        """The full Newton step at ``y`` (raises ``LinAlgError`` if singular)."""
+        if self.fixed is not None:
+            step = np.zeros(y.size)
+            step[self.keep] = np.linalg.solve(J[:, self.keep], -R)
+            return step
+        A = np.vstack([J, self.tangent])
+        b = np.append(-R, -self.value(y))
+        return np.linalg.solve(A, b)
+
+
+class _Trial(NamedTuple):
+    """The point a damped step reached: R None if it failed (``message``: why), J
+    None if it converged without its Jacobian; ``size``: the step's length."""
+
+    y: np.ndarray
+    R: np.ndarray | None
+    J: np.ndarray | None
+    size: float
+    message: str = ""
+
+
+def _damped(fun: Callable, r_only: Callable | None, y: np.ndarray, R: np.ndarray,
+            step: np.ndarray, closure: _Closure, settings: ContinuationSettings
+            ) -> _Trial:
+    """Backtracking on |R|^2 (+ the arc-length equation squared) along ``step``: the
+    residual of the AFT is only piecewise smooth (knees, stick-slip switches at
+    samples), and full Newton steps can cycle between two pieces around a kink. A
+    trial within ``tol_step`` is evaluated without its Jacobian first when
+    ``r_only`` is given (:func:`newton`'s ``jacobian_at_root``)."""
+    phi0 = closure.merit(y, R)
+    alpha = 1.0
+    size = _norm(step)
+    while True:
+        y_try = y + alpha * step
+        if r_only is not None and alpha * size <= settings.tol_step:
+            (R_try, msg), J_try = _evaluate_residual(r_only, y_try), None
+        else:
+            R_try, J_try, msg = _evaluate(fun, y_try)
+        descent = R_try is not None and (
+            closure.merit(y_try, R_try) <= (1 - 1e-4 * alpha) * phi0)
+        if R_try is not None and (descent or alpha <= settings.min_damping):
+            if J_try is not None:
+                return _Trial(y_try, R_try, J_try, alpha * size)
+            if _norm(R_try) <= settings.tol_residual:  # converged: no Jacobian
+                return _Trial(y_try, R_try, None, alpha * size)
+            R_try, J_try, msg = _evaluate(fun, y_try)  # it goes on: its Jacobian
+            if R_try is not None:
+                return _Trial(y_try, R_try, J_try, alpha * size)
+        if R_try is None and alpha <= settings.min_damping:
+            return _Trial(y, None, None, alpha * size, msg)
+        alpha *= 0.5
 
 
 class _Polyline(NamedTuple):

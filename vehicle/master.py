@@ -404,29 +404,8 @@ class Master:
         """
         if duration is None or not (np.isfinite(duration) and duration > 0):
             raise ValueError(f"`duration` must be finite and > 0, got {duration!r}")
-        if inputs is None:
-            if freq_hz is None:
-                raise ValueError("give `freq_hz` (harmonic excitation of the system) "
-                                 "or `inputs`")
-            inputs = HarmonicInput(self.system, freq_hz)
-        elif (inputs.n_dof, inputs.n_base) != (self.system.n_dof, self.system.n_base):
-            raise ValueError("`inputs` was made for another system: (n_dof, n_base) "
-                             f"{(inputs.n_dof, inputs.n_base)} != "
-                             f"{(self.system.n_dof, self.system.n_base)}")
-        if dt is None:
-            if freq_hz is not None:
-                dt0 = 1.0 / (freq_hz * self.steps_per_period(freq_hz))
-            else:
-                dt0 = min(self.dt_limit() / 4.0, 1e-3)
-            n_steps = max(1, math.ceil(duration / dt0 - 1e-9))
-            dt = duration / n_steps
-        elif not (np.isfinite(dt) and dt > 0):
-            raise ValueError(f"`dt` must be finite and > 0, got {dt!r}")
-        elif dt > self.dt_limit() * (1 + 1e-9):
-            raise ValueError(f"`dt` = {dt:.4g} s exceeds the step limit "
-                             f"{self.dt_limit():.4g} s of this system")
-        else:
-            n_steps = max(1, int(round(duration / dt)))
+        inputs = self._inputs_for(inputs, freq_hz)
+        dt, n_steps = self._time_grid(duration, dt, freq_hz)
         total = n_steps + 1
         L, n = self.layout, self.system.n_dof
         rows = min(BLOCK_ROWS, total)
@@ -475,6 +454,38 @@ class Master:
         self.q, self.qd, self.qdd = self._state_of_row(rec[0])
         self.time = t0 + total * dt
         return history(total)
+
+    def _inputs_for(self, inputs: Input | None, freq_hz: float | None) -> Input:
+        """``inputs`` checked against the system, or the system's harmonic
+        excitation at ``freq_hz`` (:meth:`simulate`)."""
+        if inputs is None:
+            if freq_hz is None:
+                raise ValueError("give `freq_hz` (harmonic excitation of the system) "
+                                 "or `inputs`")
+            return HarmonicInput(self.system, freq_hz)
+        if (inputs.n_dof, inputs.n_base) != (self.system.n_dof, self.system.n_base):
+            raise ValueError("`inputs` was made for another system: (n_dof, n_base) "
+                             f"{(inputs.n_dof, inputs.n_base)} != "
+                             f"{(self.system.n_dof, self.system.n_base)}")
+        return inputs
+
+    def _time_grid(self, duration: float, dt: float | None, freq_hz: float | None
+                   ) -> tuple[float, int]:
+        """The step and the number of steps of :meth:`simulate` over ``duration``
+        (finite and > 0)."""
+        if dt is None:
+            if freq_hz is not None:
+                dt0 = 1.0 / (freq_hz * self.steps_per_period(freq_hz))
+            else:
+                dt0 = min(self.dt_limit() / 4.0, 1e-3)
+            n_steps = max(1, math.ceil(duration / dt0 - 1e-9))
+            return duration / n_steps, n_steps
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"`dt` must be finite and > 0, got {dt!r}")
+        if dt > self.dt_limit() * (1 + 1e-9):
+            raise ValueError(f"`dt` = {dt:.4g} s exceeds the step limit "
+                             f"{self.dt_limit():.4g} s of this system")
+        return dt, max(1, int(round(duration / dt)))
 
     # ------------------------------------------------------------------ periods
     def begin_periodic(self, inputs: Input, steps: int, h: float) -> None:

@@ -417,7 +417,8 @@ def _plot_six_dof(base_curves, engine_curves, reloc_curves, forces, lambdas, dof
 
 
 def _summary_six_dof(r, figs, dofs) -> str:
-    ex = r["engine_excitation"]
+    """The study's summary.md: one section per part, the table of all curves, the
+    notes and the figures."""
     lines = [
         "# Study six-dof: rigid engine on three mounts",
         "",
@@ -426,6 +427,17 @@ def _summary_six_dof(r, figs, dofs) -> str:
         f"friction element ({', '.join(f'{m} {a}' for m, a in r['friction_axes'])}); "
         f"mount positions {md_text(r['mount_positions_m'])} m (Table 4.1).",
         "",
+    ]
+    lines += _base_section(r, dofs) + _engine_section(r, dofs)
+    lines += _relocation_section(r) + _cases_section(r, dofs)
+    lines += notes_md(r)
+    lines += [""] + [f"![{f}]({f})" for f in figs] + [""]
+    return "\n".join(lines)
+
+
+def _base_section(r, dofs) -> list[str]:
+    """The mount deflection input: the good design's ratios, lambda's effect."""
+    lines = [
         "## Mount deflection input (Figs. 4.11-4.34)",
         "",
         f"Chassis attachment points moved by {md_text(r['base_amplitude_m'])} m "
@@ -446,7 +458,13 @@ def _summary_six_dof(r, figs, dofs) -> str:
                   md_table(["design"] + dofs,
                             [[k] + [v[d] for d in dofs]
                              for k, v in r["lambda_effect"].items()]), ""]
-    lines += [
+    return lines
+
+
+def _engine_section(r, dofs) -> list[str]:
+    """The engine excitation: its unbalance vector and the designs' ratios."""
+    ex = r["engine_excitation"]
+    return [
         "## Engine excitation (Figs. 4.35-4.40)",
         "",
         f"Unbalance vector U = (0, 0, {ex['u_z_kg_m']:.4g} kg m, 0, "
@@ -462,6 +480,12 @@ def _summary_six_dof(r, figs, dofs) -> str:
         md_table(["design"] + dofs, [[k] + [v[d] for d in dofs]
                                       for k, v in r["engine_ratio"].items()]),
         "",
+    ]
+
+
+def _relocation_section(r) -> list[str]:
+    """Mount 3 relocated: the beta peak's reduction, energies, natural frequencies."""
+    return [
         "## Relocating mount 3 (Figs. 4.41-4.44)",
         "",
         f"Mount 3 moved from ({md_text(r['relocated_from_m'])}) m to "
@@ -478,14 +502,15 @@ def _summary_six_dof(r, figs, dofs) -> str:
         "",
         f"Smallest friction energy per cycle: {r['e_fr_min_J']:.3g} J (must be >= 0).",
     ]
+
+
+def _cases_section(r, dofs) -> list[str]:
+    """Every curve of the study with its peak amplitudes."""
     rows = [[x.get("part"), x.get("lambda"), x.get("mount"), x.get("position", ""),
              x["n0_N"]] + [x[f"{d}_peak"] for d in dofs] + [
              "yes" if x["success"] else "NO"]
             for x in r["base_cases"] + r["engine_cases"] + r["relocation_cases"]]
-    lines += ["", "## All curves: peak amplitudes (m, rad)", "",
-              md_table(["part", "lambda", "mount", "position", "n0 [N]"] + dofs
-                        + ["converged"], rows)]
-    lines += notes_md(r)
-    lines += [""] + [f"![{f}]({f})" for f in figs] + [""]
-    return "\n".join(lines)
+    return ["", "## All curves: peak amplitudes (m, rad)", "",
+            md_table(["part", "lambda", "mount", "position", "n0 [N]"] + dofs
+                     + ["converged"], rows)]
 
