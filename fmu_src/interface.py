@@ -176,8 +176,24 @@ def _parameters(table) -> list[Variable]:
 
 
 def _variables() -> tuple[Variable, ...]:
-    defaults = AxisParameters()
+    """Every variable of the FMU, in the order of their value references (groups
+    added later are appended, so that the earlier references stay)."""
     out = _parameters(PARAMETER_FIELDS)
+    out += _axis_inputs() + _axis_outputs() + _committed_positions()
+    out += _parameters(INCLINED_PARAMETER_FIELDS)
+    out += _normal_force_outputs()
+    out += _parameters(LATER_PARAMETER_FIELDS)
+    out += _parameters(MAXWELL_PARAMETER_FIELDS)
+    out += _post_step_outputs()
+    out += _slider_positions()   # appended: the earlier value references stay
+    out += _parameters(HYDRAULIC_PARAMETER_FIELDS)   # appended: the others stay
+    return tuple(out)
+
+
+def _axis_inputs() -> list[Variable]:
+    """Per axis: the deflection, its rate and the normal force."""
+    defaults = AxisParameters()
+    out = []
     for axis in AXES:
         out += [
             Variable(f"u_{axis}", "Real", "input", "continuous", 0.0, "m",
@@ -190,6 +206,13 @@ def _variables() -> tuple[Variable, ...]:
                      f"the end of initialization, as importers writing start values "
                      f"do, keeps {axis}_n0); negative = lost contact (Fs = 0)"),
         ]
+    return out
+
+
+def _axis_outputs() -> list[Variable]:
+    """Per axis: the forces, the tangent, the slip flag and the energy; then the
+    energy of all axes."""
+    out = []
     for axis in AXES:
         out += [
             Variable(f"F_{axis}", "Real", "output", "continuous", None, "N",
@@ -211,6 +234,12 @@ def _variables() -> tuple[Variable, ...]:
         ]
     out.append(Variable("E_fr", "Real", "output", "continuous", None, "J",
                         "cumulative energy dissipated by friction, all axes"))
+    return out
+
+
+def _committed_positions() -> list[Variable]:
+    """Per axis: the friction element's committed position (a local state)."""
+    out = []
     for axis in AXES:
         out.append(Variable(
             f"w_{axis}", "Real", "local", "continuous", 0.0, "m",
@@ -218,7 +247,12 @@ def _variables() -> tuple[Variable, ...]:
             f"slider, micro-slip: the mean of the sliders; inclined element: the "
             f"committed deflection); setting it relaxes the element there",
             "exact"))
-    out += _parameters(INCLINED_PARAMETER_FIELDS)
+    return out
+
+
+def _normal_force_outputs() -> list[Variable]:
+    """Per axis: the normal forces of the friction contact."""
+    out = []
     for axis in AXES:
         out += [
             Variable(f"N_{axis}", "Real", "output", "continuous", None, "N",
@@ -229,9 +263,12 @@ def _variables() -> tuple[Variable, ...]:
                      f"{axis}: normal force on the inclined element's flat surface "
                      f"(0 for the Jenkins element and without friction)"),
         ]
-    out += _parameters(LATER_PARAMETER_FIELDS)
-    out += _parameters(MAXWELL_PARAMETER_FIELDS)
-    out += _post_step_outputs()
+    return out
+
+
+def _slider_positions() -> list[Variable]:
+    """Per axis and slider slot: the slider's position (a local state)."""
+    out = []
     for axis in AXES:   # appended: the earlier value references stay
         for k in range(1, SLIDER_SLOTS + 1):
             out.append(Variable(
@@ -242,8 +279,7 @@ def _variables() -> tuple[Variable, ...]:
                 f"it after w_{axis} starts the element with this slider there (a "
                 f"state that is not relaxed, e.g. the engine lowered onto the "
                 f"mount)", "exact"))
-    out += _parameters(HYDRAULIC_PARAMETER_FIELDS)   # appended: the others stay
-    return tuple(out)
+    return out
 
 
 def _post_step_outputs() -> list[Variable]:
