@@ -88,6 +88,23 @@ def _print_inclined_readings(system, load, relaxed) -> None:
               f"friction limit; the history decides)")
 
 
+def _axis_rows(system, point, travel) -> list[tuple]:
+    """Per active mount axis at the working point ``point``: its CSV row ``(mount,
+    axis, deflection, force, past a knee, beyond the travel)``, printed as it goes."""
+    rows = []
+    for ie, e in enumerate(system.elements):
+        for j in e.active_axes:
+            p = e.params.axes[j]
+            u, F = point.deflection[ie, j], point.force[ie, j]
+            knees = ELASTIC_LAWS[p.law].knees(p)
+            past = any((k > 0 and u > k) or (k < 0 and u < k) for k in knees)
+            beyond = travel is not None and abs(u) > travel
+            rows.append((e.name, AXES[j], u, F, past, beyond))
+            print(f"  {e.name:<8} {AXES[j]:<8} deflection {u * 1e3:9.4f} mm  force "
+                  f"{F:10.2f} N")
+    return rows
+
+
 def main(args) -> int:
     """Run ``drymount static`` (CLI arguments in ``args``); the exit status."""
     from drymount.paths import load_with_overrides
@@ -128,17 +145,7 @@ def main(args) -> int:
           f"{point.iterations} Newton steps")
     print("  " + ", ".join(f"{n} = {v:.6g}"
                            for n, v in zip(names, point.q, strict=True)))
-    rows = []
-    for ie, e in enumerate(system.elements):
-        for j in e.active_axes:
-            p = e.params.axes[j]
-            u, F = point.deflection[ie, j], point.force[ie, j]
-            knees = ELASTIC_LAWS[p.law].knees(p)
-            past = any((k > 0 and u > k) or (k < 0 and u < k) for k in knees)
-            beyond = travel is not None and abs(u) > travel
-            rows.append((e.name, AXES[j], u, F, past, beyond))
-            print(f"  {e.name:<8} {AXES[j]:<8} deflection {u * 1e3:9.4f} mm  force "
-                  f"{F:10.2f} N")
+    rows = _axis_rows(system, point, travel)
     _print_inclined_readings(system, load, point)
     warnings = knee_warnings(system, point, travel)
     for w in warnings:

@@ -280,18 +280,9 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
     chord tolerance with ``opts.tol``), spurious turning points merged. Returns
     ``(FrequencyResponse, Branch)``; the result keeps what traced it (``_level``),
     and ``light`` leaves out stability and located folds and peaks."""
-    H = prob.hb.H
     settings = opts.continuation_settings()
     chord = None if opts.tol is None else _chord_error_fn(prob, 0.5 * opts.tol, floor)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        desc = f"HBM H={H}"
-        if not prob.hb.closed_form:
-            desc += f" N={prob.hb.n_samples}"
-        bar = tqdm(total=round(fmax_hz - fmin_hz, 6), unit="Hz", file=sys.stderr,
-                   desc=desc, bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} Hz "
-                   "[{elapsed}<{remaining}]")
+    bar = _frequency_bar(prob, fmin_hz, fmax_hz) if progress else None
     try:
         y0, its0, msg = _start(prob, fmin_hz, settings)
         if y0 is None:
@@ -330,6 +321,23 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
     finally:
         if bar is not None:
             bar.close()
+    return _traced_result(prob, br, opts, light), br
+
+
+def _frequency_bar(prob: _Problem, fmin_hz: float, fmax_hz: float):
+    """The progress bar of :func:`_trace` (tqdm on stderr, in Hz)."""
+    from tqdm import tqdm
+    desc = f"HBM H={prob.hb.H}"
+    if not prob.hb.closed_form:
+        desc += f" N={prob.hb.n_samples}"
+    return tqdm(total=round(fmax_hz - fmin_hz, 6), unit="Hz", file=sys.stderr,
+                desc=desc, bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} Hz "
+                "[{elapsed}<{remaining}]")
+
+
+def _traced_result(prob: _Problem, br: Branch, opts: HBMOptions, light: bool):
+    """The curve of the traced branch ``br``: spurious turning points merged, then
+    post-processed (without stability, folds and peaks if ``light``)."""
     zz = _merge_zigzags(prob, br, opts)
     post = dataclasses.replace(opts, stability=False) if light else opts
     result = postprocess(prob, br.y, post, br, br.turning_points, zz.folds,
@@ -344,7 +352,7 @@ def _trace(prob: _Problem, fmin_hz: float, fmax_hz: float, opts: HBMOptions,
         result.message += "; " + "; ".join(
             f"{f0:.4g}-{f1:.4g} Hz re-traced with more AFT samples ({k} points: "
             f"zigzags of the sampled residual)" for f0, f1, k in zz.refined)
-    return result, br
+    return result
 
 
 def _merge_zigzags(prob: _Problem, br: Branch, opts: HBMOptions):

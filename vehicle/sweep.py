@@ -322,26 +322,8 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "inproc",
     -------
     SweepResult
     """
-    f = np.asarray(freqs_hz, dtype=float).reshape(-1)
-    if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
-        raise ValueError(f"`freqs_hz` must be a non-empty list of finite frequencies "
-                         f"> 0, got {np.asarray(freqs_hz).tolist()}")
-    if direction not in ("up", "down"):
-        raise ValueError(f"`direction` must be 'up' or 'down', got {direction!r}")
-    backend = backend_name(backend)
-    if backend not in ("inproc", "fmu"):
-        raise ValueError(f"`backend` must be 'inproc' or 'fmu', got {backend!r}")
-    if not (isinstance(workers, (int, np.integer)) and workers >= 1):
-        raise ValueError(f"`workers` must be an integer >= 1, got {workers!r}")
-    if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
-        raise ValueError(f"`warmup` must be an integer >= 0, got {warmup!r}")
-    if batch and (backend != "inproc" or workers != 1):
-        raise ValueError(f"`batch` steps the in-process law in one process: it needs "
-                         f"backend 'inproc' and workers 1, got backend {backend!r}, "
-                         f"workers {workers!r}")
-    if not (isinstance(refine, (int, np.integer)) and refine >= 0):
-        raise ValueError(f"`refine` must be an integer >= 0, got {refine!r}")
-    f = np.sort(f) if direction == "up" else np.sort(f)[::-1]
+    f, backend = _sweep_arguments(freqs_hz, direction, backend, workers, warmup,
+                                  batch, refine)
     options = dict(steps_per_period=steps_per_period, rtol=rtol,
                    min_periods=min_periods, max_periods=max_periods)
     if backend == "fmu" and fmu_path is None:
@@ -387,6 +369,32 @@ def sweep(system, freqs_hz, *, direction: str = "up", backend: str = "inproc",
                    workers, notes={"rtol": rtol, "warmup": warmup if workers > 1 else 0,
                                    "steps_per_period": steps_per_period,
                                    "batch": bool(batch), "refined": added})
+
+
+def _sweep_arguments(freqs_hz, direction, backend, workers, warmup, batch, refine):
+    """:func:`sweep`'s arguments checked: the frequencies in sweep order and the
+    backend's canonical name."""
+    f = np.asarray(freqs_hz, dtype=float).reshape(-1)
+    if f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
+        raise ValueError(f"`freqs_hz` must be a non-empty list of finite frequencies "
+                         f"> 0, got {np.asarray(freqs_hz).tolist()}")
+    if direction not in ("up", "down"):
+        raise ValueError(f"`direction` must be 'up' or 'down', got {direction!r}")
+    backend = backend_name(backend)
+    if backend not in ("inproc", "fmu"):
+        raise ValueError(f"`backend` must be 'inproc' or 'fmu', got {backend!r}")
+    if not (isinstance(workers, (int, np.integer)) and workers >= 1):
+        raise ValueError(f"`workers` must be an integer >= 1, got {workers!r}")
+    if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
+        raise ValueError(f"`warmup` must be an integer >= 0, got {warmup!r}")
+    if batch and (backend != "inproc" or workers != 1):
+        raise ValueError(f"`batch` steps the in-process law in one process: it needs "
+                         f"backend 'inproc' and workers 1, got backend {backend!r}, "
+                         f"workers {workers!r}")
+    if not (isinstance(refine, (int, np.integer)) and refine >= 0):
+        raise ValueError(f"`refine` must be an integer >= 0, got {refine!r}")
+    f = np.sort(f) if direction == "up" else np.sort(f)[::-1]
+    return f, backend
 
 
 def _refine(points, count, hbm, direction, run):
